@@ -1,0 +1,21 @@
+#pragma once
+// Layout of the vehicle part of the state vector (thesis §2.3, §5.3; DESIGN.md §3):
+//   x_v = [X Y Z | U V W | φ θ ψ | (b_a xyz | b_g xyz)]
+// NED position [m], body-frame velocity [m/s], ZYX Euler angles [rad], and optionally
+// accelerometer and gyro biases (beyond the thesis; needed for real IMUs).
+
+namespace cvslam::vehicle {
+
+constexpr int kPosition = 0;       ///< p_BinN: X Y Z, NED [m]
+constexpr int kVelocity = 3;       ///< v_B: U V W, body frame [m/s]
+constexpr int kAttitude = 6;       ///< φ θ ψ [rad]
+constexpr int kAccelBias = 9;      ///< b_a [m/s²] (only with bias states)
+constexpr int kGyroBias = 12;      ///< b_g [rad/s] (only with bias states)
+constexpr int kSizeNoBias = 9;     ///< thesis vehicle state
+constexpr int kSizeWithBias = 15;  ///< with IMU bias states
+
+constexpr int size(bool with_bias) {
+  return with_bias ? kSizeWithBias : kSizeNoBias;
+}
+
+}  // namespace cvslam::vehicle

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# The project's test command: setup + configure + build + every test (README.md).
+#
+#   scripts/test.sh              build in ./build and run all tests
+#   BUILD_DIR=dir JOBS=n scripts/test.sh
+#   CI=true makes compiler warnings errors.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+BUILD_DIR=${BUILD_DIR:-build}
+JOBS=${JOBS:-$(nproc)}
+WERROR=OFF
+[ "${CI:-}" = "true" ] && WERROR=ON
+
+scripts/setup.sh
+
+start=$(date +%s)
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DCVSLAM_WERROR=$WERROR
+cmake --build "$BUILD_DIR" -j "$JOBS"
+echo "test.sh: build took $(( $(date +%s) - start )) s"
+
+start=$(date +%s)
+ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" --timeout 900
+echo "test.sh: tests took $(( $(date +%s) - start )) s"
