@@ -1,0 +1,65 @@
+#pragma once
+// k-nearest landmark map management (thesis §5.8, Fig. 5.7; DESIGN.md §3).
+//
+// At each camera epoch the state holds the k previously observed landmarks nearest to the
+// virtual point m* — the point on the stereo pair's optical axis at the scene depth — plus
+// the landmarks newly initialised in that epoch. Candidates are the landmarks currently in
+// the state and the archived landmarks re-observed now (loop closing, §5.5.2). The rest go
+// to (or stay in) the archive. With `MapKind::kFull` nothing is ever archived (the classical
+// stochastic map, for comparison).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "cvslam/core/status.h"
+
+namespace cvslam {
+
+class ConfigNode;
+class StereoCamera;
+
+enum class MapKind { kKNearest, kFull };
+
+struct MapManagerOptions {
+  MapKind kind = MapKind::kKNearest;  ///< `knearest` (thesis §5.8) or `full` (stochastic map)
+  int k = 20;                         ///< landmarks kept besides the new ones (thesis: 20)
+  double nominal_scene_depth = 10.0;  ///< depth of m* along the optical axis when no
+                                      ///< landmark is observed [m]
+  bool use_observed_depth = true;     ///< place m* at the median depth of the observed
+                                      ///< landmarks when there are any
+
+  Status load(const ConfigNode& node);
+};
+
+/// A landmark competing for a place in the state.
+struct MapCandidate {
+  int64_t landmark_id = -1;
+  Eigen::Vector3d p_LinN = Eigen::Vector3d::Zero();
+};
+
+class KNearestMapManager {
+ public:
+  explicit KNearestMapManager(const MapManagerOptions& options = {}) : o_(options) {}
+  const MapManagerOptions& options() const { return o_; }
+
+  /// The virtual point m* (§5.8): midway between the two optical centres, pushed along the
+  /// optical axis to `depth` metres.
+  static Eigen::Vector3d virtualPoint(const StereoCamera& camera, const Eigen::Vector3d& p_BinN,
+                                      const Eigen::Vector3d& euler, double depth);
+
+  /// Scene depth for m*: the median camera depth of `observed_p_LinC` when enabled and
+  /// non-empty, else the nominal depth.
+  double sceneDepth(const std::vector<double>& observed_depths) const;
+
+  /// Ids of the candidates that may stay in (or enter) the state: all of them for the full
+  /// map, otherwise the k nearest to m*. Ties are broken by id, so the choice is
+  /// deterministic.
+  std::vector<int64_t> select(const std::vector<MapCandidate>& candidates,
+                              const Eigen::Vector3d& m_star) const;
+
+ private:
+  MapManagerOptions o_;
+};
+
+}  // namespace cvslam

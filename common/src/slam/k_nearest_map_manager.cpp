@@ -1,0 +1,56 @@
+#include "cvslam/slam/k_nearest_map_manager.h"
+
+#include <algorithm>
+
+#include "cvslam/camera/stereo_camera.h"
+#include "cvslam/geometry/euler.h"
+#include "cvslam/io/config_node.h"
+
+namespace cvslam {
+
+Status MapManagerOptions::load(const ConfigNode& node) {
+  node.getEnum("kind", kind, {{"knearest", MapKind::kKNearest}, {"full", MapKind::kFull}});
+  node.get("k", k);
+  node.get("nominal_scene_depth", nominal_scene_depth);
+  node.get("use_observed_depth", use_observed_depth);
+  node.check(k >= 1, "k", "must be ≥ 1 (got " + std::to_string(k) + ")");
+  node.check(nominal_scene_depth > 0.0, "nominal_scene_depth", "must be > 0");
+  return node.status();
+}
+
+Eigen::Vector3d KNearestMapManager::virtualPoint(const StereoCamera& camera,
+                                                 const Eigen::Vector3d& p_BinN,
+                                                 const Eigen::Vector3d& euler, double depth) {
+  const StereoCameraOptions& c = camera.options();
+  // Midpoint of the optical centres, in the left camera frame, then along z_C.
+  const Eigen::Vector3d m_inC(0.5 * c.baseline, 0.0, depth);
+  const Eigen::Vector3d m_inB = c.R_BtoC.transpose() * m_inC + c.p_CinB;
+  return p_BinN + rotationBodyToNav(euler) * m_inB;
+}
+
+double KNearestMapManager::sceneDepth(const std::vector<double>& observed_depths) const {
+  if (!o_.use_observed_depth || observed_depths.empty()) return o_.nominal_scene_depth;
+  std::vector<double> d = observed_depths;
+  auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
+  std::nth_element(d.begin(), mid, d.end());
+  return *mid;
+}
+
+std::vector<int64_t> KNearestMapManager::select(const std::vector<MapCandidate>& candidates,
+                                                const Eigen::Vector3d& m_star) const {
+  std::vector<std::pair<double, int64_t>> ranked;
+  ranked.reserve(candidates.size());
+  for (const auto& c : candidates)
+    ranked.emplace_back((c.p_LinN - m_star).squaredNorm(), c.landmark_id);
+  std::size_t keep = ranked.size();
+  if (o_.kind == MapKind::kKNearest) keep = std::min(keep, static_cast<std::size_t>(o_.k));
+  std::partial_sort(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(keep),
+                    ranked.end());
+  std::vector<int64_t> ids;
+  ids.reserve(keep);
+  for (std::size_t i = 0; i < keep; ++i) ids.push_back(ranked[i].second);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+}  // namespace cvslam

@@ -1,0 +1,88 @@
+#include "cvslam/slam/k_nearest_map_manager.h"
+
+#include <gtest/gtest.h>
+
+#include "cvslam/camera/stereo_camera.h"
+#include "cvslam/io/config_node.h"
+#include "cvslam/slam/landmark_archive.h"
+
+namespace cvslam {
+namespace {
+
+std::vector<MapCandidate> lineOfCandidates(int n) {
+  std::vector<MapCandidate> c;
+  for (int i = 0; i < n; ++i) c.push_back({100 + i, Eigen::Vector3d(i, 0, 0)});
+  return c;
+}
+
+TEST(KNearestMapManager, KeepsTheKNearestToVirtualPoint) {
+  MapManagerOptions o;
+  o.k = 3;
+  KNearestMapManager mm(o);
+  auto ids = mm.select(lineOfCandidates(10), Eigen::Vector3d(6.2, 0, 0));
+  EXPECT_EQ(ids, (std::vector<int64_t>{105, 106, 107}));
+}
+
+TEST(KNearestMapManager, FewerCandidatesThanKKeepsAll) {
+  MapManagerOptions o;
+  o.k = 20;
+  auto ids = KNearestMapManager(o).select(lineOfCandidates(4), Eigen::Vector3d::Zero());
+  EXPECT_EQ(ids.size(), 4u);
+}
+
+TEST(KNearestMapManager, FullMapKeepsEverything) {
+  MapManagerOptions o;
+  o.kind = MapKind::kFull;
+  o.k = 2;
+  auto ids = KNearestMapManager(o).select(lineOfCandidates(50), Eigen::Vector3d::Zero());
+  EXPECT_EQ(ids.size(), 50u);
+}
+
+TEST(KNearestMapManager, VirtualPointLiesBelowADownwardCamera) {
+  StereoCamera cam;  // default: looking down, baseline 0.2 m along the right wing
+  const Eigen::Vector3d p(10, 20, -10), euler(0, 0, 0);
+  const Eigen::Vector3d m = KNearestMapManager::virtualPoint(cam, p, euler, 10.0);
+  EXPECT_TRUE(m.isApprox(Eigen::Vector3d(10, 20.1, 0), 1e-12)) << m.transpose();
+  // Heading east: the baseline (right wing) now points south.
+  const Eigen::Vector3d m_east =
+      KNearestMapManager::virtualPoint(cam, p, Eigen::Vector3d(0, 0, M_PI / 2), 10.0);
+  EXPECT_TRUE(m_east.isApprox(Eigen::Vector3d(9.9, 20, 0), 1e-12)) << m_east.transpose();
+}
+
+TEST(KNearestMapManager, SceneDepthIsMedianOfObserved) {
+  KNearestMapManager mm;
+  EXPECT_DOUBLE_EQ(mm.sceneDepth({}), 10.0);
+  EXPECT_DOUBLE_EQ(mm.sceneDepth({3, 100, 7}), 7.0);
+  MapManagerOptions o;
+  o.use_observed_depth = false;
+  EXPECT_DOUBLE_EQ(KNearestMapManager(o).sceneDepth({3, 100, 7}), 10.0);
+}
+
+TEST(KNearestMapManager, OptionsLoadAndValidate) {
+  auto cfg = ConfigNode::fromString("map: {kind: full, k: 5}", "a.yaml");
+  MapManagerOptions o;
+  ASSERT_TRUE(o.load(cfg->child("map")).ok());
+  EXPECT_EQ(o.kind, MapKind::kFull);
+  EXPECT_EQ(o.k, 5);
+  auto bad = ConfigNode::fromString("map: {kind: sparse, k: 0}", "a.yaml");
+  EXPECT_FALSE(MapManagerOptions().load(bad->child("map")).ok());
+}
+
+TEST(LandmarkArchive, StoreTakeRoundTrip) {
+  LandmarkArchive archive;
+  ArchivedLandmark lm;
+  lm.index = 7;
+  lm.p_LinN = Eigen::Vector3d(1, 2, 3);
+  lm.covariance = Eigen::Matrix3d::Identity() * 0.5;
+  archive.store(42, lm);
+  EXPECT_TRUE(archive.contains(42));
+  ASSERT_NE(archive.find(42), nullptr);
+  auto back = archive.take(42);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->p_LinN, lm.p_LinN);
+  EXPECT_FALSE(archive.contains(42));
+  EXPECT_FALSE(archive.take(42).has_value());
+}
+
+}  // namespace
+}  // namespace cvslam
