@@ -90,10 +90,12 @@ Expected<RpeResult> relativePoseError(const std::vector<TumPose>& estimate,
                    (truth[pairs[k].second].p_BinN - truth[pairs[k - 1].second].p_BinN).norm();
   RpeResult r;
   double sum = 0.0, sum2 = 0.0;
+  // Summed steps carry rounding: a segment of exactly segment_m must count as complete.
+  const double segment = options.segment_m * (1.0 - 1e-9);
   std::size_t j = 0;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     j = std::max(j, i);
-    while (j < pairs.size() && travelled[j] - travelled[i] < options.segment_m) ++j;
+    while (j < pairs.size() && travelled[j] - travelled[i] < segment) ++j;
     if (j >= pairs.size()) break;
     const Eigen::Isometry3d d_true =
         isometry(truth[pairs[i].second]).inverse() * isometry(truth[pairs[j].second]);
