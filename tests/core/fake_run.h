@@ -38,8 +38,8 @@ inline Vector9d circleState(double t, const FakeRunOptions& o, int agent) {
   const double w = o.speed_mps / o.radius_m;
   const double a = w * t + agent;  // agents start at different places on the circle
   Vector9d x;
-  x << o.radius_m * std::cos(a), o.radius_m * std::sin(a), -10.0 - agent, o.speed_mps, 0, 0, 0,
-      0, std::remainder(a + M_PI / 2, 2 * M_PI);
+  x << o.radius_m * std::cos(a), o.radius_m * std::sin(a), -10.0 - agent, o.speed_mps, 0, 0, 0, 0,
+      std::remainder(a + M_PI / 2, 2 * M_PI);
   return x;
 }
 
@@ -83,7 +83,8 @@ inline void writeFakeRun(const std::string& dir, const FakeRunOptions& o = {}) {
       LandmarkRecord l;
       l.id = 1000 * agent + i;
       l.truth = Eigen::Vector3d(i, -i, 0.5 * i);
-      l.p_LinN = *l.truth + Eigen::Vector3d(0.1, -0.2, 0.3) + 0.05 * Eigen::Vector3d(n01(rng), 0, 0);
+      l.p_LinN =
+          *l.truth + Eigen::Vector3d(0.1, -0.2, 0.3) + 0.05 * Eigen::Vector3d(n01(rng), 0, 0);
       l.var = Eigen::Vector3d::Constant(0.01);
       map.push_back(l);
     }

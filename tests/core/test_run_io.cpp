@@ -21,9 +21,8 @@ class RunIo : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = (fs::temp_directory_path() /
-            ("cvslam_run_io_" + std::string(::testing::UnitTest::GetInstance()
-                                                ->current_test_info()
-                                                ->name())))
+            ("cvslam_run_io_" +
+             std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())))
                .string();
     fs::remove_all(dir_);
     fs::create_directories(dir_);
@@ -57,9 +56,9 @@ TEST_F(RunIo, TumRoundTrip) {
   // The quaternion is the body's orientation in N: it rotates body x into the heading.
   Vector9d x = Vector9d::Zero();
   x(8) = M_PI / 2;  // yaw 90°: nose east
-  EXPECT_LT((tumPoseFromState(0, x).q_BtoN * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY())
-                .norm(),
-            1e-12);
+  EXPECT_LT(
+      (tumPoseFromState(0, x).q_BtoN * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(),
+      1e-12);
 }
 
 TEST_F(RunIo, TumErrorsNameFileAndLine) {
@@ -174,8 +173,7 @@ TEST_F(RunIo, ReaderReportsBrokenFiles) {
   write("run/agent_1/stats.json", "{\"frames\": {\"t_s\": [1, 2], \"time_ms\": [1]}}");
   auto r = readAgentRun(run, 1);
   ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.status().message().find("frames.time_ms must be an array as long"),
-            std::string::npos)
+  EXPECT_NE(r.status().message().find("frames.time_ms must be an array as long"), std::string::npos)
       << r.status().message();
   write("run/agent_1/stats.json", "{\"frames\": ");
   EXPECT_NE(readAgentRun(run, 1).status().message().find("stats.json:1:"), std::string::npos);

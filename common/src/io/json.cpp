@@ -129,11 +129,11 @@ void Json::dumpTo(std::string& out, int indent, int depth) const {
       break;
     case Type::kNumber: {
       char buf[32];
-      // Integers print without a fraction; %.17g round-trips every double.
+      // Integers print without a fraction; 12 significant digits: far below any figure we report.
       if (number_ == std::floor(number_) && std::abs(number_) < 1e15)
         std::snprintf(buf, sizeof(buf), "%.0f", number_);
       else
-        std::snprintf(buf, sizeof(buf), "%.17g", number_);
+        std::snprintf(buf, sizeof(buf), "%.12g", number_);
       out += buf;
       break;
     }
