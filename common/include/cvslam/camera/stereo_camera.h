@@ -6,8 +6,18 @@
 // T_BtoC: R_BtoC and p_CinB (left camera centre in the body frame).
 //
 // Observation of landmark p_LinN from vehicle state x_v = [p_BinN, v_B, euler]:
-//   p_LinC = R_BtoC (R_NtoB(euler) (p_LinN − p_BinN) − p_CinB)
-//   z = [fx x/z + cx, fy y/z + cy, fx (x − b)/z + cx, fy y/z + cy]
+//   p_LinC = R_BtoC (R_NtoB(euler) (p_LinN − p_BinN) − p_CinB)                    (eq. 5.9–5.14)
+//   z = [fx x/z + cx, fy y/z + cy, fx (x − b)/z + cx, fy y/z + cy]                   (eq. 5.20)
+// The thesis writes eq. 5.20 with the 3×4 matrices I_c (Mh_c^n)^-1 of both cameras; for a
+// rectified pair these share the rotation, so the chain above is the same model, factored so
+// that the Jacobians compose: dz_dxv = dz_dpC · dpC_dxv.
+//
+// Inverse observation model (landmark initialisation, DESIGN.md §3): stereo triangulation from
+// the disparity d = u_L − u_R and the mean row (v_L + v_R)/2:
+//   p_LinC = b/d · [u_L − cx, (fx/fy)(v̄ − cy), fx]
+//   p_LinN = p_BinN + R_NtoBᵀ (R_BtoCᵀ p_LinC + p_CinB)
+// with Jacobians dpL_dxv (3×9) and dpL_dz (3×4) for the augmentation
+//   P_LL = J_x P_vv J_xᵀ + J_z R J_zᵀ,  P_Lx = J_x P_v·.
 
 #include <Eigen/Core>
 #include <optional>
@@ -31,25 +41,55 @@ struct StereoCameraOptions {
   Eigen::Matrix3d R_BtoC = (Eigen::Matrix3d() << 0, 1, 0, -1, 0, 0, 0, 0, 1).finished();
   Eigen::Vector3d p_CinB = Eigen::Vector3d::Zero();  ///< left camera centre in the body [m]
   double min_depth = 0.5;  ///< points nearer than this along z_C are not observable [m]
+  /// Triangulation refuses disparities below this [px] (zero or negative: point at or
+  /// behind infinity; tiny: depth and its Jacobian explode).
+  double min_disparity = 1e-3;
 
   Status load(const ConfigNode& node);
 };
 
 class StereoCamera {
  public:
+  using Vector9d = Eigen::Matrix<double, 9, 1>;
+  using Matrix4x3d = Eigen::Matrix<double, 4, 3>;
+  using Matrix4x9d = Eigen::Matrix<double, 4, 9>;
+  using Matrix3x9d = Eigen::Matrix<double, 3, 9>;
+  using Matrix3x4d = Eigen::Matrix<double, 3, 4>;
+
   explicit StereoCamera(const StereoCameraOptions& options = {}) : o_(options) {}
   const StereoCameraOptions& options() const { return o_; }
 
-  /// Landmark in the left camera frame.
+  /// Landmark in the left camera frame. Optional Jacobians w.r.t. the vehicle state
+  /// x_v = [p_BinN, v_B, euler] (velocity columns zero) and w.r.t. p_LinN.
   Eigen::Vector3d landmarkInCamera(const Eigen::Vector3d& p_BinN, const Eigen::Vector3d& euler,
-                                   const Eigen::Vector3d& p_LinN) const;
+                                   const Eigen::Vector3d& p_LinN, Matrix3x9d* dpC_dxv = nullptr,
+                                   Eigen::Matrix3d* dpC_dpL = nullptr) const;
 
-  /// Predicted measurement z = [u_L v_L u_R v_R] (eq. 5.20). Does not check visibility.
-  Eigen::Vector4d project(const Eigen::Vector3d& p_LinC) const;
+  /// Predicted measurement z = [u_L v_L u_R v_R] of a point in the left camera frame
+  /// (eq. 5.20), with optional dz_dpC (4×3). Does not check visibility.
+  Eigen::Vector4d project(const Eigen::Vector3d& p_LinC, Matrix4x3d* dz_dpC = nullptr) const;
+
+  /// Full observation model h(x_v, p_LinN) (eq. 5.20) with optional dz_dxv (4×9, columns
+  /// [p_BinN, v_B, euler], velocity columns zero) and dz_dpL (4×3). x_v holds the first nine
+  /// vehicle states (vehicle_state_layout.h); bias states do not enter the observation.
+  Eigen::Vector4d project(const Vector9d& x_v, const Eigen::Vector3d& p_LinN,
+                          Matrix4x9d* dz_dxv = nullptr, Matrix4x3d* dz_dpL = nullptr) const;
 
   /// True when the point is in front of both cameras (depth ≥ min_depth) and projects
   /// inside both images.
   bool isVisible(const Eigen::Vector3d& p_LinC) const;
+
+  /// Triangulates z = [u_L v_L u_R v_R] into the left camera frame, with optional
+  /// dpC_dz (3×4). Fails when the disparity u_L − u_R is below min_disparity or z is not
+  /// finite.
+  Status triangulateInCamera(const Eigen::Vector4d& z, Eigen::Vector3d* p_LinC,
+                             Matrix3x4d* dpC_dz = nullptr) const;
+
+  /// Inverse observation model: landmark p_LinN from z and the vehicle state, with optional
+  /// dpL_dxv (3×9, velocity columns zero) and dpL_dz (3×4). Same failure cases as
+  /// triangulateInCamera; outputs are untouched on failure.
+  Status triangulate(const Eigen::Vector4d& z, const Vector9d& x_v, Eigen::Vector3d* p_LinN,
+                     Matrix3x9d* dpL_dxv = nullptr, Matrix3x4d* dpL_dz = nullptr) const;
 
  private:
   StereoCameraOptions o_;

@@ -1,0 +1,64 @@
+#pragma once
+// Evaluation of a whole run folder (DESIGN.md §6 cvslam_eval): per agent ATE, INS ATE, RPE,
+// NEES, co/Rco, landmark errors, state size, frame time and bandwidth, and the summary JSON.
+// Every figure is optional: it is null when its inputs are absent, and `notes` says why.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cvslam/core/status.h"
+#include "cvslam/eval/metrics.h"
+#include "cvslam/io/json.h"
+#include "cvslam/io/run_record.h"
+
+namespace cvslam {
+
+class ConfigNode;
+
+struct RunEvaluationOptions {
+  double time_tolerance_s = 0.01;          ///< estimate/truth association [s]
+  Alignment alignment = Alignment::kNone;  ///< kSE3 for real data in a foreign world frame
+  double rpe_segment_m = 10.0;             ///< RPE segment length [m]
+  int co_window = 1;                       ///< steps in the true-uncertainty RMS of co
+
+  Status load(const ConfigNode& node);
+};
+
+struct AgentEvaluation {
+  int id = 0;
+  std::optional<double> ate_rmse_m, ins_ate_rmse_m, rpe_m_per_10m;
+  std::optional<double> nees_mean, nees_position_mean;
+  std::optional<ConsistencyResult> consistency;  ///< co / Rco per state
+  std::optional<LandmarkErrorResult> landmark_error;
+  std::size_t landmarks = 0;
+  std::optional<int> max_state_size;
+  std::optional<double> frame_time_ms_median, bytes_sent_per_s;
+  std::size_t steps = 0;
+  std::vector<std::string> notes;  ///< why a figure is missing
+};
+
+/// Truth for one agent as the evaluation gets it (from the run folder or --gt).
+struct AgentTruth {
+  std::vector<StateRecord> states;
+  bool has_velocity = true;
+  std::vector<LandmarkRecord> landmarks;  ///< ground-truth landmarks by id (may be empty)
+};
+
+AgentEvaluation evaluateAgent(const AgentRun& run, const AgentTruth& truth,
+                              const RunEvaluationOptions& options = {});
+
+/// Reads DIR (and GT when not empty) and evaluates every agent. Fails on a missing folder or
+/// a malformed file, with the file's name in the message.
+Expected<std::vector<AgentEvaluation>> evaluateRun(const std::string& run_dir,
+                                                   const std::string& gt_dir,
+                                                   const RunEvaluationOptions& options = {});
+
+/// Summary JSON with the keys of DESIGN.md §6 plus nees_position_mean, rco, landmark counts.
+Json summaryJson(const RunInfo& info, const std::vector<AgentEvaluation>& agents,
+                 const RunEvaluationOptions& options);
+
+/// A fixed-width per-agent table for the terminal.
+std::string summaryTable(const std::vector<AgentEvaluation>& agents);
+
+}  // namespace cvslam

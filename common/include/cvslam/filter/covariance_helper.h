@@ -1,0 +1,66 @@
+#pragma once
+// All covariance algebra of the filters, in one stateless place (STYLE.md; OpenVINS's
+// StateHelper). Propagators and updaters build (Φ, Q) or (H, r, R) and hand them over; this
+// class is the only code that changes SlamState's covariance or its set of variables.
+//
+// Equations (n: state size, v: the propagated vehicle block, o: every other variable):
+//   propagate   P_vv ← Φ P_vv Φᵀ + c_w² Q,   P_vo ← Φ P_vo                 (eq. 3.20)
+//   update      EKF, Joseph form (eq. 3.22, 3.23); NH∞ per UpdatePolicy (eq. 3.39, 3.48)
+//   augment     y = g(x, z):  P_yy = J_x P J_xᵀ + J_z R J_zᵀ,  P_yx = J_x P
+//   marginalise drop the variable's rows and columns (exact for a Gaussian)
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "cvslam/core/status.h"
+#include "cvslam/filter/measurement_batch.h"
+#include "cvslam/filter/slam_state.h"
+#include "cvslam/filter/update_policy.h"
+
+namespace cvslam {
+
+class CovarianceHelper {
+ public:
+  CovarianceHelper() = delete;
+
+  /// Appends a variable independent of the rest (prior mean and covariance).
+  static Status addVariable(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value,
+                            const Eigen::MatrixXd& covariance);
+
+  /// Appends y = g(x, z) with dy_dx (y.size × state.size, dense) and dy_dz, z ~ N(ẑ, R_z).
+  static Status augment(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value,
+                        const Eigen::MatrixXd& dy_dx, const Eigen::MatrixXd& dy_dz,
+                        const Eigen::MatrixXd& R_z);
+
+  /// The same when y depends on one existing variable only (a landmark triangulated from the
+  /// vehicle pose and a stereo observation): O(n) instead of O(n²) in the Jacobian product.
+  static Status augment(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value,
+                        const VariableKey& source, const Eigen::MatrixXd& dy_dsource,
+                        const Eigen::MatrixXd& dy_dz, const Eigen::MatrixXd& R_z);
+
+  /// Removes a variable (marginalisation) and compacts the indices of those after it.
+  static Status marginalize(SlamState& state, const VariableKey& key);
+
+  /// Joint covariance of the listed variables, in the order given.
+  static Expected<Eigen::MatrixXd> marginalCovariance(const SlamState& state,
+                                                      const std::vector<VariableKey>& keys);
+
+  /// Replaces the mean of `vehicle` by `value` and propagates the covariance with the
+  /// transition Φ = ∂x_v(new)/∂x_v(old) and process noise Qd (already G Q Gᵀ), scaled by the
+  /// policy's c_w². Cross-covariances with every other variable follow.
+  static Status propagate(SlamState& state, const VariableKey& vehicle,
+                          const Eigen::VectorXd& value, const Eigen::MatrixXd& Phi,
+                          const Eigen::MatrixXd& Qd, const UpdatePolicy& policy);
+
+  /// Measurement update with a stacked (H, r, R): gates each observation (Mahalanobis), then
+  /// applies the EKF (θ = 0) or NH∞ update. `report` may be null.
+  static Status update(SlamState& state, const MeasurementBatch& batch, const UpdatePolicy& policy,
+                       UpdateReport* report);
+
+ private:
+  /// x ← x + dx, keeping roll and yaw of every vehicle in (−π, π].
+  static void correctMean(SlamState& state, const Eigen::VectorXd& dx);
+  static Status append(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value);
+};
+
+}  // namespace cvslam

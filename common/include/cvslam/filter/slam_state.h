@@ -1,0 +1,74 @@
+#pragma once
+// Joint state of a stochastic map (thesis §5.5.1, eq. 5.22): vehicle block(s) plus landmarks.
+//
+// Each variable owns its slot (index and size) in the mean and the covariance, as in
+// OpenVINS (STYLE.md). Variables are found by key: a vehicle (one per agent, so that the
+// ground station's joint filter can stack several) or a landmark (3-D point in N). Removing
+// a variable compacts the indices of those after it.
+//
+// Only CovarianceHelper changes the covariance and the set of variables; everyone else reads
+// the state and may overwrite a variable's mean (e.g. an archived landmark's re-activation
+// goes through CovarianceHelper::addVariable instead).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <map>
+#include <vector>
+
+namespace cvslam {
+
+/// Identifies a variable of the joint state.
+struct VariableKey {
+  enum class Kind : uint8_t { kVehicle, kLandmark };
+  Kind kind = Kind::kVehicle;
+  uint64_t id = 0;  ///< agent id for vehicles, landmark id for landmarks
+
+  static VariableKey vehicle(uint64_t agent = 0) { return {Kind::kVehicle, agent}; }
+  static VariableKey landmark(uint64_t landmark_id) { return {Kind::kLandmark, landmark_id}; }
+  bool operator<(const VariableKey& o) const { return kind != o.kind ? kind < o.kind : id < o.id; }
+  bool operator==(const VariableKey& o) const { return kind == o.kind && id == o.id; }
+};
+
+/// Where a variable lives: rows [index, index + size) of the mean and the covariance.
+struct StateVariable {
+  VariableKey key;
+  int index = 0;
+  int size = 0;
+};
+
+class SlamState {
+ public:
+  int size() const { return static_cast<int>(x_.size()); }
+  const Eigen::VectorXd& mean() const { return x_; }
+  const Eigen::MatrixXd& covariance() const { return P_; }
+
+  /// Variables in index order.
+  const std::vector<StateVariable>& variables() const { return vars_; }
+  /// The variable's slot, or nullptr when it is not in the state.
+  const StateVariable* find(const VariableKey& key) const;
+  bool has(const VariableKey& key) const { return find(key) != nullptr; }
+  /// Number of landmark variables.
+  int landmarkCount() const;
+
+  /// Mean of a variable (must be present).
+  Eigen::VectorBlock<const Eigen::VectorXd> value(const StateVariable& v) const {
+    return x_.segment(v.index, v.size);
+  }
+  /// Covariance block of a variable (must be present).
+  Eigen::Block<const Eigen::MatrixXd> covarianceOf(const StateVariable& v) const {
+    return P_.block(v.index, v.index, v.size, v.size);
+  }
+  /// Overwrites the mean of a variable (relinearisation); its covariance is untouched.
+  void setValue(const StateVariable& v, const Eigen::Ref<const Eigen::VectorXd>& value) {
+    x_.segment(v.index, v.size) = value;
+  }
+
+ private:
+  friend class CovarianceHelper;
+  Eigen::VectorXd x_;
+  Eigen::MatrixXd P_;
+  std::vector<StateVariable> vars_;  // index order
+  std::map<VariableKey, int> slot_;  // key -> position in vars_
+};
+
+}  // namespace cvslam

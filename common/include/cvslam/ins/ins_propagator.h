@@ -1,0 +1,128 @@
+#pragma once
+// Strap-down INS process model (thesis §2.3.2, §5.3; DESIGN.md §3) and its discretisation.
+//
+// State x_v = [p_BinN | v_B | φ θ ψ | (b_a | b_g)], see vehicle_state_layout.h.
+// Noise  w  = [n_a | n_g | (n_ba | n_bg)] (same order as the state it drives).
+// Continuous dynamics, with ω = gyro − b_g − n_g and f = accel − b_a − n_a:
+//   ṗ_N = R_BtoN v_B                          (eq. 2.7)
+//   v̇_B = f + R_NtoB g_N − ω × v_B            (eq. 2.5 with the sign fixed by DESIGN §3)
+//   ė   = E(φ, θ) ω                           (eq. 2.4)
+//   ḃ_a = n_ba,  ḃ_g = n_bg                   (random walks, beyond the thesis)
+// Discretisation per IMU interval [t0, t1]: classical RK4 on the mean with the IMU input
+// interpolated linearly between the two samples and the noise held constant over the step
+// (zero-order hold). The discrete white noise then has covariance Q_w = diag(σ²/dt) for a
+// continuous density σ, which makes the discrete covariance P ← F P Fᵀ + G Q_w Gᵀ exact to
+// first order. F = ∂x₁/∂x₀ and G = ∂x₁/∂w are the Jacobians of the RK4 map itself, obtained
+// with ceres::Jet (so they match the mean propagation exactly, not an Euler approximation).
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "cvslam/core/status.h"
+#include "cvslam/geometry/euler.h"
+#include "cvslam/ins/imu_sample.h"
+#include "cvslam/ins/vehicle_state_layout.h"
+
+namespace cvslam {
+
+class ConfigNode;
+
+struct InsPropagatorOptions {
+  /// σ_g, gyro white-noise density [rad/s/√Hz] (EuRoC ADIS16448: 1.6968e-4).
+  double gyro_noise_density = 1.6968e-4;
+  /// σ_a, accelerometer white-noise density [m/s²/√Hz] (EuRoC: 2.0e-3).
+  double accel_noise_density = 2.0e-3;
+  /// σ_bg, gyro bias random walk [rad/s²/√Hz] (EuRoC: 1.9393e-5).
+  double gyro_random_walk = 1.9393e-5;
+  /// σ_ba, accelerometer bias random walk [m/s³/√Hz] (EuRoC: 3.0e-3).
+  double accel_random_walk = 3.0e-3;
+  /// Adds b_a and b_g (6 states) to the vehicle state.
+  bool estimate_imu_bias = false;
+  /// |g_N| [m/s²]; g_N = [0 0 gravity] in NED.
+  double gravity = 9.81;
+  /// IMU intervals longer than this are rejected as a data gap [s].
+  double max_dt = 0.1;
+
+  Status load(const ConfigNode& node);
+};
+
+/// Result of propagating the vehicle state over several IMU intervals.
+struct InsTransition {
+  Eigen::VectorXd x;    ///< vehicle state at the last sample
+  Eigen::MatrixXd Phi;  ///< ∂x_end/∂x_start (product of the per-step F)
+  Eigen::MatrixXd Qd;   ///< accumulated process noise Σ Φ(end,k) G_k Q_k G_kᵀ Φ(end,k)ᵀ
+  int64_t t_us = 0;     ///< time of x
+};
+
+class InsPropagator {
+ public:
+  explicit InsPropagator(const InsPropagatorOptions& options = {}) : o_(options) {}
+  const InsPropagatorOptions& options() const { return o_; }
+
+  int stateSize() const { return vehicle::size(o_.estimate_imu_bias); }
+  int noiseSize() const { return stateSize() - 3; }
+
+  /// Diagonal of Q_w for an interval dt: σ²/dt for each noise (zero-order-hold white noise).
+  Eigen::VectorXd noiseVariances(double dt) const;
+
+  /// Mean of one RK4 step from s0 to s1 with the noise w held over the step (w may be zero).
+  /// No dt check: callers that take data from outside use step() or propagate().
+  Eigen::VectorXd stepMean(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1,
+                           const Eigen::VectorXd& w) const;
+
+  /// One step with Jacobians dx1_dx0 (F) and dx1_dw (G) and the noise covariance Q_w.
+  /// Rejects dt ≤ 0 and dt > max_dt.
+  Status step(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1,
+              Eigen::VectorXd* x_next, Eigen::MatrixXd* dx1_dx0, Eigen::MatrixXd* dx1_dw,
+              Eigen::MatrixXd* Q_w) const;
+
+  /// Propagates x (valid at samples.front().t_us) through every consecutive pair of samples.
+  /// The yaw of the result is wrapped to (−π, π].
+  Status propagate(const Eigen::VectorXd& x, const std::vector<ImuSample>& samples,
+                   InsTransition* out) const;
+
+  /// Continuous dynamics ẋ = f(x, u, w), templated so that ceres::Jet can differentiate it.
+  template <typename T, int kN>
+  static Eigen::Matrix<T, kN, 1> dynamics(const Eigen::Matrix<T, kN, 1>& x,
+                                          const Eigen::Matrix<T, 3, 1>& gyro_B,
+                                          const Eigen::Matrix<T, 3, 1>& accel_B,
+                                          const Eigen::Matrix<T, kN - 3, 1>& w, double gravity);
+
+ private:
+  InsPropagatorOptions o_;
+};
+
+// ---- template implementation ----------------------------------------------------------
+
+template <typename T, int kN>
+Eigen::Matrix<T, kN, 1> InsPropagator::dynamics(const Eigen::Matrix<T, kN, 1>& x,
+                                                const Eigen::Matrix<T, 3, 1>& gyro_B,
+                                                const Eigen::Matrix<T, 3, 1>& accel_B,
+                                                const Eigen::Matrix<T, kN - 3, 1>& w,
+                                                double gravity) {
+  static_assert(kN == vehicle::kSizeNoBias || kN == vehicle::kSizeWithBias);
+  using Vec3 = Eigen::Matrix<T, 3, 1>;
+  const Vec3 v_B = x.template segment<3>(vehicle::kVelocity);
+  const Vec3 euler = x.template segment<3>(vehicle::kAttitude);
+  Vec3 f_B = accel_B - w.template segment<3>(0);
+  Vec3 omega_B = gyro_B - w.template segment<3>(3);
+  if constexpr (kN == vehicle::kSizeWithBias) {
+    f_B -= x.template segment<3>(vehicle::kAccelBias);
+    omega_B -= x.template segment<3>(vehicle::kGyroBias);
+  }
+  const Eigen::Matrix<T, 3, 3> R_NtoB = rotationNavToBody(euler);
+  const Vec3 g_N(T(0.0), T(0.0), T(gravity));
+
+  Eigen::Matrix<T, kN, 1> xdot;
+  xdot.template segment<3>(vehicle::kPosition) = R_NtoB.transpose() * v_B;
+  xdot.template segment<3>(vehicle::kVelocity) = f_B + R_NtoB * g_N - omega_B.cross(v_B);
+  xdot.template segment<3>(vehicle::kAttitude) = eulerRates(euler, omega_B);
+  if constexpr (kN == vehicle::kSizeWithBias) {
+    xdot.template segment<3>(vehicle::kAccelBias) = w.template segment<3>(6);
+    xdot.template segment<3>(vehicle::kGyroBias) = w.template segment<3>(9);
+  }
+  return xdot;
+}
+
+}  // namespace cvslam

@@ -1,0 +1,87 @@
+#pragma once
+// What an estimator run leaves on disk per agent (DESIGN.md §6; formats in
+// docs/run_format.md), as plain structs shared by the writer and the reader.
+//
+//   DIR/run.json                      mode, filter, ... of the whole run (RunInfo)
+//   DIR/agent_<id>/trajectory.tum     estimated pose per step (TUM)
+//   DIR/agent_<id>/ins_trajectory.tum dead reckoning from the same IMU data (optional)
+//   DIR/agent_<id>/states.csv         estimated vehicle state + covariance per step (optional)
+//   DIR/agent_<id>/truth.csv          true vehicle state at the same times (optional)
+//   DIR/agent_<id>/landmarks.csv      final map: mean, variances, truth when known
+//   DIR/agent_<id>/stats.json         per-frame time, state size, bytes sent
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cvslam/io/tum_trajectory.h"
+
+namespace cvslam {
+
+using Vector9d = Eigen::Matrix<double, 9, 1>;
+using Matrix9d = Eigen::Matrix<double, 9, 9>;
+
+/// Names of the nine vehicle states in files, in state order (vehicle_state_layout.h).
+inline const char* const kVehicleStateNames[9] = {"x", "y",    "z",     "u",  "v",
+                                                  "w", "roll", "pitch", "yaw"};
+
+/// Vehicle state [p_BinN, v_B, euler] at time t with its covariance (or only its diagonal).
+struct StateRecord {
+  double t = 0.0;                 ///< [s]
+  Vector9d x = Vector9d::Zero();  ///< estimate (or truth)
+  Matrix9d P = Matrix9d::Zero();  ///< covariance; off-diagonals zero if not recorded
+};
+
+struct LandmarkRecord {
+  int64_t id = 0;
+  Eigen::Vector3d p_LinN = Eigen::Vector3d::Zero();  ///< estimate [m]
+  Eigen::Vector3d var = Eigen::Vector3d::Zero();     ///< variances of x, y, z [m²]
+  std::optional<Eigen::Vector3d> truth;              ///< true position when known [m]
+};
+
+/// One processed stereo frame.
+struct FrameStats {
+  double t = 0.0;        ///< dataset time [s]
+  double time_ms = 0.0;  ///< wall time spent on the frame [ms]
+  int state_size = 0;    ///< length of the filter state after the frame
+  int landmarks = -1;    ///< landmarks in the state (−1: not recorded)
+  /// Mean landmark standard deviation sqrt(trace(P_LL)/3) over the state's landmarks [m]
+  /// (NaN: not recorded). Drives the "landmark uncertainty over time" plot.
+  double landmark_sigma_mean_m = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct RunStats {
+  double duration_s = 0.0;  ///< dataset time covered by the run [s]
+  int64_t bytes_sent = 0;   ///< payload bytes this agent published (all channels)
+  int64_t bytes_received = 0;
+  std::vector<FrameStats> frames;
+};
+
+/// Run-wide facts written once by the driver (cvslam_run, the agents' launcher).
+struct RunInfo {
+  std::string mode;    ///< single | dc | cc ("" when unknown)
+  std::string filter;  ///< ekf | nhinf ("" when unknown)
+  std::string map;     ///< knearest | full ("" when unknown)
+  std::string scenario;
+};
+
+/// Everything read back for one agent.
+struct AgentRun {
+  int id = 0;
+  std::string dir;
+  std::vector<TumPose> trajectory;
+  std::optional<std::vector<TumPose>> ins_trajectory;
+  std::vector<StateRecord> states;  ///< empty when states.csv is absent
+  bool states_full_covariance = false;
+  std::vector<StateRecord> truth;  ///< empty when no truth was found
+  std::vector<LandmarkRecord> landmarks;
+  RunStats stats;
+};
+
+/// "DIR/agent_<id>".
+std::string agentDir(const std::string& run_dir, int agent_id);
+
+}  // namespace cvslam

@@ -1,0 +1,75 @@
+#pragma once
+// Writers for run records (docs/run_format.md). An estimator run creates one
+// AgentRunWriter per agent and calls it each step; nothing here knows about transport.
+//
+//   AgentRunWriter w;
+//   if (auto s = w.open(out_dir, 1); !s.ok()) ...
+//   w.addState(t, x_v, P_vv);  w.addTruth(t, x_true);  w.addFrame({t, ms, n});
+//   w.addBytesSent(n);  ...  w.writeLandmarks(map);  w.close();
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cvslam/core/status.h"
+#include "cvslam/io/run_record.h"
+
+namespace cvslam {
+
+struct AgentRunWriterOptions {
+  /// Write the 36 off-diagonal covariance terms (cov_i_j) of the vehicle state, so the
+  /// evaluation's NEES uses the full 9×9 covariance rather than its diagonal.
+  bool full_covariance = true;
+};
+
+class AgentRunWriter {
+ public:
+  AgentRunWriter() = default;
+  // Not copyable or movable (open files, close() in the destructor): keep one per agent,
+  // in a std::unique_ptr when a container is needed.
+  AgentRunWriter(const AgentRunWriter&) = delete;
+  AgentRunWriter& operator=(const AgentRunWriter&) = delete;
+  ~AgentRunWriter();
+
+  /// Creates DIR/agent_<id>/ and opens trajectory.tum, states.csv and truth.csv.
+  Status open(const std::string& run_dir, int agent_id, const AgentRunWriterOptions& options = {});
+
+  /// Estimated state and covariance (9×9 vehicle block) at time t [s]: one line in
+  /// states.csv and one pose in trajectory.tum.
+  Status addState(double t, const Vector9d& x, const Matrix9d& P);
+  /// True state at time t (simulation): one line in truth.csv.
+  Status addTruth(double t, const Vector9d& x_true);
+  /// Dead-reckoning (INS-only) state: one pose in ins_trajectory.tum (opened on first use).
+  Status addInsState(double t, const Vector9d& x_ins);
+  void addFrame(const FrameStats& frame) { stats_.frames.push_back(frame); }
+  void addBytesSent(int64_t bytes) { stats_.bytes_sent += bytes; }
+  void addBytesReceived(int64_t bytes) { stats_.bytes_received += bytes; }
+
+  /// Writes landmarks.csv (overwrites; call with the final map, or periodically).
+  Status writeLandmarks(const std::vector<LandmarkRecord>& landmarks) const;
+
+  /// Writes stats.json and closes every file. Called by the destructor if needed
+  /// (errors are then lost: call it yourself).
+  Status close();
+
+  const std::string& dir() const { return dir_; }
+
+ private:
+  AgentRunWriterOptions options_;
+  std::string dir_;
+  int agent_id_ = 0;
+  std::ofstream states_, truth_;
+  TumWriter trajectory_, ins_;
+  RunStats stats_;
+  double t_first_ = 0.0, t_last_ = 0.0;
+  bool have_time_ = false;
+  bool open_ = false;
+};
+
+/// Writes DIR/run.json.
+Status writeRunInfo(const std::string& run_dir, const RunInfo& info);
+
+/// Writes stats.json content (used by AgentRunWriter; public for tools and tests).
+Status writeRunStats(const std::string& path, int agent_id, const RunStats& stats);
+
+}  // namespace cvslam

@@ -1,0 +1,227 @@
+#include "cvslam/eval/run_evaluation.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "cvslam/io/config_node.h"
+#include "cvslam/io/run_reader.h"
+
+namespace cvslam {
+
+Status RunEvaluationOptions::load(const ConfigNode& node) {
+  node.get("time_tolerance_s", time_tolerance_s);
+  node.getEnum("alignment", alignment, {{"none", Alignment::kNone}, {"se3", Alignment::kSE3}});
+  node.get("rpe_segment_m", rpe_segment_m);
+  node.get("co_window", co_window);
+  node.check(time_tolerance_s >= 0.0, "time_tolerance_s", "must be >= 0");
+  node.check(rpe_segment_m > 0.0, "rpe_segment_m", "must be > 0");
+  node.check(co_window >= 1, "co_window", "must be >= 1");
+  return node.status();
+}
+
+namespace {
+
+std::vector<TumPose> posesOf(const std::vector<StateRecord>& states) {
+  std::vector<TumPose> poses;
+  poses.reserve(states.size());
+  for (const auto& s : states) poses.push_back(tumPoseFromState(s.t, s.x));
+  return poses;
+}
+
+}  // namespace
+
+AgentEvaluation evaluateAgent(const AgentRun& run, const AgentTruth& truth,
+                              const RunEvaluationOptions& options) {
+  AgentEvaluation ev;
+  ev.id = run.id;
+  ev.landmarks = run.landmarks.size();
+  ev.steps = run.trajectory.size();
+  const auto note = [&](const std::string& what, const Status& why) {
+    ev.notes.push_back(what + ": " + why.message());
+  };
+
+  if (truth.states.empty()) {
+    ev.notes.push_back("no ground truth: ATE, RPE, NEES and co are null");
+  } else {
+    const std::vector<TumPose> true_poses = posesOf(truth.states);
+    const AteOptions ate_options{options.time_tolerance_s, options.alignment};
+    if (auto ate = absoluteTrajectoryError(run.trajectory, true_poses, ate_options); ate.ok())
+      ev.ate_rmse_m = ate->rmse_m;
+    else
+      note("ate", ate.status());
+    if (run.ins_trajectory) {
+      if (auto ins = absoluteTrajectoryError(*run.ins_trajectory, true_poses, ate_options);
+          ins.ok())
+        ev.ins_ate_rmse_m = ins->rmse_m;
+      else
+        note("ins_ate", ins.status());
+    }
+    const RpeOptions rpe_options{options.rpe_segment_m, options.time_tolerance_s};
+    if (auto rpe = relativePoseError(run.trajectory, true_poses, rpe_options); rpe.ok())
+      ev.rpe_m_per_10m = rpe->mean_m;
+    else
+      note("rpe", rpe.status());
+    if (run.states.empty()) {
+      ev.notes.push_back("no states.csv: NEES and co are null");
+    } else {
+      if (auto nees = normalisedEstimationErrorSquared(
+              run.states, truth.states, options.time_tolerance_s, truth.has_velocity);
+          nees.ok()) {
+        ev.nees_mean = nees->mean;
+        ev.nees_position_mean = nees->mean_position;
+      } else {
+        note("nees", nees.status());
+      }
+      ConsistencyOptions co_options;
+      co_options.time_tolerance_s = options.time_tolerance_s;
+      co_options.window = options.co_window;
+      if (auto co = consistencyDegree(run.states, truth.states, co_options); co.ok())
+        ev.consistency = std::move(*co);
+      else
+        note("co", co.status());
+    }
+  }
+
+  if (auto lm = landmarkErrors(run.landmarks, truth.landmarks); lm.ok())
+    ev.landmark_error = *lm;
+  else if (!run.landmarks.empty())
+    note("landmarks", lm.status());
+
+  std::vector<double> frame_ms;
+  for (const FrameStats& f : run.stats.frames) {
+    frame_ms.push_back(f.time_ms);
+    ev.max_state_size = std::max(ev.max_state_size.value_or(0), f.state_size);
+  }
+  if (!frame_ms.empty()) ev.frame_time_ms_median = median(frame_ms);
+  if (run.stats.duration_s > 0.0)
+    ev.bytes_sent_per_s = static_cast<double>(run.stats.bytes_sent) / run.stats.duration_s;
+  return ev;
+}
+
+Expected<std::vector<AgentEvaluation>> evaluateRun(const std::string& run_dir,
+                                                   const std::string& gt_dir,
+                                                   const RunEvaluationOptions& options) {
+  auto ids = listAgentIds(run_dir);
+  if (!ids.ok()) return ids.status();
+  std::vector<LandmarkRecord> gt_landmarks;
+  if (!gt_dir.empty()) {
+    auto lm = readGroundTruthLandmarks(gt_dir);
+    if (!lm.ok()) return lm.status();
+    gt_landmarks = std::move(*lm);
+  }
+  std::vector<AgentEvaluation> out;
+  for (int id : *ids) {
+    auto run = readAgentRun(run_dir, id);
+    if (!run.ok()) return run.status();
+    AgentTruth truth;
+    truth.landmarks = gt_landmarks;
+    if (!gt_dir.empty()) {
+      auto gt = readGroundTruth(gt_dir, id, &truth.has_velocity);
+      if (!gt.ok()) return gt.status();
+      truth.states = std::move(*gt);
+    } else {
+      truth.states = run->truth;
+    }
+    out.push_back(evaluateAgent(*run, truth, options));
+  }
+  return out;
+}
+
+namespace {
+
+Json optionalNumber(const std::optional<double>& x) {
+  return x ? Json::number(*x) : Json();
+}
+
+Json vector3(const Eigen::Vector3d& v) {
+  return Json::numbers({v.x(), v.y(), v.z()});
+}
+
+}  // namespace
+
+Json summaryJson(const RunInfo& info, const std::vector<AgentEvaluation>& agents,
+                 const RunEvaluationOptions& options) {
+  Json root = Json::object();
+  root.set("mode", info.mode.empty() ? Json() : Json::string(info.mode));
+  root.set("filter", info.filter.empty() ? Json() : Json::string(info.filter));
+  if (!info.map.empty()) root.set("map", Json::string(info.map));
+  root.set("alignment", Json::string(options.alignment == Alignment::kSE3 ? "se3" : "none"));
+  Json all = Json::object();
+  for (const AgentEvaluation& ev : agents) {
+    Json a = Json::object();
+    a.set("ate_rmse_m", optionalNumber(ev.ate_rmse_m));
+    a.set("ins_ate_rmse_m", optionalNumber(ev.ins_ate_rmse_m));
+    a.set("rpe_m_per_10m", optionalNumber(ev.rpe_m_per_10m));
+    a.set("nees_mean", optionalNumber(ev.nees_mean));
+    a.set("nees_position_mean", optionalNumber(ev.nees_position_mean));
+    a.set("max_state_size", ev.max_state_size ? Json::number(*ev.max_state_size) : Json());
+    a.set("landmark_error_mean_m", ev.landmark_error ? vector3(ev.landmark_error->mean_m) : Json());
+    a.set("landmark_error_std_m", ev.landmark_error ? vector3(ev.landmark_error->std_m) : Json());
+    a.set("landmark_error_rms_m",
+          ev.landmark_error ? Json::number(ev.landmark_error->rms_m) : Json());
+    a.set("landmarks", Json::number(static_cast<double>(ev.landmarks)));
+    a.set("landmarks_with_truth",
+          Json::number(ev.landmark_error ? static_cast<double>(ev.landmark_error->count) : 0.0));
+    a.set("frame_time_ms_median", optionalNumber(ev.frame_time_ms_median));
+    a.set("bytes_sent_per_s", optionalNumber(ev.bytes_sent_per_s));
+    if (ev.consistency) {
+      Json rco = Json::object(), sigma = Json::object(), true_sigma = Json::object();
+      for (int s = 0; s < 9; ++s) {
+        const double r = ev.consistency->rco[static_cast<std::size_t>(s)];
+        rco.set(kVehicleStateNames[s], Json::number(r));  // +inf (never defined) → null
+        sigma.set(kVehicleStateNames[s],
+                  Json::number(ev.consistency->sigma_mean[static_cast<std::size_t>(s)]));
+        true_sigma.set(kVehicleStateNames[s],
+                       Json::number(ev.consistency->true_sigma_mean[static_cast<std::size_t>(s)]));
+      }
+      a.set("rco", std::move(rco));
+      a.set("sigma_mean", std::move(sigma));
+      a.set("true_sigma_mean", std::move(true_sigma));
+    } else {
+      a.set("rco", Json());
+    }
+    a.set("steps", Json::number(static_cast<double>(ev.steps)));
+    Json notes = Json::array();
+    for (const auto& n : ev.notes) notes.push(Json::string(n));
+    a.set("notes", std::move(notes));
+    all.set(std::to_string(ev.id), std::move(a));
+  }
+  root.set("agents", std::move(all));
+  return root;
+}
+
+std::string summaryTable(const std::vector<AgentEvaluation>& agents) {
+  const auto cell = [](const std::optional<double>& x, const char* fmt) {
+    if (!x) return std::string("-");
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), fmt, *x);
+    return std::string(buf);
+  };
+  std::string out;
+  char line[512];
+  std::snprintf(line, sizeof(line), "%-6s %10s %10s %10s %8s %9s %6s %14s %10s %12s\n", "agent",
+                "ATE[m]", "INS ATE[m]", "RPE[m/10m]", "NEES", "min Rco", "state", "lm err rms[m]",
+                "frame[ms]", "sent[B/s]");
+  out += line;
+  for (const AgentEvaluation& ev : agents) {
+    std::optional<double> rco;
+    if (ev.consistency) {
+      const double m = *std::min_element(ev.consistency->rco.begin(), ev.consistency->rco.end());
+      if (std::isfinite(m)) rco = m;
+    }
+    std::optional<double> lm;
+    if (ev.landmark_error) lm = ev.landmark_error->rms_m;
+    std::optional<double> size;
+    if (ev.max_state_size) size = *ev.max_state_size;
+    std::snprintf(line, sizeof(line), "%-6d %10s %10s %10s %8s %9s %6s %14s %10s %12s\n", ev.id,
+                  cell(ev.ate_rmse_m, "%.4f").c_str(), cell(ev.ins_ate_rmse_m, "%.4f").c_str(),
+                  cell(ev.rpe_m_per_10m, "%.4f").c_str(), cell(ev.nees_mean, "%.2f").c_str(),
+                  cell(rco, "%.3f").c_str(), cell(size, "%.0f").c_str(), cell(lm, "%.4f").c_str(),
+                  cell(ev.frame_time_ms_median, "%.2f").c_str(),
+                  cell(ev.bytes_sent_per_s, "%.0f").c_str());
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace cvslam

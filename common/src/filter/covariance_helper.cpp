@@ -1,0 +1,171 @@
+// CovarianceHelper: variables in and out, marginals, propagation. The measurement update is
+// in covariance_update.cpp.
+#include "cvslam/filter/covariance_helper.h"
+
+#include <string>
+
+#include "cvslam/geometry/euler.h"
+#include "cvslam/ins/vehicle_state_layout.h"
+
+namespace cvslam {
+namespace {
+
+std::string describe(const VariableKey& key) {
+  return std::string(key.kind == VariableKey::Kind::kVehicle ? "vehicle " : "landmark ") +
+         std::to_string(key.id);
+}
+
+/// Symmetrises in place: the updates are symmetric in exact arithmetic only.
+void symmetrize(Eigen::MatrixXd& P) {
+  P = 0.5 * (P + P.transpose()).eval();
+}
+
+}  // namespace
+
+Status CovarianceHelper::append(SlamState& state, const VariableKey& key,
+                                const Eigen::VectorXd& value) {
+  if (state.has(key)) return Status::Error(describe(key) + " is already in the state");
+  if (value.size() == 0) return Status::Error("cannot add an empty variable");
+  const int n = state.size(), k = static_cast<int>(value.size());
+  state.x_.conservativeResize(n + k);
+  state.x_.tail(k) = value;
+  state.P_.conservativeResize(n + k, n + k);
+  state.slot_[key] = static_cast<int>(state.vars_.size());
+  state.vars_.push_back({key, n, k});
+  return Status::Ok();
+}
+
+Status CovarianceHelper::addVariable(SlamState& state, const VariableKey& key,
+                                     const Eigen::VectorXd& value,
+                                     const Eigen::MatrixXd& covariance) {
+  const int k = static_cast<int>(value.size());
+  if (covariance.rows() != k || covariance.cols() != k) {
+    return Status::Error("covariance of " + describe(key) + " does not match its size");
+  }
+  if (Status s = append(state, key, value); !s.ok()) return s;
+  state.P_.bottomRows(k).setZero();
+  state.P_.rightCols(k).setZero();
+  state.P_.bottomRightCorner(k, k) = 0.5 * (covariance + covariance.transpose());
+  return Status::Ok();
+}
+
+Status CovarianceHelper::augment(SlamState& state, const VariableKey& key,
+                                 const Eigen::VectorXd& value, const Eigen::MatrixXd& dy_dx,
+                                 const Eigen::MatrixXd& dy_dz, const Eigen::MatrixXd& R_z) {
+  const int n = state.size(), k = static_cast<int>(value.size());
+  if (dy_dx.rows() != k || dy_dx.cols() != n || dy_dz.rows() != k || dy_dz.cols() != R_z.rows() ||
+      R_z.rows() != R_z.cols()) {
+    return Status::Error("augment: Jacobian sizes do not match the state or the noise");
+  }
+  // P_yx = J_x P must be formed before the state grows.
+  const Eigen::MatrixXd P_yx = dy_dx * state.P_;
+  Eigen::MatrixXd P_yy = P_yx * dy_dx.transpose() + dy_dz * R_z * dy_dz.transpose();
+  symmetrize(P_yy);
+  if (Status s = append(state, key, value); !s.ok()) return s;
+  state.P_.bottomLeftCorner(k, n) = P_yx;
+  state.P_.topRightCorner(n, k) = P_yx.transpose();
+  state.P_.bottomRightCorner(k, k) = P_yy;
+  return Status::Ok();
+}
+
+Status CovarianceHelper::augment(SlamState& state, const VariableKey& key,
+                                 const Eigen::VectorXd& value, const VariableKey& source,
+                                 const Eigen::MatrixXd& dy_dsource, const Eigen::MatrixXd& dy_dz,
+                                 const Eigen::MatrixXd& R_z) {
+  const StateVariable* src = state.find(source);
+  if (src == nullptr) return Status::Error("augment: " + describe(source) + " is not in the state");
+  const int n = state.size(), k = static_cast<int>(value.size());
+  if (dy_dsource.rows() != k || dy_dsource.cols() != src->size || dy_dz.rows() != k ||
+      dy_dz.cols() != R_z.rows() || R_z.rows() != R_z.cols()) {
+    return Status::Error("augment: Jacobian sizes do not match the source or the noise");
+  }
+  // Only the source's rows of P enter: P_yx = J_s P_s·, P_yy = J_s P_ss J_sᵀ + J_z R J_zᵀ.
+  const Eigen::MatrixXd P_yx = dy_dsource * state.P_.middleRows(src->index, src->size);
+  Eigen::MatrixXd P_yy = P_yx.middleCols(src->index, src->size) * dy_dsource.transpose() +
+                         dy_dz * R_z * dy_dz.transpose();
+  symmetrize(P_yy);
+  if (Status s = append(state, key, value); !s.ok()) return s;
+  state.P_.bottomLeftCorner(k, n) = P_yx;
+  state.P_.topRightCorner(n, k) = P_yx.transpose();
+  state.P_.bottomRightCorner(k, k) = P_yy;
+  return Status::Ok();
+}
+
+Status CovarianceHelper::marginalize(SlamState& state, const VariableKey& key) {
+  const auto it = state.slot_.find(key);
+  if (it == state.slot_.end()) return Status::Error(describe(key) + " is not in the state");
+  const std::size_t pos = static_cast<std::size_t>(it->second);
+  const StateVariable removed = state.vars_[pos];
+  const int n = state.size();
+  std::vector<int> keep;
+  keep.reserve(static_cast<std::size_t>(n - removed.size));
+  for (int i = 0; i < n; ++i) {
+    if (i < removed.index || i >= removed.index + removed.size) keep.push_back(i);
+  }
+  state.x_ = state.x_(keep).eval();
+  state.P_ = state.P_(keep, keep).eval();
+  state.vars_.erase(state.vars_.begin() + static_cast<std::ptrdiff_t>(pos));
+  state.slot_.erase(it);
+  for (std::size_t j = pos; j < state.vars_.size(); ++j) {
+    state.vars_[j].index -= removed.size;
+    state.slot_[state.vars_[j].key] = static_cast<int>(j);
+  }
+  return Status::Ok();
+}
+
+Expected<Eigen::MatrixXd> CovarianceHelper::marginalCovariance(
+    const SlamState& state, const std::vector<VariableKey>& keys) {
+  std::vector<const StateVariable*> vars;
+  int total = 0;
+  for (const VariableKey& key : keys) {
+    const StateVariable* v = state.find(key);
+    if (v == nullptr) return Status::Error(describe(key) + " is not in the state");
+    vars.push_back(v);
+    total += v->size;
+  }
+  Eigen::MatrixXd out(total, total);
+  int r = 0;
+  for (const StateVariable* a : vars) {
+    int c = 0;
+    for (const StateVariable* b : vars) {
+      out.block(r, c, a->size, b->size) = state.P_.block(a->index, b->index, a->size, b->size);
+      c += b->size;
+    }
+    r += a->size;
+  }
+  return out;
+}
+
+Status CovarianceHelper::propagate(SlamState& state, const VariableKey& vehicle,
+                                   const Eigen::VectorXd& value, const Eigen::MatrixXd& Phi,
+                                   const Eigen::MatrixXd& Qd, const UpdatePolicy& policy) {
+  const StateVariable* v = state.find(vehicle);
+  if (v == nullptr)
+    return Status::Error("propagate: " + describe(vehicle) + " is not in the state");
+  const int i = v->index, k = v->size;
+  if (value.size() != k || Phi.rows() != k || Phi.cols() != k || Qd.rows() != k || Qd.cols() != k) {
+    return Status::Error("propagate: sizes do not match " + describe(vehicle));
+  }
+  // Rows of the vehicle: [Φ P_vv, Φ P_vo]; the vehicle block then gets Φ P_vv Φᵀ + c_w² Q.
+  const Eigen::MatrixXd rows = Phi * state.P_.middleRows(i, k);
+  Eigen::MatrixXd P_vv = rows.middleCols(i, k) * Phi.transpose() + policy.process_noise_scale * Qd;
+  symmetrize(P_vv);
+  state.P_.middleRows(i, k) = rows;
+  state.P_.middleCols(i, k) = rows.transpose();
+  state.P_.block(i, i, k, k) = P_vv;
+  state.x_.segment(i, k) = value;
+  return Status::Ok();
+}
+
+void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx) {
+  state.x_ += dx;
+  for (const StateVariable& v : state.vars_) {
+    if (v.key.kind != VariableKey::Kind::kVehicle || v.size < vehicle::kSizeNoBias) continue;
+    double& roll = state.x_(v.index + vehicle::kAttitude);
+    double& yaw = state.x_(v.index + vehicle::kAttitude + 2);
+    roll = wrapAngle(roll);
+    yaw = wrapAngle(yaw);
+  }
+}
+
+}  // namespace cvslam

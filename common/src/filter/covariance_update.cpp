@@ -1,0 +1,144 @@
+// CovarianceHelper::update: Mahalanobis gating, EKF (Joseph) and NH∞ measurement updates.
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <array>
+#include <string>
+
+#include "cvslam/filter/chi_square.h"
+#include "cvslam/filter/covariance_helper.h"
+
+namespace cvslam {
+namespace {
+
+/// Small per-observation blocks (stereo: 4 rows) live on the stack.
+using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 8, 8>;
+using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 8, 1>;
+
+/// Squared Mahalanobis distance rᵀ S⁻¹ r; negative when S is not positive definite.
+double mahalanobis2(const Eigen::Ref<const Eigen::MatrixXd>& S,
+                    const Eigen::Ref<const Eigen::VectorXd>& r) {
+  if (S.rows() <= 8) {
+    const Eigen::LLT<SmallMatrix> llt{SmallMatrix(S)};
+    if (llt.info() != Eigen::Success) return -1.0;
+    return llt.matrixL().solve(SmallVector(r)).squaredNorm();
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(S);
+  if (llt.info() != Eigen::Success) return -1.0;
+  return llt.matrixL().solve(r).squaredNorm();
+}
+
+/// Applies the gate; returns the rows of the accepted observations.
+std::vector<int> gate(const MeasurementBatch& batch, const Eigen::MatrixXd& S, double probability,
+                      UpdateReport* report) {
+  std::vector<int> rows;
+  rows.reserve(static_cast<std::size_t>(batch.rows()));
+  std::array<double, 17> threshold{};  // per dof, computed on first use
+  for (int g = 0; g < batch.groups(); ++g) {
+    const int r0 = batch.groupRow(g), nr = batch.groupRows(g);
+    bool accept = true;
+    if (probability > 0.0) {
+      const double d2 = mahalanobis2(S.block(r0, r0, nr, nr), batch.residual().segment(r0, nr));
+      double limit = 0.0;
+      if (nr < static_cast<int>(threshold.size())) {
+        double& t = threshold[static_cast<std::size_t>(nr)];
+        if (t == 0.0) t = chiSquareQuantile(probability, nr);
+        limit = t;
+      } else {
+        limit = chiSquareQuantile(probability, nr);
+      }
+      accept = d2 >= 0.0 && d2 <= limit;
+    }
+    if (accept) {
+      for (int i = 0; i < nr; ++i) rows.push_back(r0 + i);
+      ++report->observations_accepted;
+    } else {
+      ++report->observations_rejected;
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
+                                const UpdatePolicy& policy, UpdateReport* report_out) {
+  UpdateReport report;
+  const int n = state.size();
+  if (batch.stateSize() != n) {
+    return Status::Error("update: batch built for a state of " + std::to_string(batch.stateSize()) +
+                         ", state has " + std::to_string(n));
+  }
+  if (!(policy.measurement_noise_scale > 0.0) || policy.theta < 0.0) {
+    return Status::Error("update: invalid policy (c_v² must be > 0, θ ≥ 0)");
+  }
+  const Eigen::MatrixXd& P = state.P_;
+
+  // 1. Innovation covariance S = H P Hᵀ + c_v² R, sparse in H.
+  Eigen::MatrixXd PHt, S;
+  batch.multiplyByHt(P, &PHt);
+  batch.multiplyH(PHt, &S);
+  const Eigen::MatrixXd R_all = policy.measurement_noise_scale * batch.R();
+  S += R_all;
+
+  // 2. Mahalanobis gate per observation; keep the accepted rows only.
+  const std::vector<int> rows = gate(batch, S, policy.gate_probability, &report);
+  if (rows.empty()) {
+    if (report_out) *report_out = report;
+    return Status::Ok();
+  }
+  const bool all = static_cast<int>(rows.size()) == batch.rows();
+  const Eigen::MatrixXd PHt_a = all ? PHt : Eigen::MatrixXd(PHt(Eigen::all, rows));
+  const Eigen::MatrixXd S_a = all ? S : Eigen::MatrixXd(S(rows, rows));
+  const Eigen::MatrixXd R_a = all ? R_all : Eigen::MatrixXd(R_all(rows, rows));
+  const Eigen::VectorXd r_a =
+      all ? Eigen::VectorXd(batch.residual()) : Eigen::VectorXd(batch.residual()(rows));
+
+  // 3. Gain from the prior, K = P Hᵀ S⁻¹ (eq. 3.22; for NH∞ eq. 3.48 with the H∞ prior).
+  const Eigen::LLT<Eigen::MatrixXd> S_llt(S_a);
+  if (S_llt.info() != Eigen::Success) {
+    return Status::Error("update: innovation covariance is not positive definite");
+  }
+  const Eigen::MatrixXd K = S_llt.solve(PHt_a.transpose()).transpose();
+  const Eigen::VectorXd dx = K * r_a;
+
+  // 4. Joseph form (eq. 3.23): P⁺ = (I − KH) P (I − KH)ᵀ + K R Kᵀ, with (I − KH) applied
+  //    through the sparse H: A P = P − K (H P), (A P) Aᵀ = A P − (A P Hᵀ) Kᵀ.
+  Eigen::MatrixXd AP = P;
+  AP.noalias() -= K * PHt_a.transpose();
+  Eigen::MatrixXd APHt;
+  batch.multiplyByHt(AP, &APHt);
+  if (!all) APHt = APHt(Eigen::all, rows).eval();
+  Eigen::MatrixXd P_post = AP;
+  P_post.noalias() -= APHt * K.transpose();
+  const Eigen::MatrixXd KR = K * R_a;
+  P_post.noalias() += KR * K.transpose();
+  P_post = 0.5 * (P_post + P_post.transpose()).eval();
+
+  // 5. NH∞: P⁺ = (P⁻⁻¹ + Hᵀ R⁻¹ H − θ I)⁻¹ = (P_EKF⁻¹ − θ I)⁻¹ = (I − θ P_EKF)⁻¹ P_EKF.
+  //    Eq. 3.40 (P⁺ > 0) ⇔ θ λ_max(P_EKF) < 1; we require ≤ theta_margin, checked by a
+  //    Cholesky of margin·I − θ P_EKF, and otherwise fall back to half the admissible θ.
+  double theta = policy.theta;
+  if (theta > 0.0) {
+    const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
+    const Eigen::LLT<Eigen::MatrixXd> admissible(policy.theta_margin * I - theta * P_post);
+    if (admissible.info() != Eigen::Success) {
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P_post, Eigen::EigenvaluesOnly);
+      theta = 0.5 * policy.theta_margin / eig.eigenvalues().maxCoeff();
+      report.theta_reduced = true;
+    }
+    const Eigen::LLT<Eigen::MatrixXd> M_llt(I - theta * P_post);
+    if (M_llt.info() != Eigen::Success) {
+      return Status::Error("update: NH∞ posterior not positive definite after reducing θ");
+    }
+    P_post = M_llt.solve(P_post);
+    P_post = 0.5 * (P_post + P_post.transpose()).eval();
+  }
+  report.theta_used = theta;
+
+  state.P_ = std::move(P_post);
+  correctMean(state, dx);
+  if (report_out) *report_out = report;
+  return Status::Ok();
+}
+
+}  // namespace cvslam

@@ -1,0 +1,18 @@
+#include "cvslam/filter/slam_state.h"
+
+#include <algorithm>
+
+namespace cvslam {
+
+const StateVariable* SlamState::find(const VariableKey& key) const {
+  const auto it = slot_.find(key);
+  return it == slot_.end() ? nullptr : &vars_[static_cast<std::size_t>(it->second)];
+}
+
+int SlamState::landmarkCount() const {
+  return static_cast<int>(std::count_if(vars_.begin(), vars_.end(), [](const StateVariable& v) {
+    return v.key.kind == VariableKey::Kind::kLandmark;
+  }));
+}
+
+}  // namespace cvslam

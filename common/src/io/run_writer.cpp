@@ -1,0 +1,184 @@
+#include "cvslam/io/run_writer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "cvslam/io/json.h"
+
+namespace cvslam {
+namespace {
+
+/// %.10g keeps sub-millimetre and micro-radian resolution at any scale.
+void appendNumber(std::string& line, double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.10g", x);
+  line += buf;
+}
+
+std::string stateHeader(bool with_covariance, bool full) {
+  std::string h = "t";
+  for (const char* n : kVehicleStateNames) h += std::string(",") + n;
+  if (!with_covariance) return h;
+  for (const char* n : kVehicleStateNames) h += std::string(",var_") + n;
+  if (full)
+    for (int i = 0; i < 9; ++i)
+      for (int j = i + 1; j < 9; ++j) h += ",cov_" + std::to_string(i) + "_" + std::to_string(j);
+  return h;
+}
+
+}  // namespace
+
+std::string agentDir(const std::string& run_dir, int agent_id) {
+  return run_dir + "/agent_" + std::to_string(agent_id);
+}
+
+AgentRunWriter::~AgentRunWriter() {
+  if (open_) close();
+}
+
+Status AgentRunWriter::open(const std::string& run_dir, int agent_id,
+                            const AgentRunWriterOptions& options) {
+  options_ = options;
+  agent_id_ = agent_id;
+  dir_ = agentDir(run_dir, agent_id);
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) return Status::Error(dir_ + ": cannot create folder: " + ec.message());
+  if (Status s = trajectory_.open(dir_ + "/trajectory.tum"); !s.ok()) return s;
+  states_.open(dir_ + "/states.csv", std::ios::trunc);
+  truth_.open(dir_ + "/truth.csv", std::ios::trunc);
+  if (!states_ || !truth_) return Status::Error(dir_ + ": cannot write states.csv / truth.csv");
+  states_ << stateHeader(true, options_.full_covariance) << '\n';
+  truth_ << stateHeader(false, false) << '\n';
+  stats_ = RunStats{};
+  have_time_ = false;
+  open_ = true;
+  return Status::Ok();
+}
+
+Status AgentRunWriter::addState(double t, const Vector9d& x, const Matrix9d& P) {
+  if (!open_) return Status::Error("AgentRunWriter: not open");
+  if (Status s = trajectory_.add(tumPoseFromState(t, x)); !s.ok()) return s;
+  std::string line;
+  appendNumber(line, t);
+  for (int i = 0; i < 9; ++i) line += ',', appendNumber(line, x(i));
+  for (int i = 0; i < 9; ++i) line += ',', appendNumber(line, P(i, i));
+  if (options_.full_covariance)
+    for (int i = 0; i < 9; ++i)
+      for (int j = i + 1; j < 9; ++j) line += ',', appendNumber(line, P(i, j));
+  states_ << line << '\n';
+  if (!have_time_) t_first_ = t;
+  t_last_ = t;
+  have_time_ = true;
+  return states_ ? Status::Ok() : Status::Error(dir_ + "/states.csv: write failed");
+}
+
+Status AgentRunWriter::addTruth(double t, const Vector9d& x_true) {
+  if (!open_) return Status::Error("AgentRunWriter: not open");
+  std::string line;
+  appendNumber(line, t);
+  for (int i = 0; i < 9; ++i) line += ',', appendNumber(line, x_true(i));
+  truth_ << line << '\n';
+  return truth_ ? Status::Ok() : Status::Error(dir_ + "/truth.csv: write failed");
+}
+
+Status AgentRunWriter::addInsState(double t, const Vector9d& x_ins) {
+  if (!open_) return Status::Error("AgentRunWriter: not open");
+  if (!ins_.isOpen())
+    if (Status s = ins_.open(dir_ + "/ins_trajectory.tum"); !s.ok()) return s;
+  return ins_.add(tumPoseFromState(t, x_ins));
+}
+
+Status AgentRunWriter::writeLandmarks(const std::vector<LandmarkRecord>& landmarks) const {
+  if (dir_.empty()) return Status::Error("AgentRunWriter: not open");
+  const std::string path = dir_ + "/landmarks.csv";
+  std::ofstream out(path, std::ios::trunc);
+  if (!out) return Status::Error(path + ": cannot write");
+  bool any_truth = false;
+  for (const auto& l : landmarks) any_truth = any_truth || l.truth.has_value();
+  out << "id,x,y,z,var_x,var_y,var_z" << (any_truth ? ",true_x,true_y,true_z" : "") << '\n';
+  for (const auto& l : landmarks) {
+    std::string line = std::to_string(l.id);
+    for (int i = 0; i < 3; ++i) line += ',', appendNumber(line, l.p_LinN(i));
+    for (int i = 0; i < 3; ++i) line += ',', appendNumber(line, l.var(i));
+    if (any_truth) {
+      for (int i = 0; i < 3; ++i) {
+        line += ',';
+        if (l.truth)
+          appendNumber(line, (*l.truth)(i));
+        else
+          line += "nan";
+      }
+    }
+    out << line << '\n';
+  }
+  return out ? Status::Ok() : Status::Error(path + ": write failed");
+}
+
+Status writeRunStats(const std::string& path, int agent_id, const RunStats& stats) {
+  Json frames = Json::object();
+  std::vector<double> t, ms, size, lms, sigma;
+  for (const FrameStats& f : stats.frames) {
+    t.push_back(f.t);
+    ms.push_back(f.time_ms);
+    size.push_back(f.state_size);
+    lms.push_back(f.landmarks);
+    sigma.push_back(f.landmark_sigma_mean_m);  // NaN → null
+  }
+  frames.set("t_s", Json::numbers(t));
+  frames.set("time_ms", Json::numbers(ms));
+  frames.set("state_size", Json::numbers(size));
+  frames.set("landmarks", Json::numbers(lms));
+  frames.set("landmark_sigma_mean_m", Json::numbers(sigma));
+  Json root = Json::object();
+  root.set("agent_id", Json::number(agent_id));
+  root.set("duration_s", Json::number(stats.duration_s));
+  root.set("bytes_sent", Json::number(static_cast<double>(stats.bytes_sent)));
+  root.set("bytes_received", Json::number(static_cast<double>(stats.bytes_received)));
+  root.set("frames", std::move(frames));
+  std::ofstream out(path, std::ios::trunc);
+  if (!out) return Status::Error(path + ": cannot write");
+  out << root.dump(2);
+  return out ? Status::Ok() : Status::Error(path + ": write failed");
+}
+
+Status AgentRunWriter::close() {
+  if (!open_) return Status::Ok();
+  open_ = false;
+  trajectory_.close();
+  ins_.close();
+  states_.close();
+  truth_.close();
+  if (stats_.duration_s <= 0.0) {
+    double first = have_time_ ? t_first_ : 0.0, last = have_time_ ? t_last_ : 0.0;
+    if (!stats_.frames.empty()) {
+      first = have_time_ ? std::min(first, stats_.frames.front().t) : stats_.frames.front().t;
+      last = std::max(last, stats_.frames.back().t);
+    }
+    stats_.duration_s = last - first;
+  }
+  // A run that never wrote its map still leaves a valid (empty) landmarks.csv.
+  if (!std::filesystem::exists(dir_ + "/landmarks.csv"))
+    if (Status s = writeLandmarks({}); !s.ok()) return s;
+  return writeRunStats(dir_ + "/stats.json", agent_id_, stats_);
+}
+
+Status writeRunInfo(const std::string& run_dir, const RunInfo& info) {
+  std::error_code ec;
+  std::filesystem::create_directories(run_dir, ec);
+  if (ec) return Status::Error(run_dir + ": cannot create folder: " + ec.message());
+  Json root = Json::object();
+  root.set("mode", Json::string(info.mode));
+  root.set("filter", Json::string(info.filter));
+  root.set("map", Json::string(info.map));
+  root.set("scenario", Json::string(info.scenario));
+  const std::string path = run_dir + "/run.json";
+  std::ofstream out(path, std::ios::trunc);
+  if (!out) return Status::Error(path + ": cannot write");
+  out << root.dump(2);
+  return out ? Status::Ok() : Status::Error(path + ": write failed");
+}
+
+}  // namespace cvslam

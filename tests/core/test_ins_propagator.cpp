@@ -1,0 +1,202 @@
+#include "cvslam/ins/ins_propagator.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <random>
+
+#include "cvslam/io/config_node.h"
+#include "jacobian_check.h"
+
+namespace cvslam {
+namespace {
+
+/// A known, non-trivial motion: body rates and specific force varying in time, 200 Hz.
+std::vector<ImuSample> knownMotion(double duration_s, int64_t period_us = 5000) {
+  std::vector<ImuSample> samples;
+  for (int64_t t = 0; t <= static_cast<int64_t>(duration_s * 1e6); t += period_us) {
+    const double s = 1e-6 * static_cast<double>(t);
+    ImuSample m;
+    m.t_us = 1'000'000 + t;
+    m.gyro_B = {0.2 * std::sin(s), 0.1, -0.3 * std::cos(2 * s)};
+    m.accel_B = {0.5 + 0.3 * std::cos(s), -0.2, -9.5 + 0.4 * std::sin(3 * s)};
+    samples.push_back(m);
+  }
+  return samples;
+}
+
+Eigen::VectorXd movingState(bool with_bias) {
+  Eigen::VectorXd x(vehicle::size(with_bias));
+  x.head<9>() << 1.0, -2.0, -10.0, 2.0, 0.5, -0.3, 0.1, -0.05, 0.3;
+  if (with_bias) x.tail<6>() << 0.05, -0.03, 0.02, 0.004, -0.002, 0.003;
+  return x;
+}
+
+class InsPropagatorBias : public ::testing::TestWithParam<bool> {};
+
+TEST_P(InsPropagatorBias, StepJacobiansMatchCentralDifferences) {
+  InsPropagatorOptions o;
+  o.estimate_imu_bias = GetParam();
+  const InsPropagator ins(o);
+  const auto samples = knownMotion(0.01);
+  const ImuSample &s0 = samples[0], &s1 = samples[1];
+  const Eigen::VectorXd x0 = movingState(o.estimate_imu_bias);
+  Eigen::VectorXd x1;
+  Eigen::MatrixXd F, G, Q;
+  ASSERT_TRUE(ins.step(x0, s0, s1, &x1, &F, &G, &Q).ok());
+  const Eigen::VectorXd w0 = Eigen::VectorXd::Zero(ins.noiseSize());
+  EXPECT_TRUE(x1.isApprox(ins.stepMean(x0, s0, s1, w0), 1e-14));
+  EXPECT_TRUE(test::jacobianMatches(
+      [&](const Eigen::VectorXd& x) { return ins.stepMean(x, s0, s1, w0); }, x0, F, 1e-6, 1e-8));
+  EXPECT_TRUE(test::jacobianMatches(
+      [&](const Eigen::VectorXd& w) { return ins.stepMean(x0, s0, s1, w); }, w0, G, 1e-6, 1e-8));
+  // Q_w is the zero-order-hold discretisation σ²/dt.
+  EXPECT_NEAR(Q(0, 0), o.accel_noise_density * o.accel_noise_density / 0.005, 1e-15);
+  EXPECT_NEAR(Q(3, 3), o.gyro_noise_density * o.gyro_noise_density / 0.005, 1e-15);
+}
+
+TEST(InsPropagator, DynamicsMatchEquation25WithCorrectedGravitySign) {
+  // Thesis eq. 2.5 written out per component, with the gravity sign of DESIGN §3
+  // (the thesis prints +g sinθ, −g cosθ sinφ, −g cosθ cosφ).
+  Eigen::Matrix<double, 9, 1> x;
+  x << 1.0, -2.0, -10.0, 2.0, 0.5, -0.3, 0.1, -0.05, 0.3;
+  const Eigen::Vector3d gyro(0.2, 0.1, -0.3), accel(0.5, -0.2, -9.5);
+  const auto xdot =
+      InsPropagator::dynamics<double, 9>(x, gyro, accel, Eigen::Matrix<double, 6, 1>::Zero(), 9.81);
+  const double U = x(3), V = x(4), W = x(5), phi = x(6), theta = x(7);
+  const double p = gyro(0), q = gyro(1), r = gyro(2), g = 9.81;
+  EXPECT_NEAR(xdot(3), accel(0) + V * r - W * q - g * std::sin(theta), 1e-12);
+  EXPECT_NEAR(xdot(4), accel(1) - U * r + W * p + g * std::cos(theta) * std::sin(phi), 1e-12);
+  EXPECT_NEAR(xdot(5), accel(2) + U * q - V * p + g * std::cos(theta) * std::cos(phi), 1e-12);
+  // Position rate is R_BtoN v_B (eq. 2.7) and attitude rates eq. 2.4.
+  const Eigen::Vector3d euler = x.segment<3>(6);
+  EXPECT_TRUE(xdot.head<3>().isApprox(rotationBodyToNav(euler) * x.segment<3>(3), 1e-12));
+  EXPECT_TRUE(xdot.tail<3>().isApprox(eulerRates(euler, gyro), 1e-12));
+}
+
+INSTANTIATE_TEST_SUITE_P(WithAndWithoutBias, InsPropagatorBias, ::testing::Bool());
+
+TEST(InsPropagator, LevelAtRestStaysAtRest) {
+  // DESIGN §3 sign convention: a level IMU at rest reads f_B = [0 0 −g].
+  const InsPropagator ins;
+  std::vector<ImuSample> samples(101);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    samples[k].t_us = static_cast<int64_t>(k) * 5000;
+    samples[k].accel_B = {0.0, 0.0, -9.81};
+  }
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(9);
+  x(vehicle::kAttitude + 2) = 0.7;  // any heading
+  InsTransition tr;
+  ASSERT_TRUE(ins.propagate(x, samples, &tr).ok());
+  EXPECT_TRUE(tr.x.isApprox(x, 1e-12)) << tr.x.transpose();
+  EXPECT_EQ(tr.t_us, 500000);
+  // Free fall (f_B = 0) accelerates downwards (+Z in NED) at g.
+  for (auto& s : samples) s.accel_B.setZero();
+  ASSERT_TRUE(ins.propagate(Eigen::VectorXd::Zero(9), samples, &tr).ok());
+  EXPECT_NEAR(tr.x(vehicle::kPosition + 2), 0.5 * 9.81 * 0.25, 1e-9);
+  EXPECT_NEAR(tr.x(vehicle::kVelocity + 2), 9.81 * 0.5, 1e-9);
+}
+
+TEST(InsPropagator, RejectsBadTimestampsAndSizes) {
+  const InsPropagator ins;
+  auto samples = knownMotion(0.02);
+  InsTransition tr;
+  const Eigen::VectorXd x = movingState(false);
+  ASSERT_TRUE(ins.propagate(x, samples, &tr).ok());
+  auto repeated = samples;
+  repeated[2].t_us = repeated[1].t_us;
+  EXPECT_FALSE(ins.propagate(x, repeated, &tr).ok());
+  auto backwards = samples;
+  backwards[2].t_us = backwards[1].t_us - 10;
+  EXPECT_FALSE(ins.propagate(x, backwards, &tr).ok());
+  auto gap = samples;
+  gap[3].t_us += 200000;  // 0.2 s > max_dt
+  const Status s = ins.propagate(x, gap, &tr);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("max_dt"), std::string::npos) << s.message();
+  EXPECT_FALSE(ins.propagate(movingState(true), samples, &tr).ok());
+  EXPECT_FALSE(ins.propagate(x, {}, &tr).ok());
+}
+
+TEST(InsPropagatorOptions, LoadsAndValidates) {
+  auto cfg = ConfigNode::fromString(
+      "ins: {gyro_noise_density: 0.01, estimate_imu_bias: true, max_dt: 0.05}", "t.yaml");
+  ASSERT_TRUE(cfg.ok());
+  InsPropagatorOptions o;
+  ASSERT_TRUE(o.load(cfg->child("ins")).ok());
+  EXPECT_DOUBLE_EQ(o.gyro_noise_density, 0.01);
+  EXPECT_TRUE(o.estimate_imu_bias);
+  EXPECT_DOUBLE_EQ(o.max_dt, 0.05);
+  EXPECT_TRUE(cfg->finish().ok());
+  auto bad = ConfigNode::fromString("{accel_noise_density: -1}", "t.yaml");
+  InsPropagatorOptions o2;
+  const Status s = o2.load(*bad);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.message(), "t.yaml: accel_noise_density: must be > 0");
+}
+
+/// Monte-Carlo check of the covariance propagation (STYLE.md §7, GTSAM practice): sample
+/// initial states from N(x0, P0) and the discrete noise from N(0, Q_w) at every step, push
+/// each through the nonlinear RK4 model for 1 s, and compare the sampled error covariance
+/// with Φ P0 Φᵀ + Qd from propagate().
+TEST_P(InsPropagatorBias, MonteCarloCovarianceMatchesPropagatedCovariance) {
+  InsPropagatorOptions o;
+  o.estimate_imu_bias = GetParam();
+  // Noisier than a real IMU so that process noise matters next to P0.
+  o.accel_noise_density = 0.05;
+  o.gyro_noise_density = 0.01;
+  o.accel_random_walk = 0.02;
+  o.gyro_random_walk = 0.002;
+  const InsPropagator ins(o);
+  const int n = ins.stateSize();
+  const auto samples = knownMotion(1.0);
+  const Eigen::VectorXd x0 = movingState(o.estimate_imu_bias);
+  Eigen::VectorXd sigma0(n);
+  sigma0.head<9>() << 0.05, 0.05, 0.05, 0.03, 0.03, 0.03, 0.01, 0.01, 0.01;
+  if (o.estimate_imu_bias) sigma0.tail<6>() << 0.02, 0.02, 0.02, 0.002, 0.002, 0.002;
+  const Eigen::MatrixXd P0 = sigma0.array().square().matrix().asDiagonal();
+
+  InsTransition nominal;
+  ASSERT_TRUE(ins.propagate(x0, samples, &nominal).ok());
+  const Eigen::MatrixXd P1 = nominal.Phi * P0 * nominal.Phi.transpose() + nominal.Qd;
+  // The process noise must matter, or a wrong G would go unnoticed.
+  for (int i = vehicle::kVelocity; i < vehicle::kAttitude + 3; ++i) {
+    ASSERT_GT(nominal.Qd(i, i), 0.2 * P1(i, i)) << "state " << i;
+  }
+
+  constexpr int kRuns = 2000;
+  std::mt19937 rng(20261121);
+  std::normal_distribution<double> normal;
+  const Eigen::VectorXd q_std = ins.noiseVariances(0.005).cwiseSqrt();
+  Eigen::MatrixXd errors(n, kRuns);
+  Eigen::VectorXd w(ins.noiseSize());
+  for (int r = 0; r < kRuns; ++r) {
+    Eigen::VectorXd x(n);
+    for (int i = 0; i < n; ++i) x(i) = x0(i) + sigma0(i) * normal(rng);
+    for (std::size_t k = 1; k < samples.size(); ++k) {
+      for (int j = 0; j < w.size(); ++j) w(j) = q_std(j) * normal(rng);
+      x = ins.stepMean(x, samples[k - 1], samples[k], w);
+    }
+    errors.col(r) = x - nominal.x;
+    errors(vehicle::kAttitude + 2, r) = wrapAngle(errors(vehicle::kAttitude + 2, r));
+  }
+  const Eigen::VectorXd mean = errors.rowwise().mean();
+  const Eigen::MatrixXd centred = errors.colwise() - mean;
+  const Eigen::MatrixXd P_sampled = centred * centred.transpose() / (kRuns - 1);
+  // Variance of a sample variance is 2σ⁴/N: 15 % is > 4.5 standard errors for N = 2000.
+  for (int i = 0; i < n; ++i) {
+    const double ratio = P_sampled(i, i) / P1(i, i);
+    EXPECT_GT(ratio, 0.85) << "state " << i;
+    EXPECT_LT(ratio, 1.15) << "state " << i;
+  }
+  // Average NEES of the errors about the nominal trajectory ~ χ²(n·N)/N: mean n, standard
+  // deviation sqrt(2n/N).
+  const Eigen::LLT<Eigen::MatrixXd> llt(P1);
+  ASSERT_EQ(llt.info(), Eigen::Success);
+  const double nees = llt.matrixL().solve(errors).colwise().squaredNorm().mean();
+  EXPECT_NEAR(nees, n, 4.0 * std::sqrt(2.0 * n / kRuns)) << "average NEES";
+}
+
+}  // namespace
+}  // namespace cvslam

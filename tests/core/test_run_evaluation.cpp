@@ -1,0 +1,185 @@
+#include "cvslam/eval/run_evaluation.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "cvslam/io/config_node.h"
+#include "cvslam/io/run_reader.h"
+#include "fake_run.h"
+#include "test_paths.h"
+
+namespace cvslam {
+namespace {
+
+namespace fs = std::filesystem;
+
+class RunEvaluation : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = (fs::temp_directory_path() /
+            ("cvslam_eval_" +
+             std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())))
+               .string();
+    fs::remove_all(dir_);
+    test::writeFakeRun(dir_ + "/run", options_);
+  }
+  // CVSLAM_KEEP_TEST_RUNS=1 keeps the folders for a look at the figures.
+  void TearDown() override {
+    if (!std::getenv("CVSLAM_KEEP_TEST_RUNS")) fs::remove_all(dir_);
+  }
+  std::string dir_;
+  test::FakeRunOptions options_;
+};
+
+TEST_F(RunEvaluation, KnownFiguresOfTheFakeRun) {
+  auto agents = evaluateRun(dir_ + "/run", "");
+  ASSERT_TRUE(agents.ok()) << agents.status().message();
+  ASSERT_EQ(agents->size(), 2u);
+  const AgentEvaluation& a = (*agents)[0];
+  EXPECT_EQ(a.id, 1);
+  // Position noise σ = (0.3, 0.4, 0.2) → expected ATE sqrt(0.29) ≈ 0.539 m.
+  ASSERT_TRUE(a.ate_rmse_m);
+  EXPECT_NEAR(*a.ate_rmse_m, std::sqrt(0.29), 0.04);
+  // INS drifts 0.01 m per step along x: RMS over k = 0..399 is 0.01 sqrt(399·799/6).
+  ASSERT_TRUE(a.ins_ate_rmse_m);
+  EXPECT_NEAR(*a.ins_ate_rmse_m, 0.01 * std::sqrt(399.0 * 799.0 / 6.0), 1e-4);
+  ASSERT_TRUE(a.rpe_m_per_10m);
+  EXPECT_GT(*a.rpe_m_per_10m, 0.3);
+  EXPECT_LT(*a.rpe_m_per_10m, 2.0);
+  ASSERT_TRUE(a.nees_mean);
+  EXPECT_NEAR(*a.nees_mean, 9.0, 0.7);  // 400 samples: σ of the mean ≈ 0.21
+  ASSERT_TRUE(a.consistency);
+  for (double r : a.consistency->rco) EXPECT_LT(r, 1.0) << "some step always beats σ";
+  ASSERT_TRUE(a.landmark_error);
+  EXPECT_EQ(a.landmark_error->count, 30u);
+  EXPECT_NEAR(a.landmark_error->mean_m.x(), 0.1, 0.03);
+  EXPECT_NEAR(a.landmark_error->mean_m.y(), -0.2, 1e-9);
+  EXPECT_NEAR(a.landmark_error->std_m.x(), 0.05, 0.02);
+  EXPECT_NEAR(a.landmark_error->std_m.z(), 0.0, 1e-9);
+  EXPECT_EQ(a.max_state_size, 69);
+  EXPECT_DOUBLE_EQ(*a.frame_time_ms_median, 12.0);
+  EXPECT_NEAR(*a.bytes_sent_per_s, 400.0 * 1000.0 / 39.9, 1e-6);
+  EXPECT_TRUE(a.notes.empty());
+}
+
+TEST_F(RunEvaluation, SummaryJsonHasTheDesignKeys) {
+  auto agents = evaluateRun(dir_ + "/run", "");
+  ASSERT_TRUE(agents.ok());
+  auto info = readRunInfo(dir_ + "/run");
+  ASSERT_TRUE(info.ok());
+  const Json j = summaryJson(*info, *agents, {});
+  auto back = Json::parse(j.dump());  // what the file holds parses
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_EQ(back->find("mode")->asString(), "dc");
+  EXPECT_EQ(back->find("filter")->asString(), "nhinf");
+  const Json* a1 = back->find("agents")->find("1");
+  ASSERT_NE(a1, nullptr);
+  for (const char* key : {"ate_rmse_m", "ins_ate_rmse_m", "rpe_m_per_10m", "nees_mean",
+                          "max_state_size", "frame_time_ms_median", "bytes_sent_per_s"}) {
+    const Json* v = a1->find(key);
+    ASSERT_NE(v, nullptr) << key;
+    EXPECT_TRUE(v->isNumber()) << key;
+  }
+  for (const char* key : {"landmark_error_mean_m", "landmark_error_std_m"}) {
+    ASSERT_NE(a1->find(key), nullptr) << key;
+    EXPECT_EQ(a1->find(key)->items().size(), 3u) << key;
+  }
+  ASSERT_TRUE(a1->find("rco")->isObject());
+  EXPECT_TRUE(a1->find("rco")->find("yaw")->isNumber());
+  ASSERT_NE(back->find("agents")->find("2"), nullptr);
+}
+
+TEST_F(RunEvaluation, MissingPiecesGiveNullsWithNotes) {
+  fs::remove(dir_ + "/run/agent_1/truth.csv");
+  fs::remove(dir_ + "/run/agent_1/ins_trajectory.tum");
+  fs::remove(dir_ + "/run/agent_1/stats.json");
+  std::ofstream(dir_ + "/run/agent_1/stats.json") << "{}";
+  auto agents = evaluateRun(dir_ + "/run", "");
+  ASSERT_TRUE(agents.ok()) << agents.status().message();
+  const AgentEvaluation& a = (*agents)[0];
+  EXPECT_FALSE(a.ate_rmse_m);
+  EXPECT_FALSE(a.ins_ate_rmse_m);
+  EXPECT_FALSE(a.nees_mean);
+  EXPECT_FALSE(a.frame_time_ms_median);
+  EXPECT_FALSE(a.bytes_sent_per_s);
+  EXPECT_TRUE(a.landmark_error) << "landmark truth is in landmarks.csv";
+  EXPECT_FALSE(a.notes.empty());
+  const Json j = summaryJson(RunInfo{}, *agents, {});
+  EXPECT_TRUE(j.find("mode")->isNull());
+  EXPECT_TRUE(j.find("agents")->find("1")->find("ate_rmse_m")->isNull());
+}
+
+TEST_F(RunEvaluation, SeparateGroundTruthFolder) {
+  // Move truth.csv into a separate GT folder, as a simulator would write it.
+  for (int id : {1, 2}) {
+    const std::string gt = dir_ + "/gt/agent_" + std::to_string(id);
+    fs::create_directories(gt);
+    fs::rename(dir_ + "/run/agent_" + std::to_string(id) + "/truth.csv", gt + "/truth.csv");
+  }
+  auto with_gt = evaluateRun(dir_ + "/run", dir_ + "/gt");
+  ASSERT_TRUE(with_gt.ok()) << with_gt.status().message();
+  EXPECT_TRUE((*with_gt)[1].ate_rmse_m);
+  auto missing = evaluateRun(dir_ + "/run", dir_ + "/nowhere");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.status().message().find("no such ground-truth folder"), std::string::npos);
+}
+
+TEST(RunEvaluationOptions, Load) {
+  auto cfg = ConfigNode::fromString("{alignment: se3, co_window: 5}", "e.yaml");
+  ASSERT_TRUE(cfg.ok());
+  RunEvaluationOptions o;
+  ASSERT_TRUE(o.load(*cfg).ok());
+  EXPECT_EQ(o.alignment, Alignment::kSE3);
+  EXPECT_EQ(o.co_window, 5);
+  auto bad = ConfigNode::fromString("{alignment: sim3, rpe_segment_m: 0}", "e.yaml");
+  EXPECT_FALSE(RunEvaluationOptions{}.load(*bad).ok());
+}
+
+/// Runs a shell command, returns its exit status.
+int run(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST_F(RunEvaluation, ToolEndToEnd) {
+  const std::string tool = std::string(CVSLAM_BINARY_DIR) + "/tools/cvslam_eval";
+  if (!fs::exists(tool)) GTEST_SKIP() << "build the cvslam_eval target first";
+  const std::string json = dir_ + "/summary.json";
+  EXPECT_EQ(
+      run(tool + " --run " + dir_ + "/run --summary-json " + json + " > " + dir_ + "/out.txt"), 0);
+  auto parsed = Json::parseFile(json);
+  ASSERT_TRUE(parsed.ok()) << parsed.status().message();
+  EXPECT_TRUE(parsed->find("agents")->find("2")->find("ate_rmse_m")->isNumber());
+  EXPECT_EQ(run(tool + " --help > /dev/null"), 0);
+  EXPECT_NE(run(tool + " --run " + dir_ + "/nowhere 2> " + dir_ + "/err.txt"), 0);
+  std::ifstream err(dir_ + "/err.txt");
+  std::string line;
+  std::getline(err, line);
+  EXPECT_NE(line.find("cvslam_eval: "), std::string::npos) << line;
+  EXPECT_NE(run(tool + " --bogus 2> /dev/null"), 0);
+  std::ofstream(dir_ + "/run/agent_2/trajectory.tum") << "0 1 2\n";
+  EXPECT_NE(run(tool + " --run " + dir_ + "/run 2> /dev/null > /dev/null"), 0);
+}
+
+TEST_F(RunEvaluation, PlotScriptWritesFigures) {
+  if (run("/usr/bin/python3 -c 'import matplotlib, numpy' 2> /dev/null") != 0)
+    GTEST_SKIP() << "python3-matplotlib not installed";
+  const std::string script = test::sourceDir() + "/scripts/plot_run.py";
+  ASSERT_EQ(run("/usr/bin/python3 " + script + " " + dir_ + "/run > /dev/null"), 0);
+  for (const char* png :
+       {"agent_1_position.png", "agent_1_errors.png", "agent_2_position.png", "trajectories.png",
+        "landmark_uncertainty.png", "state_size.png", "nees.png"}) {
+    const std::string path = dir_ + "/run/plots/" + png;
+    ASSERT_TRUE(fs::exists(path)) << png;
+    EXPECT_GT(fs::file_size(path), 10000u) << png;
+  }
+  EXPECT_NE(run("/usr/bin/python3 " + script + " " + dir_ + "/nowhere 2> /dev/null"), 0);
+}
+
+}  // namespace
+}  // namespace cvslam
