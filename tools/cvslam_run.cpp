@@ -1,0 +1,344 @@
+// cvslam_run — runs every UAV of a scenario in one process, deterministically, without any
+// transport (DESIGN.md §1, §6), and writes the run record of docs/run_format.md.
+//
+//   cvslam_run --scenario config/scenarios/thesis_loop.yaml --mode single --out runs/loop
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cvslam/geometry/euler.h"
+#include "cvslam/io/config_node.h"
+#include "cvslam/io/run_writer.h"
+#include "cvslam/sim/scenario.h"
+#include "cvslam/sim/simulator.h"
+#include "cvslam/slam/visual_inertial_slam.h"
+
+namespace {
+
+using cvslam::Status;
+
+constexpr const char* kUsage = R"(usage: cvslam_run --scenario FILE --out DIR [options]
+
+Runs every UAV of a simulated scenario in one process (no LCM) and writes
+DIR/agent_<id>/{trajectory.tum, ins_trajectory.tum, states.csv, truth.csv,
+landmarks.csv, stats.json, events.csv} and DIR/run.json (docs/run_format.md).
+
+options:
+  --scenario FILE         scenario YAML (config/scenarios/*.yaml)               [required]
+  --out DIR               output folder (created)                               [required]
+  --config FILE           agent configuration (default: config/agent.yaml of the
+                          source tree, else built-in defaults)
+  --mode single           single: every UAV alone (dc and cc come with later work)
+  --sensing features      features: feature-level simulation with true landmark ids
+  --filter ekf|nhinf      overrides filter.type of the configuration
+  --map knearest|full     overrides map.kind of the configuration
+  --passes N              overrides slam.observation_passes (thesis §5.7.3)
+  --seed N                overrides the scenario's seed
+  --duration S            simulate only the first S seconds
+  --quiet                 no progress output
+  -h, --help              this text
+)";
+
+struct Args {
+  std::string scenario, out, config, mode = "single", sensing = "features", filter, map;
+  int passes = 0;
+  long long seed = -1;
+  double duration = -1.0;
+  bool quiet = false;
+};
+
+int fail(const std::string& message) {
+  std::fprintf(stderr, "cvslam_run: %s\n", message.c_str());
+  return 2;
+}
+
+bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&](std::string* out) {
+      if (i + 1 >= argc) {
+        *error = arg + " needs a value";
+        return false;
+      }
+      *out = argv[++i];
+      return true;
+    };
+    std::string v;
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(kUsage, stdout);
+      std::exit(0);
+    } else if (arg == "--scenario") {
+      if (!value(&a->scenario)) return false;
+    } else if (arg == "--out") {
+      if (!value(&a->out)) return false;
+    } else if (arg == "--config") {
+      if (!value(&a->config)) return false;
+    } else if (arg == "--mode") {
+      if (!value(&a->mode)) return false;
+    } else if (arg == "--sensing") {
+      if (!value(&a->sensing)) return false;
+    } else if (arg == "--filter") {
+      if (!value(&a->filter)) return false;
+    } else if (arg == "--map") {
+      if (!value(&a->map)) return false;
+    } else if (arg == "--quiet") {
+      a->quiet = true;
+    } else if (arg == "--passes" || arg == "--seed" || arg == "--duration") {
+      if (!value(&v)) return false;
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !std::isfinite(x)) {
+        *error = arg + ": not a number: '" + v + "'";
+        return false;
+      }
+      if (arg == "--passes") {
+        if (x < 1 || x != std::floor(x)) return (*error = "--passes must be an integer ≥ 1"), false;
+        a->passes = static_cast<int>(x);
+      } else if (arg == "--seed") {
+        if (x < 0 || x != std::floor(x)) return (*error = "--seed must be an integer ≥ 0"), false;
+        a->seed = static_cast<long long>(x);
+      } else {
+        if (x <= 0) return (*error = "--duration must be > 0"), false;
+        a->duration = x;
+      }
+    } else {
+      *error = "unknown option '" + arg + "' (try --help)";
+      return false;
+    }
+  }
+  if (a->scenario.empty()) return (*error = "--scenario is required (try --help)"), false;
+  if (a->out.empty()) return (*error = "--out is required (try --help)"), false;
+  if (a->mode != "single") {
+    return (*error = "--mode " + a->mode + " is not available yet (only: single)"), false;
+  }
+  if (a->sensing != "features") {
+    return (*error = "--sensing " + a->sensing + " is not available yet (only: features)"), false;
+  }
+  return true;
+}
+
+/// One UAV: its VSLAM, its INS-only dead reckoning from the same IMU data, its outputs.
+struct AgentRun {
+  int id = 0;
+  std::unique_ptr<cvslam::VisualInertialSlam> slam;
+  cvslam::InsPropagator dead_reckoning;
+  Eigen::VectorXd x_ins;
+  cvslam::ImuSample last_imu;
+  bool have_imu = false;
+  std::unique_ptr<cvslam::AgentRunWriter> writer;
+  std::ofstream events;
+  int frames = 0, loop_frames = 0;
+  double first_loop_t = -1.0;
+  double cpu_ms = 0.0;
+};
+
+Eigen::Matrix<double, 9, 1> truthVector(const cvslam::sim::GroundTruth& g) {
+  Eigen::Matrix<double, 9, 1> x;
+  x << g.p_BinN, g.v_B, g.euler;
+  return x;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args args;
+  std::string error;
+  if (!parseArgs(argc, argv, &args, &error)) return fail(error);
+
+  auto scenario = cvslam::sim::Scenario::loadFile(args.scenario);
+  if (!scenario.ok()) return fail(scenario.status().message());
+  if (args.seed >= 0) scenario->seed = static_cast<uint64_t>(args.seed);
+  if (args.duration > 0) scenario->duration = std::min(scenario->duration, args.duration);
+
+  // Agent configuration: the file given, else the source tree's default, else defaults.
+  std::string config_path = args.config;
+  if (config_path.empty() && std::filesystem::exists(CVSLAM_CONFIG_DIR "/agent.yaml")) {
+    config_path = CVSLAM_CONFIG_DIR "/agent.yaml";
+  }
+  cvslam::VisualInertialSlamOptions options;
+  if (!config_path.empty()) {
+    auto cfg = cvslam::ConfigNode::loadFile(config_path);
+    if (!cfg.ok()) return fail(cfg.status().message());
+    options.load(*cfg);
+    for (const char* section : {"agent", "lcm", "frontend", "coop"}) cfg->child(section);
+    if (Status s = cfg->finish(); !s.ok()) return fail(s.message());
+  }
+  if (!args.filter.empty()) {
+    auto cfg = cvslam::ConfigNode::fromString("type: " + args.filter, "--filter");
+    options.filter.load(*cfg);
+    if (!cfg->status().ok()) return fail(cfg->status().message());
+  }
+  if (!args.map.empty()) {
+    auto cfg = cvslam::ConfigNode::fromString("kind: " + args.map, "--map");
+    options.map.load(*cfg);
+    if (!cfg->status().ok()) return fail(cfg->status().message());
+  }
+  if (args.passes > 0) options.slam.observation_passes = args.passes;
+  if (auto p = options.filter.policy(); !p.ok()) return fail(p.status().message());
+
+  auto sim = cvslam::sim::Simulator::create(*scenario);
+  if (!sim.ok()) return fail(sim.status().message());
+
+  std::error_code ec;
+  std::filesystem::create_directories(args.out, ec);
+  if (ec) return fail("cannot create " + args.out + ": " + ec.message());
+
+  const bool with_bias = options.ins.estimate_imu_bias;
+  std::vector<AgentRun> agents(sim->agentCount());
+  std::map<int, std::size_t> slot;
+  for (std::size_t i = 0; i < sim->agentCount(); ++i) {
+    cvslam::sim::AgentSimulator& as = sim->agent(i);
+    AgentRun& a = agents[i];
+    a.id = as.id();
+    slot[a.id] = i;
+    // The filter is told the IMU's datasheet noise, as it would read it from a sensor.yaml.
+    cvslam::VisualInertialSlamOptions agent_options = options;
+    const cvslam::sim::ImuOptions& imu = as.spec().imu;
+    if (imu.noise) {
+      agent_options.ins.gyro_noise_density = imu.gyro_noise_density;
+      agent_options.ins.accel_noise_density = imu.accel_noise_density;
+      agent_options.ins.gyro_random_walk = imu.gyro_random_walk;
+      agent_options.ins.accel_random_walk = imu.accel_random_walk;
+    }
+    a.slam = std::make_unique<cvslam::VisualInertialSlam>(agent_options, as.camera());
+    a.dead_reckoning = cvslam::InsPropagator(agent_options.ins);
+
+    const cvslam::sim::InitialEstimate& init = as.initialEstimate();
+    const int n = cvslam::vehicle::size(with_bias);
+    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n);
+    x0.head<9>() = truthVector(init.state);
+    Eigen::VectorXd sigma = Eigen::VectorXd::Zero(n);
+    sigma << init.sigma.position_sigma, init.sigma.velocity_sigma, init.sigma.attitude_sigma,
+        Eigen::VectorXd::Zero(n - 9);
+    if (with_bias) {
+      sigma.segment<3>(cvslam::vehicle::kAccelBias).setConstant(options.slam.initial_accel_bias_sigma);
+      sigma.segment<3>(cvslam::vehicle::kGyroBias).setConstant(options.slam.initial_gyro_bias_sigma);
+    }
+    const Eigen::MatrixXd P0 = sigma.array().square().matrix().asDiagonal();
+    if (Status s = a.slam->initialize(init.state.t_us, x0, P0); !s.ok()) {
+      return fail("agent " + std::to_string(a.id) + ": " + s.message());
+    }
+    a.x_ins = x0;
+
+    a.writer = std::make_unique<cvslam::AgentRunWriter>();
+    if (Status s = a.writer->open(args.out, a.id); !s.ok()) return fail(s.message());
+    a.events.open(cvslam::agentDir(args.out, a.id) + "/events.csv");
+    a.events << "t,observations,updated,rejected,initialised,archived,reactivated,"
+                "loop_landmarks,theta_reduced,state_size\n";
+  }
+
+  const double duration = scenario->duration;
+  int next_progress = 10;
+  const auto wall_start = std::chrono::steady_clock::now();
+  cvslam::sim::SimEvent ev;
+  while (sim->next(ev)) {
+    AgentRun& a = agents[slot.at(ev.agent_id)];
+    const double t = static_cast<double>(ev.t_us) * 1e-6;
+    if (ev.type == cvslam::sim::SimEventType::kImu) {
+      if (Status s = a.slam->addImu(ev.imu); !s.ok()) return fail(s.message());
+      if (a.have_imu) {
+        a.x_ins = a.dead_reckoning.stepMean(a.x_ins, a.last_imu, ev.imu,
+                                            Eigen::VectorXd::Zero(a.dead_reckoning.noiseSize()));
+      }
+      a.last_imu = ev.imu;
+      a.have_imu = true;
+      continue;
+    }
+    // Feature-level sensing: the simulator's index is the true landmark id (DESIGN §3).
+    for (cvslam::StereoObservation& obs : ev.frame.observations) obs.landmark_id = obs.index;
+    cvslam::FrameReport report;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (Status s = a.slam->processFrame(ev.frame, &report); !s.ok()) {
+      return fail("agent " + std::to_string(a.id) + " at t=" + std::to_string(t) + " s: " +
+                  s.message());
+    }
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    a.cpu_ms += ms;
+    ++a.frames;
+    if (report.loop_closure) {
+      ++a.loop_frames;
+      if (a.first_loop_t < 0) a.first_loop_t = t;
+    }
+
+    const Eigen::VectorXd x = a.slam->vehicleState();
+    const Eigen::MatrixXd P = a.slam->vehicleCovariance();
+    a.writer->addState(t, x.head<9>(), P.topLeftCorner<9, 9>());
+    a.writer->addTruth(t, truthVector(ev.truth));
+    a.writer->addInsState(t, a.x_ins.head<9>());
+    cvslam::FrameStats fs;
+    fs.t = t;
+    fs.time_ms = ms;
+    fs.state_size = report.state_size;
+    fs.landmarks = report.landmarks_in_state;
+    double sigma_sum = 0.0;
+    int n_lm = 0;
+    for (const cvslam::StateVariable& v : a.slam->state().variables()) {
+      if (v.key.kind != cvslam::VariableKey::Kind::kLandmark) continue;
+      sigma_sum += std::sqrt(a.slam->state().covarianceOf(v).trace() / 3.0);
+      ++n_lm;
+    }
+    if (n_lm > 0) fs.landmark_sigma_mean_m = sigma_sum / n_lm;
+    a.writer->addFrame(fs);
+    a.events << t << ',' << report.observations << ',' << report.updated << ','
+             << report.rejected << ',' << report.initialised << ',' << report.archived << ','
+             << report.reactivated << ',' << report.loop_landmarks << ','
+             << (report.theta_reduced ? 1 : 0) << ',' << report.state_size << '\n';
+
+    if (!args.quiet && t >= duration * next_progress / 100.0) {
+      std::fprintf(stderr, "cvslam_run: %3d%%  t = %.0f s\n", next_progress, t);
+      next_progress += 10;
+    }
+  }
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+  // True landmark positions for the map's error columns (feature-level sim: id = true id).
+  std::map<int64_t, Eigen::Vector3d> truth;
+  for (const auto& lm : sim->landmarks()) truth[lm.id] = lm.p_LinN;
+  for (AgentRun& a : agents) {
+    std::vector<cvslam::LandmarkRecord> records;
+    for (const cvslam::MapLandmark& m : a.slam->map()) {
+      cvslam::LandmarkRecord r;
+      r.id = m.id;
+      r.p_LinN = m.p_LinN;
+      r.var = m.covariance.diagonal();
+      if (auto it = truth.find(m.id); it != truth.end()) r.truth = it->second;
+      records.push_back(r);
+    }
+    if (Status s = a.writer->writeLandmarks(records); !s.ok()) return fail(s.message());
+    if (Status s = a.writer->close(); !s.ok()) return fail(s.message());
+  }
+  cvslam::RunInfo info;
+  info.mode = args.mode;
+  info.filter = options.filter.type == cvslam::FilterType::kEkf ? "ekf" : "nhinf";
+  info.map = options.map.kind == cvslam::MapKind::kFull ? "full" : "knearest";
+  info.scenario = args.scenario;
+  if (Status s = cvslam::writeRunInfo(args.out, info); !s.ok()) return fail(s.message());
+
+  std::printf("cvslam_run: %s, %s, map %s, %.0f s simulated in %.1f s wall (%.1fx real time)\n",
+              scenario->name.c_str(), info.filter.c_str(), info.map.c_str(), duration, wall_s,
+              duration / std::max(wall_s, 1e-9));
+  for (const AgentRun& a : agents) {
+    const cvslam::FilterStatistics& st = a.slam->statistics();
+    std::printf(
+        "  UAV%d: %d frames, %.2f ms/frame, map %zu landmarks, loop closure %s, gated %ld/%ld, "
+        "θ reductions %ld\n",
+        a.id, a.frames, a.frames > 0 ? a.cpu_ms / a.frames : 0.0, a.slam->map().size(),
+        a.first_loop_t >= 0 ? ("at " + std::to_string(static_cast<int>(a.first_loop_t)) + " s").c_str()
+                            : "none",
+        st.observations_rejected, st.observations_accepted + st.observations_rejected,
+        st.theta_reductions);
+  }
+  std::printf("  outputs in %s (evaluate with: cvslam_eval --run %s --summary-json F)\n",
+              args.out.c_str(), args.out.c_str());
+  return 0;
+}
