@@ -1,0 +1,134 @@
+// IMU synthesis (cvslam/sim/imu_simulator.h): sign conventions (DESIGN.md §3), integration of
+// the noise-free IMU back to the trajectory, white-noise and bias random-walk statistics.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "cvslam/sim/imu_simulator.h"
+#include "cvslam/sim/position_path.h"
+#include "sim_test_helpers.h"
+
+namespace cvslam::sim {
+namespace {
+
+using simtest::integrateImu;
+using simtest::makeFlight;
+
+TEST(SimImu, LevelHoverReadsMinusGravity) {
+  auto traj = makeFlight(std::make_shared<HoverPath>(Eigen::Vector3d(1, 2, -10)));
+  ImuOptions o;
+  o.noise = false;
+  ImuSimulator imu(traj, o, 1);
+  for (int64_t t = 0; t < 1000000; t += 5000) {
+    const ImuSample s = imu.sample(t);
+    EXPECT_LT((s.accel_B - Eigen::Vector3d(0, 0, -9.81)).norm(), 1e-12);
+    EXPECT_LT(s.gyro_B.norm(), 1e-12);
+  }
+}
+
+TEST(SimImu, NoiseFreeIntegrationReproducesTrajectory) {
+  LoopPath::Params loop;
+  loop.semi_axis_x = 60;
+  loop.semi_axis_y = 40;
+  loop.altitude_amplitude = 2.0;
+  loop.period = 60;
+  Figure8Path::Params f8;
+  f8.period = 30;
+  const std::vector<Eigen::Vector3d> wps = {{0, 0, -10},   {20, 5, -11}, {40, -5, -12},
+                                            {60, 10, -10}, {80, 0, -9},  {90, 20, -10}};
+  const std::vector<std::shared_ptr<const Trajectory>> trajs = {
+      makeFlight(std::make_shared<LoopPath>(loop)), makeFlight(std::make_shared<Figure8Path>(f8)),
+      makeFlight(std::make_shared<SplinePath>(SplinePath::chordTimes(wps, 3), wps, false))};
+  for (const auto& traj : trajs) {
+    const double t1 = 30.0;
+    const simtest::NavState x = integrateImu(*traj, 0.0, t1, 2e-3);
+    const TrajectoryState truth = traj->state(t1);
+    EXPECT_LT((x.p_N - truth.p_BinN).norm(), 1e-3);
+    EXPECT_LT((x.v_N - truth.v_N).norm(), 1e-4);
+    EXPECT_LT((x.R_BtoN - truth.R_NtoB.transpose()).norm(), 1e-6);
+  }
+}
+
+TEST(SimImu, WrongGravitySignWouldBeCaught) {
+  // The same integration with +g in the specific force drifts by metres: the test above can fail.
+  LoopPath::Params loop;
+  loop.period = 60;
+  auto traj = makeFlight(std::make_shared<LoopPath>(loop));
+  const TrajectoryState s0 = traj->state(0.0);
+  Eigen::Vector3d p = s0.p_BinN, v = s0.v_N;
+  const double h = 1e-3;
+  for (int i = 0; i < 5000; ++i) {
+    const TrajectoryState s = traj->state(i * h);
+    const Eigen::Vector3d f_wrong = s.R_NtoB * (s.a_N + gravityNed());
+    v += h * (s.R_NtoB.transpose() * f_wrong + gravityNed());
+    p += h * v;
+  }
+  EXPECT_GT((p - traj->state(5.0).p_BinN).norm(), 10.0);
+}
+
+TEST(SimImu, WhiteNoiseAndBiasRandomWalkStatistics) {
+  auto traj = makeFlight(std::make_shared<HoverPath>(Eigen::Vector3d(0, 0, -10)));
+  ImuOptions o;
+  o.rate_hz = 200;
+  o.gyro_noise_density = 1e-3;
+  o.accel_noise_density = 2e-2;
+  o.gyro_random_walk = 0.0;
+  o.accel_random_walk = 0.0;
+  o.accel_bias = Eigen::Vector3d(0.1, -0.2, 0.3);
+  {
+    ImuSimulator imu(traj, o, 42);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum2 = Eigen::Vector3d::Zero();
+    const int n = 20000;
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d e = imu.sample(k * 5000).accel_B - Eigen::Vector3d(0, 0, -9.81);
+      sum += e;
+      sum2 += e.cwiseProduct(e);
+    }
+    const Eigen::Vector3d mean = sum / n;
+    const Eigen::Vector3d stdv = (sum2 / n - mean.cwiseProduct(mean)).cwiseSqrt();
+    const double expected = 2e-2 * std::sqrt(200.0);
+    EXPECT_LT((mean - o.accel_bias).norm(), 5 * expected / std::sqrt(n));
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(stdv(i), expected, 0.03 * expected);
+  }
+  // Bias random walk: Var(b(T) − b(0)) = σ_rw² T, over many independent streams.
+  o.gyro_noise_density = o.accel_noise_density = 0.0;
+  o.gyro_random_walk = 1e-3;
+  o.accel_bias.setZero();
+  const int runs = 400;
+  const double T = 10.0;
+  double sum2 = 0.0;
+  for (int r = 0; r < runs; ++r) {
+    ImuSimulator imu(traj, o, 1000 + r);
+    for (int64_t t = 0; t <= static_cast<int64_t>(T * 1e6); t += 5000) imu.sample(t);
+    sum2 += imu.gyroBias().squaredNorm();
+  }
+  const double var = sum2 / (3 * runs);
+  const double expected_var = 1e-6 * T;
+  EXPECT_NEAR(var, expected_var, 0.15 * expected_var);
+}
+
+TEST(SimImu, NonGaussianCentredNoiseHasSameSigma) {
+  auto traj = makeFlight(std::make_shared<HoverPath>(Eigen::Vector3d(0, 0, -10)));
+  ImuOptions o;
+  o.kind = NoiseKind::kNonGaussianCentred;
+  o.gyro_random_walk = o.accel_random_walk = 0.0;
+  o.gyro_noise_density = 1e-3;
+  ImuSimulator imu(traj, o, 5);
+  double sum = 0, sum2 = 0, max_abs = 0;
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) {
+    const double e = imu.sample(k * 5000).gyro_B.x();
+    sum += e;
+    sum2 += e * e;
+    max_abs = std::max(max_abs, std::abs(e));
+  }
+  const double sigma = 1e-3 * std::sqrt(200.0);
+  EXPECT_NEAR(sum / n, 0.0, 5 * sigma / std::sqrt(n));
+  EXPECT_NEAR(std::sqrt(sum2 / n), sigma, 0.03 * sigma);
+  EXPECT_LE(max_abs, std::sqrt(3.0) * sigma + 1e-12);  // uniform: bounded support
+}
+
+}  // namespace
+}  // namespace cvslam::sim
