@@ -205,6 +205,48 @@ TEST(StereoCamera, TriangulationCovarianceMatchesMonteCarlo) {
   EXPECT_NEAR(nees, 3.0, 0.15);
 }
 
+// Landmark augmentation with an uncertain vehicle (DESIGN.md §3): the sampled landmark
+// covariance and its cross-covariance with the vehicle match
+//   P_LL = J_x P_vv J_xᵀ + J_z R J_zᵀ,  P_Lx = J_x P_vv.
+TEST(StereoCamera, AugmentationCovarianceMatchesMonteCarlo) {
+  const StereoCamera cam(skewedRig());
+  Vector9d x_v;
+  x_v << 5, 2, -30, 1, 0, 0, 0.1, -0.05, 0.7;
+  const Eigen::Vector4d z = cam.project(Eigen::Vector3d(0.5, -0.3, 5.0));
+  Eigen::Vector3d p0;
+  StereoCamera::Matrix3x9d J_x;
+  StereoCamera::Matrix3x4d J_z;
+  ASSERT_TRUE(cam.triangulate(z, x_v, &p0, &J_x, &J_z).ok());
+  Vector9d sigma_v;
+  sigma_v << 0.05, 0.05, 0.05, 0.1, 0.1, 0.1, 0.005, 0.005, 0.005;
+  const Eigen::Matrix<double, 9, 9> P_vv = sigma_v.cwiseAbs2().asDiagonal();
+  const double sigma_px = 0.05;
+  const Eigen::Matrix3d P_LL =
+      J_x * P_vv * J_x.transpose() + J_z * (sigma_px * sigma_px) * J_z.transpose();
+  const StereoCamera::Matrix3x9d P_Lx = J_x * P_vv;
+
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const int kSamples = 20000;
+  Eigen::Matrix3d S_LL = Eigen::Matrix3d::Zero();
+  StereoCamera::Matrix3x9d S_Lx = StereoCamera::Matrix3x9d::Zero();
+  for (int i = 0; i < kSamples; ++i) {
+    Vector9d dx;
+    for (int k = 0; k < 9; ++k) dx(k) = sigma_v(k) * n01(rng);
+    Eigen::Vector4d dz;
+    for (int k = 0; k < 4; ++k) dz(k) = sigma_px * n01(rng);
+    Eigen::Vector3d p;
+    ASSERT_TRUE(cam.triangulate(z + dz, x_v + dx, &p).ok());
+    S_LL += (p - p0) * (p - p0).transpose();
+    S_Lx += (p - p0) * dx.transpose();
+  }
+  S_LL /= kSamples;
+  S_Lx /= kSamples;
+  for (int r = 0; r < 3; ++r) EXPECT_NEAR(S_LL(r, r), P_LL(r, r), 0.05 * P_LL(r, r));
+  // Cross-covariance: compare against the scale of its own entries (many are near zero).
+  EXPECT_LT((S_Lx - P_Lx).norm(), 0.05 * P_Lx.norm());
+}
+
 TEST(StereoCamera, MinDisparityOptionLoads) {
   auto cfg = ConfigNode::fromString("{min_disparity: -1}", "cam.yaml");
   ASSERT_TRUE(cfg.ok());
