@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <Eigen/LU>
 #include <cstdio>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -30,7 +32,9 @@ std::string readFile(const std::string& path) {
 class BrokenCopy {
  public:
   BrokenCopy(const std::string& name, const std::string& from, const std::string& to) {
-    path_ = (fs::temp_directory_path() / ("cvslam_euroc_" + name + ".yaml")).string();
+    path_ = (fs::temp_directory_path() /
+             ("cvslam_euroc_" + std::to_string(::getpid()) + "_" + name + ".yaml"))
+                .string();
     std::string text = readFile(mav0() + "/cam0/sensor.yaml");
     const auto at = text.find(from);
     EXPECT_NE(at, std::string::npos) << "fixture text not found: " << from;

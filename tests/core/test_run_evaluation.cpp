@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cstdlib>
+
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -22,7 +24,7 @@ class RunEvaluation : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = (fs::temp_directory_path() /
-            ("cvslam_eval_" +
+            ("cvslam_eval_" + std::to_string(::getpid()) + "_" +
              std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())))
                .string();
     fs::remove_all(dir_);
@@ -127,6 +129,46 @@ TEST_F(RunEvaluation, SeparateGroundTruthFolder) {
   auto missing = evaluateRun(dir_ + "/run", dir_ + "/nowhere");
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.status().message().find("no such ground-truth folder"), std::string::npos);
+}
+
+// Real data: the EuRoC ground truth lives in its own world frame, so the estimate needs an
+// SE(3) alignment. A rigidly moved copy of the truth must give ATE ≈ 0 after alignment.
+TEST_F(RunEvaluation, RealEurocGroundTruthWithSe3Alignment) {
+  const std::string euroc = test::sharedDataDir() + "/euroc_micro";
+  bool has_velocity = false;
+  auto gt = readGroundTruth(euroc, 1, &has_velocity);
+  ASSERT_TRUE(gt.ok()) << gt.status().message();
+  ASSERT_GT(gt->size(), 100u);
+  const std::string run = dir_ + "/real";
+  fs::create_directories(run + "/agent_1");
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d(0, 0.3, 1).normalized()).matrix();
+  std::vector<TumPose> est;
+  for (const StateRecord& s : *gt) {
+    TumPose p = tumPoseFromState(s.t, s.x);
+    p.p_BinN = R * p.p_BinN + Eigen::Vector3d(1, -2, 3);
+    p.q_BtoN = Eigen::Quaterniond(R) * p.q_BtoN;
+    est.push_back(p);
+  }
+  ASSERT_TRUE(writeTumTrajectory(run + "/agent_1/trajectory.tum", est).ok());
+  std::ofstream(run + "/agent_1/landmarks.csv") << "id,x,y,z\n";
+  std::ofstream(run + "/agent_1/stats.json") << "{}";
+  RunEvaluationOptions o;
+  auto plain = evaluateRun(run, euroc, o);
+  ASSERT_TRUE(plain.ok()) << plain.status().message();
+  EXPECT_GT(*(*plain)[0].ate_rmse_m, 1.0);
+  o.alignment = Alignment::kSE3;
+  auto aligned = evaluateRun(run, euroc, o);
+  ASSERT_TRUE(aligned.ok());
+  EXPECT_LT(*(*aligned)[0].ate_rmse_m, 1e-5);
+  // RPE is frame independent: zero with or without alignment (the path is a few metres, so
+  // use a short segment).
+  o.rpe_segment_m = 0.5;
+  o.alignment = Alignment::kNone;
+  auto rpe = evaluateRun(run, euroc, o);
+  ASSERT_TRUE(rpe.ok());
+  ASSERT_TRUE((*rpe)[0].rpe_m_per_10m) << (*rpe)[0].notes.front();
+  EXPECT_LT(*(*rpe)[0].rpe_m_per_10m, 1e-5);
 }
 
 TEST(RunEvaluationOptions, Load) {

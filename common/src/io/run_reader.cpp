@@ -250,9 +250,12 @@ Expected<std::vector<StateRecord>> readGroundTruth(const std::string& gt_dir, in
     const std::string path = gt_dir + "/" + name + "/mav0/state_groundtruth_estimate0/data.csv";
     if (fs::exists(path)) return readEurocGroundTruth(path);
   }
+  // A single-vehicle EuRoC dataset folder (GT/mav0/...) serves whichever agent flew it.
+  const std::string single = gt_dir + "/mav0/state_groundtruth_estimate0/data.csv";
+  if (fs::exists(single)) return readEurocGroundTruth(single);
   return Status::Error(gt_dir + ": no ground truth for agent " + id + " (looked for agent_" + id +
                        "/truth.csv, agent_" + id +
-                       "/trajectory.tum, <agent>/mav0/state_groundtruth_estimate0/data.csv)");
+                       "/trajectory.tum, [<agent>/]mav0/state_groundtruth_estimate0/data.csv)");
 }
 
 Expected<std::vector<LandmarkRecord>> readGroundTruthLandmarks(const std::string& gt_dir) {

@@ -1,6 +1,8 @@
 #include "cvslam/io/tum_trajectory.h"
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "cvslam/geometry/euler.h"

@@ -30,7 +30,8 @@ Expected<RunStats> readRunStats(const std::string& path);
 /// Ground truth for agent `id` from a separate folder GT (cvslam_eval --gt): the first of
 /// GT/agent_<id>/truth.csv, GT/agent_<id>/trajectory.tum, and the EuRoC ground truth
 /// GT/<name>/mav0/state_groundtruth_estimate0/data.csv with <name> in agent_<id>, uav<id>,
-/// UAV<id>, <id>. `has_velocity` is false for TUM (attitude and position only).
+/// UAV<id>, <id>, and finally GT/mav0/... (a single-vehicle EuRoC folder, any agent id).
+/// `has_velocity` is false for TUM (attitude and position only).
 Expected<std::vector<StateRecord>> readGroundTruth(const std::string& gt_dir, int agent_id,
                                                    bool* has_velocity);
 
