@@ -119,6 +119,23 @@ TEST(InsPropagator, RejectsBadTimestampsAndSizes) {
   EXPECT_FALSE(ins.propagate(x, {}, &tr).ok());
 }
 
+TEST(InsPropagator, SplittingAnIntervalAtAnInterpolatedSampleMatches) {
+  // Propagating to a camera time between two IMU samples and on from there equals the
+  // single step to within the RK4 error (inputs are linear in time either way).
+  const InsPropagator ins;
+  const auto samples = knownMotion(0.005);
+  const ImuSample mid = interpolateImu(samples[0], samples[1], samples[0].t_us + 2000);
+  EXPECT_EQ(mid.t_us, samples[0].t_us + 2000);
+  EXPECT_TRUE(mid.gyro_B.isApprox(0.6 * samples[0].gyro_B + 0.4 * samples[1].gyro_B, 1e-15));
+  InsTransition whole, first, second;
+  const Eigen::VectorXd x = movingState(false);
+  ASSERT_TRUE(ins.propagate(x, {samples[0], samples[1]}, &whole).ok());
+  ASSERT_TRUE(ins.propagate(x, {samples[0], mid}, &first).ok());
+  ASSERT_TRUE(ins.propagate(first.x, {mid, samples[1]}, &second).ok());
+  EXPECT_TRUE(second.x.isApprox(whole.x, 1e-10));
+  EXPECT_TRUE((second.Phi * first.Phi).isApprox(whole.Phi, 1e-8));
+}
+
 TEST(InsPropagatorOptions, LoadsAndValidates) {
   auto cfg = ConfigNode::fromString(
       "ins: {gyro_noise_density: 0.01, estimate_imu_bias: true, max_dt: 0.05}", "t.yaml");

@@ -93,6 +93,16 @@ Status checkInterval(const ImuSample& s0, const ImuSample& s1, double max_dt, do
 
 }  // namespace
 
+ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, int64_t t_us) {
+  ImuSample out;
+  out.t_us = t_us;
+  const int64_t span = b.t_us - a.t_us;
+  const double s = span > 0 ? static_cast<double>(t_us - a.t_us) / static_cast<double>(span) : 0.0;
+  out.gyro_B = (1.0 - s) * a.gyro_B + s * b.gyro_B;
+  out.accel_B = (1.0 - s) * a.accel_B + s * b.accel_B;
+  return out;
+}
+
 Eigen::VectorXd InsPropagator::noiseVariances(double dt) const {
   Eigen::VectorXd q(noiseSize());
   q.segment<3>(0).setConstant(o_.accel_noise_density * o_.accel_noise_density / dt);
