@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -207,6 +208,14 @@ TEST_P(InsPropagatorBias, MonteCarloCovarianceMatchesPropagatedCovariance) {
     EXPECT_GT(ratio, 0.85) << "state " << i;
     EXPECT_LT(ratio, 1.15) << "state " << i;
   }
+  // Negative control: the same samples reject a process noise that is off by a factor 2,
+  // so this test has the power to catch a wrong G or Q_w.
+  const Eigen::MatrixXd P1_wrong = nominal.Phi * P0 * nominal.Phi.transpose() + 0.5 * nominal.Qd;
+  double worst_wrong = 0.0;
+  for (int i = 0; i < n; ++i) {
+    worst_wrong = std::max(worst_wrong, std::abs(P_sampled(i, i) / P1_wrong(i, i) - 1.0));
+  }
+  EXPECT_GT(worst_wrong, 0.15);
   // Average NEES of the errors about the nominal trajectory ~ χ²(n·N)/N: mean n, standard
   // deviation sqrt(2n/N).
   const Eigen::LLT<Eigen::MatrixXd> llt(P1);

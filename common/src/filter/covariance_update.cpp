@@ -77,8 +77,9 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
     return Status::Error("update: batch built for a state of " + std::to_string(batch.stateSize()) +
                          ", state has " + std::to_string(n));
   }
-  if (!(policy.measurement_noise_scale > 0.0) || policy.theta < 0.0) {
-    return Status::Error("update: invalid policy (c_v² must be > 0, θ ≥ 0)");
+  if (!(policy.measurement_noise_scale > 0.0) || !(policy.theta >= 0.0) ||
+      !(policy.theta_margin > 0.0 && policy.theta_margin <= 1.0)) {
+    return Status::Error("update: invalid policy (c_v² must be > 0, θ ≥ 0, margin in (0, 1])");
   }
   const Eigen::MatrixXd& P = state.P_;
 
