@@ -117,6 +117,12 @@ TEST(InsPropagator, RejectsBadTimestampsAndSizes) {
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.message().find("max_dt"), std::string::npos) << s.message();
   EXPECT_FALSE(ins.propagate(movingState(true), samples, &tr).ok());
+  Eigen::VectorXd gimbal_lock = x;
+  gimbal_lock(vehicle::kAttitude + 1) = M_PI / 2;
+  EXPECT_FALSE(ins.propagate(gimbal_lock, samples, &tr).ok());
+  auto nan_sample = samples;
+  nan_sample[2].gyro_B.x() = std::nan("");
+  EXPECT_FALSE(ins.propagate(x, nan_sample, &tr).ok());
   EXPECT_FALSE(ins.propagate(x, {}, &tr).ok());
 }
 
