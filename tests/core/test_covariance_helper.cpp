@@ -89,6 +89,27 @@ TEST(CovarianceHelper, AugmentFromOneSourceEqualsDenseAugment) {
                    .ok());
 }
 
+TEST(CovarianceHelper, AugmentThenMarginaliseRestoresTheState) {
+  std::mt19937 rng(31);
+  SlamState s = test::randomSlamState(4, rng);
+  const SlamState before = s;
+  ASSERT_TRUE(CovarianceHelper::augment(s, VariableKey::landmark(1), Eigen::Vector3d(1, 1, 1),
+                                        VariableKey::vehicle(0), randomMatrix(3, 9, rng),
+                                        randomMatrix(3, 4, rng), Eigen::Matrix4d::Identity())
+                  .ok());
+  ASSERT_TRUE(CovarianceHelper::marginalize(s, VariableKey::landmark(1)).ok());
+  EXPECT_EQ(s.covariance(), before.covariance());
+  EXPECT_EQ(s.mean(), before.mean());
+  // Removing the vehicle itself compacts every landmark.
+  ASSERT_TRUE(CovarianceHelper::marginalize(s, VariableKey::vehicle(0)).ok());
+  EXPECT_EQ(s.find(VariableKey::landmark(100))->index, 0);
+  EXPECT_EQ(s.find(VariableKey::landmark(103))->index, 9);
+  EXPECT_EQ(s.covariance(), before.covariance().bottomRightCorner(12, 12));
+  ASSERT_TRUE(CovarianceHelper::scaleCovariance(s, 2.0).ok());
+  EXPECT_EQ(s.covariance(), 2.0 * before.covariance().bottomRightCorner(12, 12));
+  EXPECT_FALSE(CovarianceHelper::scaleCovariance(s, 0.0).ok());
+}
+
 TEST(CovarianceHelper, MarginalCovarianceInRequestedOrder) {
   std::mt19937 rng(4);
   const SlamState s = test::randomSlamState(3, rng);

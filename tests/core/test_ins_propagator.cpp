@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -116,7 +117,30 @@ TEST(InsPropagator, RejectsBadTimestampsAndSizes) {
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.message().find("max_dt"), std::string::npos) << s.message();
   EXPECT_FALSE(ins.propagate(movingState(true), samples, &tr).ok());
+  Eigen::VectorXd gimbal_lock = x;
+  gimbal_lock(vehicle::kAttitude + 1) = M_PI / 2;
+  EXPECT_FALSE(ins.propagate(gimbal_lock, samples, &tr).ok());
+  auto nan_sample = samples;
+  nan_sample[2].gyro_B.x() = std::nan("");
+  EXPECT_FALSE(ins.propagate(x, nan_sample, &tr).ok());
   EXPECT_FALSE(ins.propagate(x, {}, &tr).ok());
+}
+
+TEST(InsPropagator, SplittingAnIntervalAtAnInterpolatedSampleMatches) {
+  // Propagating to a camera time between two IMU samples and on from there equals the
+  // single step to within the RK4 error (inputs are linear in time either way).
+  const InsPropagator ins;
+  const auto samples = knownMotion(0.005);
+  const ImuSample mid = interpolateImu(samples[0], samples[1], samples[0].t_us + 2000);
+  EXPECT_EQ(mid.t_us, samples[0].t_us + 2000);
+  EXPECT_TRUE(mid.gyro_B.isApprox(0.6 * samples[0].gyro_B + 0.4 * samples[1].gyro_B, 1e-15));
+  InsTransition whole, first, second;
+  const Eigen::VectorXd x = movingState(false);
+  ASSERT_TRUE(ins.propagate(x, {samples[0], samples[1]}, &whole).ok());
+  ASSERT_TRUE(ins.propagate(x, {samples[0], mid}, &first).ok());
+  ASSERT_TRUE(ins.propagate(first.x, {mid, samples[1]}, &second).ok());
+  EXPECT_TRUE(second.x.isApprox(whole.x, 1e-10));
+  EXPECT_TRUE((second.Phi * first.Phi).isApprox(whole.Phi, 1e-8));
 }
 
 TEST(InsPropagatorOptions, LoadsAndValidates) {
@@ -190,6 +214,14 @@ TEST_P(InsPropagatorBias, MonteCarloCovarianceMatchesPropagatedCovariance) {
     EXPECT_GT(ratio, 0.85) << "state " << i;
     EXPECT_LT(ratio, 1.15) << "state " << i;
   }
+  // Negative control: the same samples reject a process noise that is off by a factor 2,
+  // so this test has the power to catch a wrong G or Q_w.
+  const Eigen::MatrixXd P1_wrong = nominal.Phi * P0 * nominal.Phi.transpose() + 0.5 * nominal.Qd;
+  double worst_wrong = 0.0;
+  for (int i = 0; i < n; ++i) {
+    worst_wrong = std::max(worst_wrong, std::abs(P_sampled(i, i) / P1_wrong(i, i) - 1.0));
+  }
+  EXPECT_GT(worst_wrong, 0.15);
   // Average NEES of the errors about the nominal trajectory ~ χ²(n·N)/N: mean n, standard
   // deviation sqrt(2n/N).
   const Eigen::LLT<Eigen::MatrixXd> llt(P1);

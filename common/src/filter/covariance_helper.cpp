@@ -157,6 +157,12 @@ Status CovarianceHelper::propagate(SlamState& state, const VariableKey& vehicle,
   return Status::Ok();
 }
 
+Status CovarianceHelper::scaleCovariance(SlamState& state, double factor) {
+  if (!(factor > 0.0)) return Status::Error("scaleCovariance: factor must be > 0");
+  state.P_ *= factor;
+  return Status::Ok();
+}
+
 void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx) {
   state.x_ += dx;
   for (const StateVariable& v : state.vars_) {

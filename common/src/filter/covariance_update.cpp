@@ -27,12 +27,20 @@ double mahalanobis2(const Eigen::Ref<const Eigen::MatrixXd>& S,
   return llt.matrixL().solve(r).squaredNorm();
 }
 
-/// Applies the gate; returns the rows of the accepted observations.
-std::vector<int> gate(const MeasurementBatch& batch, const Eigen::MatrixXd& S, double probability,
-                      UpdateReport* report) {
-  std::vector<int> rows;
-  rows.reserve(static_cast<std::size_t>(batch.rows()));
+/// Rows of one accepted observation inside the gathered (accepted-only) system.
+struct AcceptedGroup {
+  int source_row = 0;  ///< first row in the batch
+  int row = 0;         ///< first row among the accepted rows
+  int rows = 0;
+};
+
+/// Applies the gate; returns the accepted observations.
+std::vector<AcceptedGroup> gate(const MeasurementBatch& batch, const Eigen::MatrixXd& S,
+                                double probability, UpdateReport* report) {
+  std::vector<AcceptedGroup> accepted;
+  accepted.reserve(static_cast<std::size_t>(batch.groups()));
   std::array<double, 17> threshold{};  // per dof, computed on first use
+  int row = 0;
   for (int g = 0; g < batch.groups(); ++g) {
     const int r0 = batch.groupRow(g), nr = batch.groupRows(g);
     bool accept = true;
@@ -49,13 +57,14 @@ std::vector<int> gate(const MeasurementBatch& batch, const Eigen::MatrixXd& S, d
       accept = d2 >= 0.0 && d2 <= limit;
     }
     if (accept) {
-      for (int i = 0; i < nr; ++i) rows.push_back(r0 + i);
+      accepted.push_back({r0, row, nr});
+      row += nr;
       ++report->observations_accepted;
     } else {
       ++report->observations_rejected;
     }
   }
-  return rows;
+  return accepted;
 }
 
 }  // namespace
@@ -68,8 +77,9 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
     return Status::Error("update: batch built for a state of " + std::to_string(batch.stateSize()) +
                          ", state has " + std::to_string(n));
   }
-  if (!(policy.measurement_noise_scale > 0.0) || policy.theta < 0.0) {
-    return Status::Error("update: invalid policy (c_v² must be > 0, θ ≥ 0)");
+  if (!(policy.measurement_noise_scale > 0.0) || !(policy.theta >= 0.0) ||
+      !(policy.theta_margin > 0.0 && policy.theta_margin <= 1.0)) {
+    return Status::Error("update: invalid policy (c_v² must be > 0, θ ≥ 0, margin in (0, 1])");
   }
   const Eigen::MatrixXd& P = state.P_;
 
@@ -77,19 +87,21 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   Eigen::MatrixXd PHt, S;
   batch.multiplyByHt(P, &PHt);
   batch.multiplyH(PHt, &S);
-  const Eigen::MatrixXd R_all = policy.measurement_noise_scale * batch.R();
-  S += R_all;
+  S.noalias() += policy.measurement_noise_scale * batch.R();
 
   // 2. Mahalanobis gate per observation; keep the accepted rows only.
-  const std::vector<int> rows = gate(batch, S, policy.gate_probability, &report);
-  if (rows.empty()) {
+  const std::vector<AcceptedGroup> groups = gate(batch, S, policy.gate_probability, &report);
+  if (groups.empty()) {
     if (report_out) *report_out = report;
     return Status::Ok();
   }
+  std::vector<int> rows;
+  rows.reserve(static_cast<std::size_t>(batch.rows()));
+  for (const AcceptedGroup& g : groups)
+    for (int i = 0; i < g.rows; ++i) rows.push_back(g.source_row + i);
   const bool all = static_cast<int>(rows.size()) == batch.rows();
   const Eigen::MatrixXd PHt_a = all ? PHt : Eigen::MatrixXd(PHt(Eigen::all, rows));
   const Eigen::MatrixXd S_a = all ? S : Eigen::MatrixXd(S(rows, rows));
-  const Eigen::MatrixXd R_a = all ? R_all : Eigen::MatrixXd(R_all(rows, rows));
   const Eigen::VectorXd r_a =
       all ? Eigen::VectorXd(batch.residual()) : Eigen::VectorXd(batch.residual()(rows));
 
@@ -102,16 +114,23 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   const Eigen::VectorXd dx = K * r_a;
 
   // 4. Joseph form (eq. 3.23): P⁺ = (I − KH) P (I − KH)ᵀ + K R Kᵀ, with (I − KH) applied
-  //    through the sparse H: A P = P − K (H P), (A P) Aᵀ = A P − (A P Hᵀ) Kᵀ.
+  //    through the sparse H: A P = P − K (H P), then
+  //    (A P) Aᵀ + K R Kᵀ = A P − (A P Hᵀ − K R) Kᵀ.
+  //    For the optimal K the bracket vanishes in exact arithmetic; computing it keeps the
+  //    Joseph form's first-order insensitivity to errors in K. R is block diagonal, so K R is
+  //    formed per observation.
   Eigen::MatrixXd AP = P;
   AP.noalias() -= K * PHt_a.transpose();
-  Eigen::MatrixXd APHt;
-  batch.multiplyByHt(AP, &APHt);
-  if (!all) APHt = APHt(Eigen::all, rows).eval();
+  Eigen::MatrixXd correction;
+  batch.multiplyByHt(AP, &correction);
+  if (!all) correction = correction(Eigen::all, rows).eval();
+  for (const AcceptedGroup& g : groups) {
+    correction.middleCols(g.row, g.rows).noalias() -=
+        policy.measurement_noise_scale * K.middleCols(g.row, g.rows) *
+        batch.R().block(g.source_row, g.source_row, g.rows, g.rows);
+  }
   Eigen::MatrixXd P_post = AP;
-  P_post.noalias() -= APHt * K.transpose();
-  const Eigen::MatrixXd KR = K * R_a;
-  P_post.noalias() += KR * K.transpose();
+  P_post.noalias() -= correction * K.transpose();
   P_post = 0.5 * (P_post + P_post.transpose()).eval();
 
   // 5. NH∞: P⁺ = (P⁻⁻¹ + Hᵀ R⁻¹ H − θ I)⁻¹ = (P_EKF⁻¹ − θ I)⁻¹ = (I − θ P_EKF)⁻¹ P_EKF.

@@ -43,8 +43,9 @@ void MeasurementBatch::multiplyByHt(const Eigen::Ref<const Eigen::MatrixXd>& M,
                                     Eigen::MatrixXd* out) const {
   out->setZero(M.rows(), m_);
   for (const Block& b : blocks_) {
+    // lazyProduct: the blocks are a few columns wide, where GEMM's blocking does not pay.
     out->middleCols(b.row, b.rows).noalias() +=
-        M.middleCols(b.col, b.cols) * H_.block(b.row, b.col, b.rows, b.cols).transpose();
+        M.middleCols(b.col, b.cols).lazyProduct(H_.block(b.row, b.col, b.rows, b.cols).transpose());
   }
 }
 
@@ -53,7 +54,7 @@ void MeasurementBatch::multiplyH(const Eigen::Ref<const Eigen::MatrixXd>& M,
   out->setZero(m_, M.cols());
   for (const Block& b : blocks_) {
     out->middleRows(b.row, b.rows).noalias() +=
-        H_.block(b.row, b.col, b.rows, b.cols) * M.middleRows(b.col, b.cols);
+        H_.block(b.row, b.col, b.rows, b.cols).lazyProduct(M.middleRows(b.col, b.cols));
   }
 }
 

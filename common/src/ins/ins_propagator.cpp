@@ -2,6 +2,7 @@
 
 #include <ceres/jet.h>
 
+#include <cmath>
 #include <string>
 
 #include "cvslam/io/config_node.h"
@@ -93,6 +94,16 @@ Status checkInterval(const ImuSample& s0, const ImuSample& s1, double max_dt, do
 
 }  // namespace
 
+ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, int64_t t_us) {
+  ImuSample out;
+  out.t_us = t_us;
+  const int64_t span = b.t_us - a.t_us;
+  const double s = span > 0 ? static_cast<double>(t_us - a.t_us) / static_cast<double>(span) : 0.0;
+  out.gyro_B = (1.0 - s) * a.gyro_B + s * b.gyro_B;
+  out.accel_B = (1.0 - s) * a.accel_B + s * b.accel_B;
+  return out;
+}
+
 Eigen::VectorXd InsPropagator::noiseVariances(double dt) const {
   Eigen::VectorXd q(noiseSize());
   q.segment<3>(0).setConstant(o_.accel_noise_density * o_.accel_noise_density / dt);
@@ -122,10 +133,21 @@ Status InsPropagator::step(const Eigen::VectorXd& x, const ImuSample& s0, const 
   }
   double dt = 0.0;
   if (Status s = checkInterval(s0, s1, o_.max_dt, &dt); !s.ok()) return s;
+  // Eq. 2.4 is singular at θ = ±90° (gimbal lock): refuse to step within ~0.06° of it.
+  if (std::abs(std::cos(x(vehicle::kAttitude + 1))) < 1e-3) {
+    return Status::Error("INS pitch " + std::to_string(x(vehicle::kAttitude + 1)) +
+                         " rad is at the Euler singularity (eq. 2.4)");
+  }
   if (o_.estimate_imu_bias) {
     stepJacobiansFixed<vehicle::kSizeWithBias>(x, s0, s1, dt, o_.gravity, x_next, dx1_dx0, dx1_dw);
   } else {
     stepJacobiansFixed<vehicle::kSizeNoBias>(x, s0, s1, dt, o_.gravity, x_next, dx1_dx0, dx1_dw);
+  }
+  // A non-finite step (bad input) must not reach the covariance.
+  if (!x_next->allFinite() || !dx1_dx0->allFinite() || !dx1_dw->allFinite()) {
+    return Status::Error("INS step is not finite (pitch " +
+                         std::to_string(x(vehicle::kAttitude + 1)) +
+                         " rad; eq. 2.4 is singular at ±π/2)");
   }
   *Q_w = noiseVariances(dt).asDiagonal();
   return Status::Ok();

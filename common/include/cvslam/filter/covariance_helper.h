@@ -52,6 +52,10 @@ class CovarianceHelper {
                           const Eigen::VectorXd& value, const Eigen::MatrixXd& Phi,
                           const Eigen::MatrixXd& Qd, const UpdatePolicy& policy);
 
+  /// P ← factor · P. Covariance intersection scales the local prior by 1/ω₁ before fusing a
+  /// peer estimate (thesis eq. 6.5, DESIGN §3). factor must be > 0.
+  static Status scaleCovariance(SlamState& state, double factor);
+
   /// Measurement update with a stacked (H, r, R): gates each observation (Mahalanobis), then
   /// applies the EKF (θ = 0) or NH∞ update. `report` may be null.
   static Status update(SlamState& state, const MeasurementBatch& batch, const UpdatePolicy& policy,

@@ -44,7 +44,8 @@ class SlamState {
 
   /// Variables in index order.
   const std::vector<StateVariable>& variables() const { return vars_; }
-  /// The variable's slot, or nullptr when it is not in the state.
+  /// The variable's slot, or nullptr when it is not in the state. The pointer is valid until
+  /// the next variable is added or removed (indices move when the state is compacted).
   const StateVariable* find(const VariableKey& key) const;
   bool has(const VariableKey& key) const { return find(key) != nullptr; }
   /// Number of landmark variables.

@@ -55,6 +55,10 @@ struct InsTransition {
   int64_t t_us = 0;     ///< time of x
 };
 
+/// IMU sample at t_us by linear interpolation between a and b (a.t_us ≤ t_us ≤ b.t_us), to
+/// end a propagation exactly at a camera timestamp (same input model as the RK4 step).
+ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, int64_t t_us);
+
 class InsPropagator {
  public:
   explicit InsPropagator(const InsPropagatorOptions& options = {}) : o_(options) {}

@@ -1,0 +1,112 @@
+// One S-VSLAM filter step (thesis §5.5, §5.7): INS prediction over one camera interval
+// (20 Hz camera, 200 Hz IMU: 10 RK4 steps with Jet Jacobians) and one update with 20 stereo
+// observations (4 rows each: 4×9 vehicle + 4×3 landmark blocks) over a state of 24 landmarks
+// (n = 81). H blocks are random with the right sparsity; the numbers do not depend on them.
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "cvslam/filter/covariance_helper.h"
+#include "cvslam/ins/ins_propagator.h"
+#include "filter_fixtures.h"
+
+namespace cvslam {
+namespace {
+
+constexpr int kLandmarks = 24;
+constexpr int kObservations = 20;
+
+struct StepData {
+  SlamState prior;
+  MeasurementBatch batch;
+  std::vector<ImuSample> imu;
+  InsPropagator ins;
+
+  StepData() {
+    std::mt19937 rng(42);
+    prior = test::randomSlamState(kLandmarks, rng);
+    test::randomStereoBatch(prior, kObservations, rng, &batch);
+    for (int k = 0; k <= 10; ++k) {
+      ImuSample s;
+      s.t_us = 5000 * k;
+      s.gyro_B = {0.01 * k, -0.02, 0.05};
+      s.accel_B = {0.3, -0.1, -9.7};
+      imu.push_back(s);
+    }
+  }
+};
+
+UpdatePolicy policyFor(bool nhinf, double theta) {
+  UpdatePolicy p = UpdatePolicy::ekf(0.999);
+  if (nhinf) {
+    p.theta = theta;
+    p.measurement_noise_scale = 0.9;
+    p.process_noise_scale = 0.85;
+  }
+  return p;
+}
+
+/// INS prediction over one camera interval (10 IMU steps); arg 1: with the 6 bias states.
+void BM_InsPredict(benchmark::State& st) {
+  const StepData d;
+  InsPropagatorOptions o;
+  o.estimate_imu_bias = st.range(0) > 0;
+  const InsPropagator ins(o);
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(ins.stateSize());
+  InsTransition tr;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(ins.propagate(x0, d.imu, &tr).ok());
+  }
+}
+BENCHMARK(BM_InsPredict)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+void BM_CovariancePropagate(benchmark::State& st) {
+  const StepData d;
+  InsTransition tr;
+  d.ins.propagate(d.prior.mean().head(9), d.imu, &tr);
+  SlamState s = d.prior;
+  for (auto _ : st) {
+    CovarianceHelper::propagate(s, VariableKey::vehicle(0), tr.x, tr.Phi, tr.Qd,
+                                UpdatePolicy::ekf());
+    benchmark::DoNotOptimize(s.covariance().data());
+  }
+}
+BENCHMARK(BM_CovariancePropagate)->Unit(benchmark::kMicrosecond);
+
+/// Update only; arg 0: EKF, 1: NH∞ (admissible θ), 2: NH∞ with the eq. 3.40 fallback.
+void BM_Update(benchmark::State& st) {
+  const StepData d;
+  const bool nhinf = st.range(0) > 0;
+  const UpdatePolicy policy = policyFor(nhinf, st.range(0) == 2 ? 1e3 : 1e-3);
+  SlamState s = d.prior;
+  UpdateReport report;
+  for (auto _ : st) {
+    s = d.prior;
+    CovarianceHelper::update(s, d.batch, policy, &report);
+    benchmark::DoNotOptimize(s.covariance().data());
+  }
+  st.counters["theta_reduced"] = report.theta_reduced;
+  st.counters["accepted"] = report.observations_accepted;
+}
+BENCHMARK(BM_Update)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+/// The whole step: INS prediction, covariance propagation, update. Arg 0: EKF, 1: NH∞.
+void BM_FilterStep(benchmark::State& st) {
+  const StepData d;
+  const UpdatePolicy policy = policyFor(st.range(0) > 0, 1e-3);
+  SlamState s = d.prior;
+  InsTransition tr;
+  for (auto _ : st) {
+    s = d.prior;
+    d.ins.propagate(s.mean().head(9), d.imu, &tr);
+    CovarianceHelper::propagate(s, VariableKey::vehicle(0), tr.x, tr.Phi, tr.Qd, policy);
+    CovarianceHelper::update(s, d.batch, policy, nullptr);
+    benchmark::DoNotOptimize(s.covariance().data());
+  }
+}
+BENCHMARK(BM_FilterStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace cvslam
+
+BENCHMARK_MAIN();
