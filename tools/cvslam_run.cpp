@@ -18,7 +18,7 @@
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/sim/scenario.h"
-#include "cvslam/sim/simulator.h"
+#include "cvslam/slam/simulated_team_run.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
 namespace {
@@ -125,17 +125,11 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
   return true;
 }
 
-/// One UAV: its VSLAM, its INS-only dead reckoning from the same IMU data, its outputs.
-struct AgentRun {
-  int id = 0;
-  std::unique_ptr<cvslam::VisualInertialSlam> slam;
-  cvslam::InsPropagator dead_reckoning;
-  Eigen::VectorXd x_ins;
-  cvslam::ImuSample last_imu;
-  bool have_imu = false;
+/// Per-UAV outputs and counters.
+struct AgentOutput {
   std::unique_ptr<cvslam::AgentRunWriter> writer;
   std::ofstream events;
-  int frames = 0, loop_frames = 0;
+  int frames = 0;
   double first_loop_t = -1.0;
   double cpu_ms = 0.0;
 };
@@ -184,129 +178,76 @@ int main(int argc, char** argv) {
   if (args.passes > 0) options.slam.observation_passes = args.passes;
   if (auto p = options.filter.policy(); !p.ok()) return fail(p.status().message());
 
-  auto sim = cvslam::sim::Simulator::create(*scenario);
-  if (!sim.ok()) return fail(sim.status().message());
+  auto team = cvslam::SimulatedTeamRun::create(*scenario, options);
+  if (!team.ok()) return fail(team.status().message());
+  cvslam::SimulatedTeamRun& run = **team;
 
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (ec) return fail("cannot create " + args.out + ": " + ec.message());
-
-  const bool with_bias = options.ins.estimate_imu_bias;
-  std::vector<AgentRun> agents(sim->agentCount());
-  std::map<int, std::size_t> slot;
-  for (std::size_t i = 0; i < sim->agentCount(); ++i) {
-    cvslam::sim::AgentSimulator& as = sim->agent(i);
-    AgentRun& a = agents[i];
-    a.id = as.id();
-    slot[a.id] = i;
-    // The filter is told the IMU's datasheet noise, as it would read it from a sensor.yaml.
-    cvslam::VisualInertialSlamOptions agent_options = options;
-    const cvslam::sim::ImuOptions& imu = as.spec().imu;
-    if (imu.noise) {
-      agent_options.ins.gyro_noise_density = imu.gyro_noise_density;
-      agent_options.ins.accel_noise_density = imu.accel_noise_density;
-      agent_options.ins.gyro_random_walk = imu.gyro_random_walk;
-      agent_options.ins.accel_random_walk = imu.accel_random_walk;
-    }
-    a.slam = std::make_unique<cvslam::VisualInertialSlam>(agent_options, as.camera());
-    a.dead_reckoning = cvslam::InsPropagator(agent_options.ins);
-
-    const cvslam::sim::InitialEstimate& init = as.initialEstimate();
-    const int n = cvslam::vehicle::size(with_bias);
-    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n);
-    x0.head<9>() = truthVector(init.state);
-    Eigen::VectorXd sigma = Eigen::VectorXd::Zero(n);
-    sigma << init.sigma.position_sigma, init.sigma.velocity_sigma, init.sigma.attitude_sigma,
-        Eigen::VectorXd::Zero(n - 9);
-    if (with_bias) {
-      sigma.segment<3>(cvslam::vehicle::kAccelBias).setConstant(options.slam.initial_accel_bias_sigma);
-      sigma.segment<3>(cvslam::vehicle::kGyroBias).setConstant(options.slam.initial_gyro_bias_sigma);
-    }
-    const Eigen::MatrixXd P0 = sigma.array().square().matrix().asDiagonal();
-    if (Status s = a.slam->initialize(init.state.t_us, x0, P0); !s.ok()) {
-      return fail("agent " + std::to_string(a.id) + ": " + s.message());
-    }
-    a.x_ins = x0;
-
-    a.writer = std::make_unique<cvslam::AgentRunWriter>();
-    if (Status s = a.writer->open(args.out, a.id); !s.ok()) return fail(s.message());
-    a.events.open(cvslam::agentDir(args.out, a.id) + "/events.csv");
-    a.events << "t,observations,updated,rejected,initialised,archived,reactivated,"
+  std::map<int, AgentOutput> outputs;
+  for (std::size_t i = 0; i < run.agentCount(); ++i) {
+    const int id = run.agentId(i);
+    AgentOutput& o = outputs[id];
+    o.writer = std::make_unique<cvslam::AgentRunWriter>();
+    if (Status s = o.writer->open(args.out, id); !s.ok()) return fail(s.message());
+    o.events.open(cvslam::agentDir(args.out, id) + "/events.csv");
+    if (!o.events) return fail("cannot write " + cvslam::agentDir(args.out, id) + "/events.csv");
+    o.events << "t,observations,updated,rejected,initialised,archived,reactivated,"
                 "loop_landmarks,theta_reduced,state_size\n";
   }
 
   const double duration = scenario->duration;
   int next_progress = 10;
   const auto wall_start = std::chrono::steady_clock::now();
-  cvslam::sim::SimEvent ev;
-  while (sim->next(ev)) {
-    AgentRun& a = agents[slot.at(ev.agent_id)];
-    const double t = static_cast<double>(ev.t_us) * 1e-6;
-    if (ev.type == cvslam::sim::SimEventType::kImu) {
-      if (Status s = a.slam->addImu(ev.imu); !s.ok()) return fail(s.message());
-      if (a.have_imu) {
-        a.x_ins = a.dead_reckoning.stepMean(a.x_ins, a.last_imu, ev.imu,
-                                            Eigen::VectorXd::Zero(a.dead_reckoning.noiseSize()));
-      }
-      a.last_imu = ev.imu;
-      a.have_imu = true;
-      continue;
-    }
-    // Feature-level sensing: the simulator's index is the true landmark id (DESIGN §3).
-    for (cvslam::StereoObservation& obs : ev.frame.observations) obs.landmark_id = obs.index;
-    cvslam::FrameReport report;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (Status s = a.slam->processFrame(ev.frame, &report); !s.ok()) {
-      return fail("agent " + std::to_string(a.id) + " at t=" + std::to_string(t) + " s: " +
-                  s.message());
-    }
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    a.cpu_ms += ms;
-    ++a.frames;
-    if (report.loop_closure) {
-      ++a.loop_frames;
-      if (a.first_loop_t < 0) a.first_loop_t = t;
-    }
+  Status run_status = run.run([&](const cvslam::SimulatedFrame& f) -> Status {
+    AgentOutput& o = outputs[f.agent_id];
+    const cvslam::FrameReport& report = *f.report;
+    const double t = static_cast<double>(f.t_us) * 1e-6;
+    o.cpu_ms += f.time_ms;
+    ++o.frames;
+    if (report.loop_closure && o.first_loop_t < 0) o.first_loop_t = t;
 
-    const Eigen::VectorXd x = a.slam->vehicleState();
-    const Eigen::MatrixXd P = a.slam->vehicleCovariance();
-    a.writer->addState(t, x.head<9>(), P.topLeftCorner<9, 9>());
-    a.writer->addTruth(t, truthVector(ev.truth));
-    a.writer->addInsState(t, a.x_ins.head<9>());
+    const Eigen::VectorXd x = f.slam->vehicleState();
+    const Eigen::MatrixXd P = f.slam->vehicleCovariance();
+    if (Status s = o.writer->addState(t, x.head<9>(), P.topLeftCorner<9, 9>()); !s.ok()) return s;
+    if (Status s = o.writer->addTruth(t, truthVector(*f.truth)); !s.ok()) return s;
+    if (Status s = o.writer->addInsState(t, f.x_ins->head<9>()); !s.ok()) return s;
     cvslam::FrameStats fs;
     fs.t = t;
-    fs.time_ms = ms;
+    fs.time_ms = f.time_ms;
     fs.state_size = report.state_size;
     fs.landmarks = report.landmarks_in_state;
     double sigma_sum = 0.0;
     int n_lm = 0;
-    for (const cvslam::StateVariable& v : a.slam->state().variables()) {
+    for (const cvslam::StateVariable& v : f.slam->state().variables()) {
       if (v.key.kind != cvslam::VariableKey::Kind::kLandmark) continue;
-      sigma_sum += std::sqrt(a.slam->state().covarianceOf(v).trace() / 3.0);
+      sigma_sum += std::sqrt(f.slam->state().covarianceOf(v).trace() / 3.0);
       ++n_lm;
     }
     if (n_lm > 0) fs.landmark_sigma_mean_m = sigma_sum / n_lm;
-    a.writer->addFrame(fs);
-    a.events << t << ',' << report.observations << ',' << report.updated << ','
-             << report.rejected << ',' << report.initialised << ',' << report.archived << ','
-             << report.reactivated << ',' << report.loop_landmarks << ','
-             << (report.theta_reduced ? 1 : 0) << ',' << report.state_size << '\n';
-
+    o.writer->addFrame(fs);
+    o.events << t << ',' << report.observations << ',' << report.updated << ',' << report.rejected
+             << ',' << report.initialised << ',' << report.archived << ',' << report.reactivated
+             << ',' << report.loop_landmarks << ',' << (report.theta_reduced ? 1 : 0) << ','
+             << report.state_size << '\n';
     if (!args.quiet && t >= duration * next_progress / 100.0) {
       std::fprintf(stderr, "cvslam_run: %3d%%  t = %.0f s\n", next_progress, t);
       next_progress += 10;
     }
-  }
+    return Status::Ok();
+  });
+  if (!run_status.ok()) return fail(run_status.message());
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
   // True landmark positions for the map's error columns (feature-level sim: id = true id).
   std::map<int64_t, Eigen::Vector3d> truth;
-  for (const auto& lm : sim->landmarks()) truth[lm.id] = lm.p_LinN;
-  for (AgentRun& a : agents) {
+  for (const auto& lm : run.simulator().landmarks()) truth[lm.id] = lm.p_LinN;
+  for (std::size_t i = 0; i < run.agentCount(); ++i) {
+    AgentOutput& o = outputs[run.agentId(i)];
     std::vector<cvslam::LandmarkRecord> records;
-    for (const cvslam::MapLandmark& m : a.slam->map()) {
+    for (const cvslam::MapLandmark& m : run.slam(i).map()) {
       cvslam::LandmarkRecord r;
       r.id = m.id;
       r.p_LinN = m.p_LinN;
@@ -314,8 +255,8 @@ int main(int argc, char** argv) {
       if (auto it = truth.find(m.id); it != truth.end()) r.truth = it->second;
       records.push_back(r);
     }
-    if (Status s = a.writer->writeLandmarks(records); !s.ok()) return fail(s.message());
-    if (Status s = a.writer->close(); !s.ok()) return fail(s.message());
+    if (Status s = o.writer->writeLandmarks(records); !s.ok()) return fail(s.message());
+    if (Status s = o.writer->close(); !s.ok()) return fail(s.message());
   }
   cvslam::RunInfo info;
   info.mode = args.mode;
@@ -327,16 +268,18 @@ int main(int argc, char** argv) {
   std::printf("cvslam_run: %s, %s, map %s, %.0f s simulated in %.1f s wall (%.1fx real time)\n",
               scenario->name.c_str(), info.filter.c_str(), info.map.c_str(), duration, wall_s,
               duration / std::max(wall_s, 1e-9));
-  for (const AgentRun& a : agents) {
-    const cvslam::FilterStatistics& st = a.slam->statistics();
+  for (std::size_t i = 0; i < run.agentCount(); ++i) {
+    const AgentOutput& o = outputs[run.agentId(i)];
+    const cvslam::FilterStatistics& st = run.slam(i).statistics();
+    const std::string loop =
+        o.first_loop_t >= 0 ? "first at " + std::to_string(static_cast<int>(o.first_loop_t)) + " s"
+                            : "none";
     std::printf(
-        "  UAV%d: %d frames, %.2f ms/frame, map %zu landmarks, loop closure %s, gated %ld/%ld, "
-        "θ reductions %ld\n",
-        a.id, a.frames, a.frames > 0 ? a.cpu_ms / a.frames : 0.0, a.slam->map().size(),
-        a.first_loop_t >= 0 ? ("at " + std::to_string(static_cast<int>(a.first_loop_t)) + " s").c_str()
-                            : "none",
-        st.observations_rejected, st.observations_accepted + st.observations_rejected,
-        st.theta_reductions);
+        "  UAV%d: %d frames, %.2f ms/frame, map %zu landmarks, loop closure %s, gated out "
+        "%ld of %ld observations, θ reductions %ld\n",
+        run.agentId(i), o.frames, o.frames > 0 ? o.cpu_ms / o.frames : 0.0,
+        run.slam(i).map().size(), loop.c_str(), st.observations_rejected,
+        st.observations_accepted + st.observations_rejected, st.theta_reductions);
   }
   std::printf("  outputs in %s (evaluate with: cvslam_eval --run %s --summary-json F)\n",
               args.out.c_str(), args.out.c_str());

@@ -3,6 +3,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <random>
 
 #include "cvslam/filter/covariance_helper.h"
@@ -21,7 +22,22 @@ UpdatePolicy nhinfPolicy(double theta, double cv2 = 1.0, double margin = 0.9) {
   p.theta = theta;
   p.measurement_noise_scale = cv2;
   p.theta_margin = margin;
+  p.theta_weighting = ThetaWeighting::kIdentity;  // the literal eq. 3.39 with S = I
   return p;
+}
+
+UpdatePolicy observedPolicy(double theta, double margin = 0.9) {
+  UpdatePolicy p = nhinfPolicy(theta, 1.0, margin);
+  p.theta_weighting = ThetaWeighting::kObserved;
+  return p;
+}
+
+/// Orthogonal projector onto the range of Hᵀ.
+Eigen::MatrixXd rowSpaceProjector(const Eigen::MatrixXd& H) {
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(H, Eigen::ComputeFullV);
+  const Eigen::Index r = svd.rank();
+  const Eigen::MatrixXd V = svd.matrixV().leftCols(r);
+  return V * V.transpose();
 }
 
 struct Fixture {
@@ -71,6 +87,52 @@ TEST(NhinfUpdate, PosteriorEqualsDenseInformationForm) {
                                                           f.batch.residual();
   // Angles are wrapped after the update; the fixture stays far from ±π.
   EXPECT_TRUE(s.mean().isApprox(expected_x, 1e-10));
+}
+
+TEST(NhinfUpdate, ObservedWeightingEqualsDenseProjectedForm) {
+  // S = Π: P⁺ = (P⁻¹ + Hᵀ R⁻¹ H − θ Π)⁻¹ with Π the projector onto range(Hᵀ).
+  Fixture f(21);
+  const double theta = 0.5;
+  SlamState s = f.prior;
+  UpdateReport report;
+  ASSERT_TRUE(CovarianceHelper::update(s, f.batch, observedPolicy(theta, 1.0), &report).ok());
+  ASSERT_FALSE(report.theta_reduced);
+  const Eigen::MatrixXd& P = f.prior.covariance();
+  const Eigen::MatrixXd H = f.batch.H();
+  const Eigen::MatrixXd info =
+      P.inverse() + H.transpose() * f.batch.R().inverse() * H - theta * rowSpaceProjector(H);
+  EXPECT_TRUE(s.covariance().isApprox(info.inverse(), 1e-8));
+}
+
+TEST(NhinfUpdate, ObservedWeightingLeavesUnobservedDirectionsToTheEkf) {
+  // Directions with H g = 0 (SLAM's gauge, unobserved landmarks) keep the EKF information,
+  // while S = I removes θ from them at every update.
+  Fixture f(22, 8, 4);
+  const Eigen::MatrixXd H = f.batch.H();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(H, Eigen::ComputeFullV);
+  ASSERT_LT(svd.rank(), H.cols());
+  const Eigen::VectorXd g = svd.matrixV().col(H.cols() - 1);  // in the null space of H
+  ASSERT_LT((H * g).norm(), 1e-9);
+  SlamState ekf = f.prior, observed = f.prior, identity = f.prior;
+  ASSERT_TRUE(CovarianceHelper::update(ekf, f.batch, UpdatePolicy::ekf(), nullptr).ok());
+  ASSERT_TRUE(CovarianceHelper::update(observed, f.batch, observedPolicy(0.2), nullptr).ok());
+  ASSERT_TRUE(CovarianceHelper::update(identity, f.batch, nhinfPolicy(0.2), nullptr).ok());
+  const auto information = [&](const SlamState& st) {
+    return g.dot(st.covariance().ldlt().solve(g));
+  };
+  EXPECT_NEAR(information(observed), information(ekf), 1e-8 * information(ekf));
+  EXPECT_NEAR(information(identity), information(ekf) - 0.2, 1e-6 * information(ekf));
+  // Observed directions are still inflated (more conservative than the EKF).
+  EXPECT_GT((observed.covariance() - ekf.covariance()).trace(), 0.0);
+}
+
+TEST(NhinfUpdate, ObservedWeightingWithVanishingThetaIsTheEkf) {
+  Fixture f(23, 24, 20);
+  SlamState ekf = f.prior, tiny = f.prior;
+  ASSERT_TRUE(CovarianceHelper::update(ekf, f.batch, UpdatePolicy::ekf(), nullptr).ok());
+  ASSERT_TRUE(CovarianceHelper::update(tiny, f.batch, observedPolicy(1e-12), nullptr).ok());
+  EXPECT_LT((tiny.mean() - ekf.mean()).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((tiny.covariance() - ekf.covariance()).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 TEST(NhinfUpdate, IsMoreConservativeThanTheEkf) {

@@ -23,6 +23,8 @@ Status FilterOptions::load(const ConfigNode& node) {
   node.get("delta3", delta3);
   node.get("theta_margin", theta_margin);
   node.get("gate_probability", gate_probability);
+  node.getEnum("theta_weighting", theta_weighting,
+               {{"observed", ThetaWeighting::kObserved}, {"identity", ThetaWeighting::kIdentity}});
   node.check(gamma > 0, "gamma", "must be > 0 (got " + std::to_string(gamma) + ")");
   node.check(delta1 >= 0 && delta2 >= 0 && delta3 >= 0, "delta1", "δ1, δ2, δ3 must be ≥ 0");
   node.check(theta_margin > 0 && theta_margin <= 1, "theta_margin", "must be in (0, 1]");
@@ -41,6 +43,7 @@ Expected<UpdatePolicy> FilterOptions::policy() const {
   UpdatePolicy p;
   p.gate_probability = gate_probability;
   p.theta_margin = theta_margin;
+  p.theta_weighting = theta_weighting;
   if (type == FilterType::kEkf) return p;
   const double cv2 = measurementNoiseScale();
   if (!(cv2 > 0.0) || !(gamma > 0.0)) {

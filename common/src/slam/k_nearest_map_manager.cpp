@@ -1,6 +1,7 @@
 #include "cvslam/slam/k_nearest_map_manager.h"
 
 #include <algorithm>
+#include <tuple>
 
 #include "cvslam/camera/stereo_camera.h"
 #include "cvslam/geometry/euler.h"
@@ -38,17 +39,18 @@ double KNearestMapManager::sceneDepth(const std::vector<double>& observed_depths
 
 std::vector<int64_t> KNearestMapManager::select(const std::vector<MapCandidate>& candidates,
                                                 const Eigen::Vector3d& m_star) const {
-  std::vector<std::pair<double, int64_t>> ranked;
+  // (unobserved?, squared distance, id): observed candidates sort first.
+  std::vector<std::tuple<bool, double, int64_t>> ranked;
   ranked.reserve(candidates.size());
   for (const auto& c : candidates)
-    ranked.emplace_back((c.p_LinN - m_star).squaredNorm(), c.landmark_id);
+    ranked.emplace_back(!c.observed, (c.p_LinN - m_star).squaredNorm(), c.landmark_id);
   std::size_t keep = ranked.size();
   if (o_.kind == MapKind::kKNearest) keep = std::min(keep, static_cast<std::size_t>(o_.k));
   std::partial_sort(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(keep),
                     ranked.end());
   std::vector<int64_t> ids;
   ids.reserve(keep);
-  for (std::size_t i = 0; i < keep; ++i) ids.push_back(ranked[i].second);
+  for (std::size_t i = 0; i < keep; ++i) ids.push_back(std::get<2>(ranked[i]));
   std::sort(ids.begin(), ids.end());
   return ids;
 }

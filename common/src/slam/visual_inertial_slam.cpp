@@ -14,6 +14,15 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.get("max_new_landmarks_per_frame", max_new_landmarks_per_frame);
   node.get("min_init_disparity_px", min_init_disparity_px);
   node.get("loop_closure_min_age_s", loop_closure_min_age_s);
+  node.get("reactivation_min_age_s", reactivation_min_age_s);
+  node.check(reactivation_min_age_s >= 0.0, "reactivation_min_age_s", "must be ≥ 0");
+  node.get("first_estimate_jacobians", first_estimate_jacobians);
+  node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
+  node.get("loop_closure_consensus_px", loop_closure_consensus_px);
+  node.get("loop_closure_passes", loop_closure_passes);
+  node.check(loop_closure_min_landmarks >= 0, "loop_closure_min_landmarks", "must be ≥ 0");
+  node.check(loop_closure_consensus_px > 0.0, "loop_closure_consensus_px", "must be > 0");
+  node.check(loop_closure_passes >= 1, "loop_closure_passes", "must be ≥ 1");
   node.get("initial_accel_bias_sigma", initial_accel_bias_sigma);
   node.get("initial_gyro_bias_sigma", initial_gyro_bias_sigma);
   node.check(initial_accel_bias_sigma > 0.0 && initial_gyro_bias_sigma > 0.0,
@@ -58,6 +67,7 @@ Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,
   state_ = SlamState();
   archive_ = LandmarkArchive();
   info_.clear();
+  pending_loop_.clear();
   if (Status s = CovarianceHelper::addVariable(state_, vehicle_, x_v, P_v); !s.ok()) return s;
   t_us_ = t_us;
   imu_buffer_.clear();
@@ -143,15 +153,27 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
       camera_, x.segment<3>(vehicle::kPosition), x.segment<3>(vehicle::kAttitude),
       map_manager_.sceneDepth(depths));
 
+  std::vector<int64_t> observed;
+  observed.reserve(frame.observations.size());
+  for (const StereoObservation& obs : frame.observations) {
+    if (obs.landmark_id >= 0) observed.push_back(obs.landmark_id);
+  }
+  std::sort(observed.begin(), observed.end());
   std::vector<MapCandidate> candidates;
   for (const StateVariable& v : state_.variables()) {
     if (v.key.kind != VariableKey::Kind::kLandmark) continue;
-    candidates.push_back({static_cast<int64_t>(v.key.id), state_.value(v)});
+    const auto id = static_cast<int64_t>(v.key.id);
+    candidates.push_back(
+        {id, state_.value(v), std::binary_search(observed.begin(), observed.end(), id)});
   }
   for (const StereoObservation& obs : frame.observations) {
     const int64_t id = landmarkIdOf(obs);
     if (id < 0) continue;
-    if (const ArchivedLandmark* a = archive_.find(id)) candidates.push_back({id, a->p_LinN});
+    const ArchivedLandmark* a = archive_.find(id);
+    if (a != nullptr &&
+        static_cast<double>(t_us_ - a->archived_us) * 1e-6 >= o_.slam.reactivation_min_age_s) {
+      candidates.push_back({id, a->p_LinN, true});
+    }
   }
   const std::vector<int64_t> keep = map_manager_.select(candidates, m_star);
 
@@ -173,6 +195,7 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
       info_.erase(it);
     }
     a.archived_us = t_us_;
+    pending_loop_.erase(cand.landmark_id);
     archive_.store(cand.landmark_id, std::move(a));
     CovarianceHelper::marginalize(state_, key);
     ++report->archived;
@@ -187,13 +210,40 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
     ++report->reactivated;
     if (static_cast<double>(t_us_ - a->first_seen_us) * 1e-6 >= o_.slam.loop_closure_min_age_s) {
       ++report->loop_landmarks;
+      pending_loop_.insert(id);
     }
-    info_[id] = {a->index, a->first_seen_us, std::move(a->descriptor)};
+    info_[id] = {a->index, a->first_seen_us, std::move(a->descriptor), a->p_LinN};
   }
-  report->loop_closure = report->loop_landmarks > 0;
+}
+
+int VisualInertialSlam::loopConsensus(const StereoFrameObservations& frame) {
+  const Eigen::Matrix<double, 9, 1> x = pose9();
+  std::vector<std::pair<int64_t, Eigen::Vector4d>> innovations;
+  for (const StereoObservation& obs : frame.observations) {
+    if (!std::binary_search(loop_ids_.begin(), loop_ids_.end(), obs.landmark_id)) continue;
+    const StateVariable* lm =
+        state_.find(VariableKey::landmark(static_cast<uint64_t>(obs.landmark_id)));
+    if (lm == nullptr) continue;
+    innovations.emplace_back(obs.landmark_id, obs.z - camera_.project(x, state_.value(*lm)));
+  }
+  Eigen::Vector4d median;
+  std::vector<double> c(innovations.size());
+  for (int k = 0; k < 4; ++k) {
+    for (std::size_t i = 0; i < innovations.size(); ++i) c[i] = innovations[i].second(k);
+    auto mid = c.begin() + static_cast<std::ptrdiff_t>(c.size() / 2);
+    std::nth_element(c.begin(), mid, c.end());
+    median(k) = c.empty() ? 0.0 : *mid;
+  }
+  loop_ids_.clear();
+  for (const auto& [id, r] : innovations) {
+    if ((r - median).norm() <= o_.slam.loop_closure_consensus_px) loop_ids_.push_back(id);
+  }
+  std::sort(loop_ids_.begin(), loop_ids_.end());
+  return static_cast<int>(loop_ids_.size());
 }
 
 Status VisualInertialSlam::updatePass(const StereoFrameObservations& frame, int passes,
+                                      Selection selection, const UpdatePolicy& policy,
                                       UpdateReport* report) {
   const StateVariable* veh = state_.find(vehicle_);
   const Eigen::Matrix<double, 9, 1> x = state_.value(*veh).head<9>();
@@ -206,6 +256,10 @@ Status VisualInertialSlam::updatePass(const StereoFrameObservations& frame, int 
   for (const StereoObservation& obs : frame.observations) {
     const int64_t id = landmarkIdOf(obs);
     if (id < 0) continue;
+    if (selection != Selection::kAll) {
+      const bool loop = std::binary_search(loop_ids_.begin(), loop_ids_.end(), id);
+      if (loop != (selection == Selection::kOnlyLoop)) continue;
+    }
     const StateVariable* lm = state_.find(VariableKey::landmark(static_cast<uint64_t>(id)));
     if (lm == nullptr) continue;
     const Eigen::Vector3d p_LinN = state_.value(*lm);
@@ -214,14 +268,21 @@ Status VisualInertialSlam::updatePass(const StereoFrameObservations& frame, int 
         0.0) {
       continue;
     }
-    const Eigen::Vector4d z_hat = camera_.project(x, p_LinN, &dz_dxv, &dz_dpL);
+    Eigen::Vector4d z_hat;
+    auto info = o_.slam.first_estimate_jacobians ? info_.find(id) : info_.end();
+    if (info != info_.end()) {
+      z_hat = camera_.project(x, p_LinN);
+      camera_.project(x, info->second.first_estimate, &dz_dxv, &dz_dpL);
+    } else {
+      z_hat = camera_.project(x, p_LinN, &dz_dxv, &dz_dpL);
+    }
     const int g = batch_.addObservation(obs.z - z_hat, R);
     if (g < 0) break;
     batch_.setJacobian(g, veh->index, dz_dxv);
     batch_.setJacobian(g, *lm, dz_dpL);
   }
   if (batch_.groups() == 0) return Status::Ok();
-  return CovarianceHelper::update(state_, batch_, policy_, report);
+  return CovarianceHelper::update(state_, batch_, policy, report);
 }
 
 Status VisualInertialSlam::initialiseNew(const StereoFrameObservations& frame,
@@ -271,7 +332,7 @@ Status VisualInertialSlam::initialiseNew(const StereoFrameObservations& frame,
         !s.ok()) {
       return s;
     }
-    info_[id] = {obs.index, t_us_, obs.descriptor};
+    info_[id] = {obs.index, t_us_, obs.descriptor, p_LinN};
     ++report->initialised;
   }
   return Status::Ok();
@@ -290,10 +351,36 @@ Status VisualInertialSlam::processFrame(const StereoFrameObservations& frame, Fr
   if (Status s = propagateTo(frame.t_us); !s.ok()) return s;
 
   manageMap(frame, &r);
+  // Loop landmarks waiting for a closure that are observed now; they stay out of the gated
+  // updates, where a drifted vehicle would reject them one by one.
+  loop_ids_.clear();
+  for (const StereoObservation& obs : frame.observations) {
+    if (pending_loop_.count(obs.landmark_id)) loop_ids_.push_back(obs.landmark_id);
+  }
+  std::sort(loop_ids_.begin(), loop_ids_.end());
+  Selection rest = loop_ids_.empty() ? Selection::kAll : Selection::kAllButLoop;
+  if (o_.slam.loop_closure_min_landmarks > 0 &&
+      static_cast<int>(loop_ids_.size()) >= o_.slam.loop_closure_min_landmarks &&
+      loopConsensus(frame) >= o_.slam.loop_closure_min_landmarks) {
+    // Loop closing: the agreeing loop landmarks first, ungated, iterated.
+    UpdatePolicy ungated = policy_;
+    ungated.gate_probability = 0.0;
+    const int loop_passes = o_.slam.loop_closure_passes;
+    for (int pass = 0; pass < loop_passes; ++pass) {
+      UpdateReport u;
+      if (Status s = updatePass(frame, loop_passes, Selection::kOnlyLoop, ungated, &u); !s.ok()) {
+        return s;
+      }
+      if (pass + 1 == loop_passes) stats_.add(u);
+      r.theta_reduced = r.theta_reduced || u.theta_reduced;
+    }
+    r.loop_closure = true;
+    for (int64_t id : loop_ids_) pending_loop_.erase(id);
+  }
   const int passes = o_.slam.observation_passes;
   for (int pass = 0; pass < passes; ++pass) {
     UpdateReport u;
-    if (Status s = updatePass(frame, passes, &u); !s.ok()) return s;
+    if (Status s = updatePass(frame, passes, rest, policy_, &u); !s.ok()) return s;
     if (u.observations_accepted + u.observations_rejected > 0) stats_.add(u);
     r.updated = u.observations_accepted;
     r.rejected = u.observations_rejected;

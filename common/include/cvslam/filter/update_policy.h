@@ -18,6 +18,18 @@ namespace cvslam {
 
 class ConfigNode;
 
+/// Where the NH∞ term θ S of eq. 3.39 acts.
+enum class ThetaWeighting {
+  /// S = I, as DESIGN.md §3 writes it: every state direction is inflated. In SLAM the gauge
+  /// directions (common shift/yaw of vehicle and map) get no information from any update,
+  /// so their variance grows without bound (a Riccati blow-up) for any fixed θ > 0.
+  kIdentity,
+  /// S = Π, the projector onto the directions the update observes (range of Hᵀ): the H∞
+  /// robustness acts where measurements act, and unobservable directions keep the EKF's
+  /// covariance. The default for the SLAM filters.
+  kObserved,
+};
+
 /// The numbers CovarianceHelper needs to run an EKF or an NH∞ update.
 struct UpdatePolicy {
   double theta = 0.0;                    ///< θ = 1/γ²; 0 gives the EKF (Joseph form)
@@ -29,6 +41,8 @@ struct UpdatePolicy {
   /// Mahalanobis gate per observation: reject when d² > χ²_rows(gate_probability).
   /// 0 disables gating.
   double gate_probability = 0.0;
+  /// Where θ acts (see ThetaWeighting).
+  ThetaWeighting theta_weighting = ThetaWeighting::kObserved;
 
   static UpdatePolicy ekf(double gate_probability = 0.0);
 };
@@ -46,6 +60,8 @@ struct FilterOptions {
   double delta3 = 0.0;        ///< δ3, bound on the observation linearisation error (eq. 3.56)
   double theta_margin = 0.9;  ///< see UpdatePolicy::theta_margin, in (0, 1]
   double gate_probability = 0.999;  ///< χ² gate per observation; 0 disables
+  /// `observed` (θ on the observed subspace) or `identity` (θ I, the literal eq. 3.39).
+  ThetaWeighting theta_weighting = ThetaWeighting::kObserved;
 
   Status load(const ConfigNode& node);
   /// c_v² of eq. 3.58 (1 for the EKF).

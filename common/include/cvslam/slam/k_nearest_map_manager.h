@@ -36,6 +36,7 @@ struct MapManagerOptions {
 struct MapCandidate {
   int64_t landmark_id = -1;
   Eigen::Vector3d p_LinN = Eigen::Vector3d::Zero();
+  bool observed = false;  ///< observed in the current frame
 };
 
 class KNearestMapManager {
@@ -53,8 +54,11 @@ class KNearestMapManager {
   double sceneDepth(const std::vector<double>& observed_depths) const;
 
   /// Ids of the candidates that may stay in (or enter) the state: all of them for the full
-  /// map, otherwise the k nearest to m*. Ties are broken by id, so the choice is
-  /// deterministic.
+  /// map, otherwise k of them: observed candidates first, each group by distance to m*.
+  /// (Departure from §5.8, which ranks by distance alone: after a long drift, m* is placed
+  /// from the drifted pose and re-observed old landmarks sit metres away from it, so pure
+  /// distance would keep them out of the state exactly when they could close the loop.)
+  /// Ties are broken by id, so the choice is deterministic.
   std::vector<int64_t> select(const std::vector<MapCandidate>& candidates,
                               const Eigen::Vector3d& m_star) const;
 

@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <set>
 #include <unordered_map>
 #include <vector>
 
@@ -47,10 +48,29 @@ struct SlamOptions {
   bool scale_noise_per_pass = true;
   int max_new_landmarks_per_frame = 8;  ///< new landmarks initialised per frame, nearest to m*
   double min_init_disparity_px = 1.0;   ///< farther points (smaller disparity) are not mapped
+  /// An archived landmark re-enters the state only when it left it at least this long ago
+  /// [s]. It re-enters with its archived marginal covariance and no correlation to the
+  /// vehicle; that is nearly right after a long excursion (loop closing, §5.5.2) but badly
+  /// over-confident for a landmark archived a moment ago, whose error is still the vehicle's.
+  /// Observations of more recently archived landmarks are not used.
+  double reactivation_min_age_s = 10.0;
   /// A re-activated landmark first seen at least this long ago marks a loop closure [s].
   double loop_closure_min_age_s = 30.0;
-  double initial_accel_bias_sigma = 0.1;   ///< 1σ of the initial accel bias state [m/s²]
-  double initial_gyro_bias_sigma = 0.005;  ///< 1σ of the initial gyro bias state [rad/s]
+  /// First-estimates Jacobians (Huang, Mourikis & Roumeliotis 2008): linearise each
+  /// landmark's observations at the estimate it had when it entered the state, so that
+  /// successive updates cannot fabricate information about the unobservable yaw and
+  /// translation — the main cause of EKF-SLAM over-confidence (cf. thesis §5.7.3, Rco < 1).
+  bool first_estimate_jacobians = true;
+  /// Loop closing (§5.5.2): landmarks re-activated after at least loop_closure_min_age_s
+  /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
+  /// this many are observed in one frame and their innovations agree (a common vehicle
+  /// error moves them together), they are applied before the other observations, without
+  /// the gate and with iterated relinearisation. 0 disables this (loop landmarks are gated).
+  int loop_closure_min_landmarks = 3;
+  double loop_closure_consensus_px = 15.0;  ///< max distance of an innovation to the median [px]
+  int loop_closure_passes = 3;              ///< iterated passes for the loop-closing update
+  double initial_accel_bias_sigma = 0.1;    ///< 1σ of the initial accel bias state [m/s²]
+  double initial_gyro_bias_sigma = 0.005;   ///< 1σ of the initial gyro bias state [rad/s]
 
   Status load(const ConfigNode& node);
 };
@@ -120,7 +140,12 @@ class VisualInertialSlam {
   Status propagateTo(int64_t t_us);
   int64_t landmarkIdOf(const StereoObservation& obs) const;
   void manageMap(const StereoFrameObservations& frame, FrameReport* report);
-  Status updatePass(const StereoFrameObservations& frame, int passes, UpdateReport* report);
+  /// Which observations an update pass uses.
+  enum class Selection { kAll, kOnlyLoop, kAllButLoop };
+  Status updatePass(const StereoFrameObservations& frame, int passes, Selection selection,
+                    const UpdatePolicy& policy, UpdateReport* report);
+  /// Keeps the loop landmarks whose innovations agree; returns how many.
+  int loopConsensus(const StereoFrameObservations& frame);
   Status initialiseNew(const StereoFrameObservations& frame, FrameReport* report);
   Eigen::Matrix<double, 9, 1> pose9() const;
 
@@ -139,8 +164,11 @@ class VisualInertialSlam {
     uint32_t index = 0;
     int64_t first_seen_us = 0;
     std::vector<uint8_t> descriptor;
+    Eigen::Vector3d first_estimate = Eigen::Vector3d::Zero();  ///< p_LinN when (re)entering
   };
   std::unordered_map<int64_t, LandmarkInfo> info_;  // landmarks in the state
+  std::set<int64_t> pending_loop_;  // re-activated old landmarks not yet used to close a loop
+  std::vector<int64_t> loop_ids_;   // pending loop landmarks observed in the current frame
   FilterStatistics stats_;
   int64_t t_us_ = 0;
   int64_t next_fresh_id_ = int64_t{1} << 40;  // ids for landmarks the front end left unnamed

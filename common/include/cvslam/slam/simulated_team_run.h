@@ -1,0 +1,65 @@
+#pragma once
+// Drives every UAV of a simulated scenario through its own VisualInertialSlam, in dataset-time
+// order and deterministically (DESIGN.md §1: cvslam_run's core, no transport). Each agent also
+// dead-reckons the same IMU data (INS only) for comparison. A callback sees every processed
+// frame; the caller decides what to record.
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "cvslam/core/status.h"
+#include "cvslam/ins/ins_propagator.h"
+#include "cvslam/sim/scenario.h"
+#include "cvslam/sim/simulator.h"
+#include "cvslam/slam/visual_inertial_slam.h"
+
+namespace cvslam {
+
+/// What the callback sees after each processed stereo frame.
+struct SimulatedFrame {
+  int agent_id = 0;
+  int64_t t_us = 0;
+  const sim::GroundTruth* truth = nullptr;   ///< true state at the frame
+  const VisualInertialSlam* slam = nullptr;  ///< the agent's filter after the frame
+  const FrameReport* report = nullptr;       ///< what the frame did
+  const Eigen::VectorXd* x_ins = nullptr;    ///< INS-only state at the frame
+  double time_ms = 0.0;                      ///< wall time of processFrame [ms]
+};
+
+class SimulatedTeamRun {
+ public:
+  using FrameCallback = std::function<Status(const SimulatedFrame&)>;
+
+  /// Builds the simulator and one filter per agent, started at the scenario's initial
+  /// estimate. The filter is told each IMU's datasheet noise (as from a sensor.yaml).
+  static Expected<std::unique_ptr<SimulatedTeamRun>> create(
+      const sim::Scenario& scenario, const VisualInertialSlamOptions& options);
+
+  /// Runs to the end of the scenario, calling `on_frame` after every frame (a non-ok Status
+  /// from it stops the run and is returned).
+  Status run(const FrameCallback& on_frame);
+
+  std::size_t agentCount() const { return agents_.size(); }
+  const VisualInertialSlam& slam(std::size_t i) const { return agents_[i].slam; }
+  int agentId(std::size_t i) const { return agents_[i].id; }
+  const sim::Simulator& simulator() const { return simulator_; }
+
+ private:
+  struct Agent {
+    int id = 0;
+    VisualInertialSlam slam;
+    InsPropagator dead_reckoning;
+    Eigen::VectorXd x_ins;
+    ImuSample last_imu;
+    bool have_imu = false;
+  };
+  SimulatedTeamRun(sim::Simulator simulator) : simulator_(std::move(simulator)) {}
+
+  sim::Simulator simulator_;
+  std::vector<Agent> agents_;
+  std::vector<int> slot_of_id_;  // agent id -> index into agents_ (−1: none)
+};
+
+}  // namespace cvslam

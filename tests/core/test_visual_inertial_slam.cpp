@@ -1,0 +1,193 @@
+// VisualInertialSlam on feature-level simulations (fixed seeds): accuracy against INS-only
+// dead reckoning, consistency, k-nearest map management bounds, loop closing, EKF ≡ NH∞ as
+// θ → 0, and input errors.
+
+#include "cvslam/slam/visual_inertial_slam.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cvslam/io/config_node.h"
+#include "cvslam/sim/scenario.h"
+#include "cvslam/slam/simulated_team_run.h"
+
+namespace cvslam {
+namespace {
+
+// A 25 m-radius circle at 10 m height, 3 m/s (one lap ≈ 52 s), 10 Hz stereo.
+std::string circleScenario(double duration, uint64_t seed, const std::string& noise = "gaussian") {
+  return "name: test_circle\nseed: " + std::to_string(seed) +
+         "\nduration: " + std::to_string(duration) +
+         "\nworld: {relief_amplitude: 1.0, landmark_density: 0.5, margin: 30.0}\n"
+         "agents:\n"
+         "  - id: 1\n"
+         "    trajectory: {kind: circle, centre: [0.0, 0.0], radius: 25.0, altitude: 10.0, "
+         "speed: 3.0, heading: velocity, tilt: bank}\n"
+         "    camera_rate_hz: 10.0\n"
+         "    pixel_noise: {kind: " +
+         noise + ", sigma_px: 0.5}\n";
+}
+
+sim::Scenario loadScenario(const std::string& yaml) {
+  auto s = sim::Scenario::fromString(yaml, "test.yaml");
+  EXPECT_TRUE(s.ok()) << s.status().message();
+  return *s;
+}
+
+struct RunErrors {
+  std::vector<double> t, slam_error, ins_error, nees_position;
+  std::vector<int> state_size, initialised;
+  int loop_frames = 0;
+  double first_loop_t = -1.0;
+  int frames = 0;
+
+  double rms(const std::vector<double>& e) const {
+    double s = 0.0;
+    for (double x : e) s += x * x;
+    return std::sqrt(s / static_cast<double>(e.size()));
+  }
+  /// Mean error over frames with t in [t0, t1).
+  double meanError(double t0, double t1) const {
+    double s = 0.0;
+    int n = 0;
+    for (std::size_t i = 0; i < t.size(); ++i)
+      if (t[i] >= t0 && t[i] < t1) s += slam_error[i], ++n;
+    return n > 0 ? s / n : NAN;
+  }
+};
+
+RunErrors runScenario(const sim::Scenario& scenario, const VisualInertialSlamOptions& options) {
+  RunErrors out;
+  auto run = SimulatedTeamRun::create(scenario, options);
+  EXPECT_TRUE(run.ok()) << run.status().message();
+  if (!run.ok()) return out;
+  Status s = (*run)->run([&](const SimulatedFrame& f) {
+    const double t = static_cast<double>(f.t_us) * 1e-6;
+    const Eigen::VectorXd x = f.slam->vehicleState();
+    const Eigen::Vector3d e = x.head<3>() - f.truth->p_BinN;
+    const Eigen::Matrix3d P = f.slam->vehicleCovariance().topLeftCorner<3, 3>();
+    out.t.push_back(t);
+    out.slam_error.push_back(e.norm());
+    out.ins_error.push_back((f.x_ins->head<3>() - f.truth->p_BinN).norm());
+    out.nees_position.push_back(e.dot(P.ldlt().solve(e)));
+    out.state_size.push_back(f.report->state_size);
+    out.initialised.push_back(f.report->initialised);
+    if (f.report->loop_closure) {
+      ++out.loop_frames;
+      if (out.first_loop_t < 0) out.first_loop_t = t;
+    }
+    ++out.frames;
+    return Status::Ok();
+  });
+  EXPECT_TRUE(s.ok()) << s.message();
+  return out;
+}
+
+TEST(VisualInertialSlam, BeatsDeadReckoningAndStaysConsistent) {
+  const RunErrors r = runScenario(loadScenario(circleScenario(40.0, 11)), {});
+  ASSERT_GT(r.frames, 350);
+  const double slam = r.rms(r.slam_error), ins = r.rms(r.ins_error);
+  RecordProperty("slam_rmse_m", std::to_string(slam));
+  RecordProperty("ins_rmse_m", std::to_string(ins));
+  EXPECT_LT(slam, 0.2 * ins) << "VSLAM " << slam << " m vs INS " << ins << " m";
+  double nees = 0.0;
+  for (double v : r.nees_position) nees += v;
+  nees /= static_cast<double>(r.nees_position.size());
+  // 3-dof position NEES: a consistent filter averages ≈ 3; allow the usual EKF-SLAM optimism.
+  EXPECT_LT(nees, 12.0) << "mean position NEES " << nees;
+}
+
+TEST(VisualInertialSlam, KNearestBoundsTheStateAndClosesTheLoop) {
+  VisualInertialSlamOptions o;
+  o.map.k = 20;
+  const RunErrors r = runScenario(loadScenario(circleScenario(70.0, 5)), o);
+  ASSERT_FALSE(r.state_size.empty());
+  for (std::size_t i = 0; i < r.state_size.size(); ++i) {
+    ASSERT_LE(r.state_size[i], 9 + 3 * (o.map.k + r.initialised[i])) << "frame " << i;
+  }
+  // One lap takes 2π·25/3 ≈ 52.4 s: the first landmarks come back then.
+  EXPECT_GT(r.first_loop_t, 45.0);
+  EXPECT_LT(r.first_loop_t, 60.0);
+  EXPECT_LT(r.meanError(r.first_loop_t + 2.0, r.first_loop_t + 6.0),
+            r.meanError(r.first_loop_t - 6.0, r.first_loop_t - 2.0));
+}
+
+TEST(VisualInertialSlam, FullMapGrowsWithTheLandmarksSeen) {
+  VisualInertialSlamOptions o;
+  o.map.kind = MapKind::kFull;
+  auto run = SimulatedTeamRun::create(loadScenario(circleScenario(15.0, 3)), o);
+  ASSERT_TRUE(run.ok());
+  int total_new = 0, last_size = 0;
+  ASSERT_TRUE((*run)
+                  ->run([&](const SimulatedFrame& f) {
+                    total_new += f.report->initialised;
+                    last_size = f.report->state_size;
+                    EXPECT_EQ(f.report->archived, 0);
+                    return Status::Ok();
+                  })
+                  .ok());
+  EXPECT_EQ(last_size, 9 + 3 * total_new);
+  EXPECT_GT(total_new, 60);
+  EXPECT_EQ((*run)->slam(0).archive().size(), 0u);
+}
+
+TEST(VisualInertialSlam, NhinfWithVanishingThetaIsTheEkf) {
+  const sim::Scenario sc = loadScenario(circleScenario(8.0, 2));
+  VisualInertialSlamOptions ekf, nhinf;
+  nhinf.filter.type = FilterType::kNhinf;
+  nhinf.filter.gamma = 1e9;  // θ = 1e-18
+  const RunErrors a = runScenario(sc, ekf), b = runScenario(sc, nhinf);
+  ASSERT_EQ(a.slam_error.size(), b.slam_error.size());
+  for (std::size_t i = 0; i < a.slam_error.size(); ++i) {
+    ASSERT_NEAR(a.slam_error[i], b.slam_error[i], 1e-6) << "frame " << i;
+  }
+}
+
+TEST(VisualInertialSlam, RejectsBadInput) {
+  VisualInertialSlam slam({}, StereoCamera());
+  EXPECT_FALSE(slam.processFrame({}).ok());
+  EXPECT_FALSE(slam.addImu({}).ok());
+  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(9);
+  x0(2) = -10.0;
+  EXPECT_FALSE(slam.initialize(0, Eigen::VectorXd::Zero(4), Eigen::MatrixXd::Identity(4, 4)).ok());
+  ASSERT_TRUE(slam.initialize(0, x0, Eigen::MatrixXd::Identity(9, 9) * 0.01).ok());
+  ImuSample s;
+  s.t_us = 5000;
+  s.accel_B = Eigen::Vector3d(0, 0, -9.81);
+  EXPECT_TRUE(slam.addImu(s).ok());
+  EXPECT_FALSE(slam.addImu(s).ok()) << "repeated timestamp";
+  s.t_us = 10000;
+  s.gyro_B(0) = NAN;
+  EXPECT_FALSE(slam.addImu(s).ok()) << "non-finite sample";
+  StereoFrameObservations frame;
+  frame.t_us = 5000;
+  StereoObservation obs;
+  obs.z = Eigen::Vector4d(100, 100, NAN, 100);
+  frame.observations.push_back(obs);
+  EXPECT_FALSE(slam.processFrame(frame).ok());
+  frame.observations.clear();
+  EXPECT_TRUE(slam.processFrame(frame).ok());
+  frame.t_us = 1000;
+  EXPECT_FALSE(slam.processFrame(frame).ok()) << "time going backwards";
+}
+
+TEST(VisualInertialSlam, OptionsLoadAndValidate) {
+  auto cfg = ConfigNode::fromString(
+      "filter: {type: nhinf, gamma: 5}\nmap: {k: 10}\nslam: {observation_passes: 10}", "a.yaml");
+  VisualInertialSlamOptions o;
+  ASSERT_TRUE(o.load(*cfg).ok());
+  EXPECT_EQ(o.filter.type, FilterType::kNhinf);
+  EXPECT_EQ(o.map.k, 10);
+  EXPECT_EQ(o.slam.observation_passes, 10);
+  auto bad = ConfigNode::fromString("slam: {pixel_sigma: -1}", "a.yaml");
+  EXPECT_FALSE(VisualInertialSlamOptions().load(*bad).ok());
+  // The shipped configuration loads with no unknown keys.
+  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  ASSERT_TRUE(shipped.ok()) << shipped.status().message();
+  ASSERT_TRUE(VisualInertialSlamOptions().load(*shipped).ok());
+  EXPECT_TRUE(shipped->finish().ok()) << shipped->finish().message();
+}
+
+}  // namespace
+}  // namespace cvslam
