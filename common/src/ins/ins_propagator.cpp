@@ -3,6 +3,7 @@
 #include <ceres/jet.h>
 
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "cvslam/io/config_node.h"
@@ -24,6 +25,19 @@ Status InsPropagatorOptions::load(const ConfigNode& node) {
   node.check(gravity > 0, "gravity", "must be > 0");
   node.check(max_dt > 0, "max_dt", "must be > 0");
   return node.status();
+}
+
+std::string InsPropagatorOptions::print() const {
+  std::ostringstream os;
+  os.precision(17);
+  os << "gyro_noise_density: " << gyro_noise_density << "\n"
+     << "accel_noise_density: " << accel_noise_density << "\n"
+     << "gyro_random_walk: " << gyro_random_walk << "\n"
+     << "accel_random_walk: " << accel_random_walk << "\n"
+     << "estimate_imu_bias: " << (estimate_imu_bias ? "true" : "false") << "\n"
+     << "gravity: " << gravity << "\n"
+     << "max_dt: " << max_dt << "\n";
+  return os.str();
 }
 
 namespace {

@@ -48,6 +48,8 @@ struct FilterOptions {
   double gate_probability = 0.999;  ///< χ² gate per observation; 0 disables
 
   Status load(const ConfigNode& node);
+  /// The options as YAML (one `key: value` per line); load() reads it back unchanged.
+  std::string print() const;
   /// c_v² of eq. 3.58 (1 for the EKF).
   double measurementNoiseScale() const;
   /// The policy for CovarianceHelper. Fails when the NH∞ parameters give c_v² ≤ 0.

@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <string>
 #include <vector>
 
 #include "cvslam/core/status.h"
@@ -45,6 +46,8 @@ struct InsPropagatorOptions {
   double max_dt = 0.1;
 
   Status load(const ConfigNode& node);
+  /// The options as YAML (one `key: value` per line); load() reads it back unchanged.
+  std::string print() const;
 };
 
 /// Result of propagating the vehicle state over several IMU intervals.
