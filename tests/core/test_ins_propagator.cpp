@@ -158,6 +158,17 @@ TEST(InsPropagatorOptions, LoadsAndValidates) {
   const Status s = o2.load(*bad);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.message(), "t.yaml: accel_noise_density: must be > 0");
+
+  // print() round-trips through load().
+  o.gravity = 9.80665;
+  auto printed = ConfigNode::fromString(o.print(), "printed");
+  ASSERT_TRUE(printed.ok()) << o.print();
+  InsPropagatorOptions back;
+  ASSERT_TRUE(back.load(*printed).ok());
+  EXPECT_TRUE(printed->finish().ok());
+  EXPECT_EQ(back.print(), o.print());
+  EXPECT_EQ(back.gravity, 9.80665);
+  EXPECT_TRUE(back.estimate_imu_bias);
 }
 
 /// Monte-Carlo check of the covariance propagation (STYLE.md §7, GTSAM practice): sample

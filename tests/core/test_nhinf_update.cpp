@@ -204,6 +204,13 @@ TEST(FilterOptions, LoadsValidatesAndBuildsThePolicy) {
   EXPECT_DOUBLE_EQ(policy->measurement_noise_scale, cv2);
   EXPECT_DOUBLE_EQ(policy->process_noise_scale, cv2 / 1.25);
   EXPECT_DOUBLE_EQ(policy->gate_probability, 0.99);
+  auto printed = ConfigNode::fromString(o.print(), "printed");
+  ASSERT_TRUE(printed.ok()) << o.print();
+  FilterOptions back;
+  ASSERT_TRUE(back.load(*printed).ok());
+  EXPECT_TRUE(printed->finish().ok());
+  EXPECT_EQ(back.print(), o.print());
+  EXPECT_EQ(back.type, FilterType::kNhinf);
 
   FilterOptions ekf;
   const auto ekf_policy = ekf.policy();

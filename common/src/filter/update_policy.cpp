@@ -1,5 +1,7 @@
 #include "cvslam/filter/update_policy.h"
 
+#include <sstream>
+
 #include "cvslam/io/config_node.h"
 
 namespace cvslam {
@@ -37,6 +39,19 @@ Status FilterOptions::load(const ConfigNode& node) {
                    "): lower gamma or the deltas");
   }
   return node.status();
+}
+
+std::string FilterOptions::print() const {
+  std::ostringstream os;
+  os.precision(17);
+  os << "type: " << (type == FilterType::kEkf ? "ekf" : "nhinf") << "\n"
+     << "gamma: " << gamma << "\n"
+     << "delta1: " << delta1 << "\n"
+     << "delta2: " << delta2 << "\n"
+     << "delta3: " << delta3 << "\n"
+     << "theta_margin: " << theta_margin << "\n"
+     << "gate_probability: " << gate_probability << "\n";
+  return os.str();
 }
 
 Expected<UpdatePolicy> FilterOptions::policy() const {

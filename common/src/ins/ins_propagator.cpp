@@ -3,6 +3,7 @@
 #include <ceres/jet.h>
 
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "cvslam/io/config_node.h"
@@ -24,6 +25,19 @@ Status InsPropagatorOptions::load(const ConfigNode& node) {
   node.check(gravity > 0, "gravity", "must be > 0");
   node.check(max_dt > 0, "max_dt", "must be > 0");
   return node.status();
+}
+
+std::string InsPropagatorOptions::print() const {
+  std::ostringstream os;
+  os.precision(17);
+  os << "gyro_noise_density: " << gyro_noise_density << "\n"
+     << "accel_noise_density: " << accel_noise_density << "\n"
+     << "gyro_random_walk: " << gyro_random_walk << "\n"
+     << "accel_random_walk: " << accel_random_walk << "\n"
+     << "estimate_imu_bias: " << (estimate_imu_bias ? "true" : "false") << "\n"
+     << "gravity: " << gravity << "\n"
+     << "max_dt: " << max_dt << "\n";
+  return os.str();
 }
 
 namespace {
@@ -56,26 +70,123 @@ Eigen::VectorXd stepMeanFixed(const Eigen::VectorXd& x, const ImuSample& s0, con
   return rk4Step<double, kN>(xf, s0, s1, wf, dt, gravity);
 }
 
-/// The RK4 map evaluated on Jets: one pass gives x₁ and both Jacobians.
+Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
+  Eigen::Matrix3d S;
+  S << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+  return S;
+}
+
+/// ẋ = f(x, u, 0) and its Jacobian D = [∂f/∂x | ∂f/∂w]. The attitude-dependent terms (DCM,
+/// eq. 2.4) are differentiated with a 3-dimensional Jet on the Euler angles; the rest is
+/// written out (a Jet over all kN + kW inputs costs ~5× more per IMU sample).
 template <int kN>
-void stepJacobiansFixed(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1,
-                        double dt, double gravity, Eigen::VectorXd* x_next,
-                        Eigen::MatrixXd* dx1_dx0, Eigen::MatrixXd* dx1_dw) {
-  constexpr int kW = kN - 3;
-  using Jet = ceres::Jet<double, kN + kW>;
-  Eigen::Matrix<Jet, kN, 1> xj;
-  for (int i = 0; i < kN; ++i) xj(i) = Jet(x(i), i);
-  Eigen::Matrix<Jet, kW, 1> wj;
-  for (int j = 0; j < kW; ++j) wj(j) = Jet(0.0, kN + j);
-  const Eigen::Matrix<Jet, kN, 1> x1 = rk4Step<Jet, kN>(xj, s0, s1, wj, dt, gravity);
-  x_next->resize(kN);
-  dx1_dx0->resize(kN, kN);
-  dx1_dw->resize(kN, kW);
-  for (int i = 0; i < kN; ++i) {
-    (*x_next)(i) = x1(i).a;
-    dx1_dx0->row(i) = x1(i).v.template head<kN>().transpose();
-    dx1_dw->row(i) = x1(i).v.template tail<kW>().transpose();
+Eigen::Matrix<double, kN, 1> dynamicsWithJacobian(const Eigen::Matrix<double, kN, 1>& x,
+                                                  const Eigen::Vector3d& gyro_B,
+                                                  const Eigen::Vector3d& accel_B, double gravity,
+                                                  Eigen::Matrix<double, kN, 2 * kN - 3>* D) {
+  using namespace vehicle;
+  using Jet3 = ceres::Jet<double, 3>;
+  const Eigen::Vector3d v_B = x.template segment<3>(kVelocity);
+  Eigen::Vector3d f_B = accel_B, omega_B = gyro_B;
+  if constexpr (kN == kSizeWithBias) {
+    f_B -= x.template segment<3>(kAccelBias);
+    omega_B -= x.template segment<3>(kGyroBias);
   }
+  Eigen::Matrix<Jet3, 3, 1> euler;
+  for (int i = 0; i < 3; ++i) euler(i) = Jet3(x(kAttitude + i), i);
+  const Eigen::Matrix<Jet3, 3, 3> R_NtoB = rotationNavToBody(euler);
+  const Eigen::Matrix<Jet3, 3, 1> p_dot = R_NtoB.transpose() * v_B.cast<Jet3>();
+  const Eigen::Matrix<Jet3, 3, 1> gravity_B = R_NtoB.col(2) * Jet3(gravity);  // R_NtoB g_N
+  const Eigen::Matrix<Jet3, 3, 1> omega_jet = omega_B.cast<Jet3>();
+  const Eigen::Matrix<Jet3, 3, 1> euler_dot = eulerRates(euler, omega_jet);
+  // ∂ė/∂ω = E(φ, θ) of eq. 2.4 (ė is linear in ω).
+  const double sr = std::sin(x(kAttitude)), cr = std::cos(x(kAttitude));
+  const double tp = std::tan(x(kAttitude + 1)), cp = std::cos(x(kAttitude + 1));
+  Eigen::Matrix3d E;
+  E << 1.0, sr * tp, cr * tp, 0.0, cr, -sr, 0.0, sr / cp, cr / cp;
+
+  Eigen::Matrix<double, kN, 1> xdot = Eigen::Matrix<double, kN, 1>::Zero();
+  D->setZero();
+  Eigen::Vector3d gravity_value;
+  for (int i = 0; i < 3; ++i) {
+    xdot(kPosition + i) = p_dot(i).a;
+    xdot(kAttitude + i) = euler_dot(i).a;
+    gravity_value(i) = gravity_B(i).a;
+    D->template block<1, 3>(kPosition + i, kAttitude) = p_dot(i).v.transpose();
+    D->template block<1, 3>(kVelocity + i, kAttitude) = gravity_B(i).v.transpose();
+    D->template block<1, 3>(kAttitude + i, kAttitude) = euler_dot(i).v.transpose();
+    for (int j = 0; j < 3; ++j) (*D)(kPosition + i, kVelocity + j) = R_NtoB(j, i).a;
+  }
+  xdot.template segment<3>(kVelocity) = f_B + gravity_value - omega_B.cross(v_B);
+  // v̇ = f + R g − ω × v: ∂/∂v = −[ω]×, ∂/∂ω = [v]×, and f, ω enter with −b, −n.
+  D->template block<3, 3>(kVelocity, kVelocity) = -skew(omega_B);
+  const Eigen::Matrix3d dvdot_dgyro = skew(v_B);
+  constexpr int kNa = kN, kNg = kN + 3;  // noise columns
+  D->template block<3, 3>(kVelocity, kNa) = -Eigen::Matrix3d::Identity();
+  D->template block<3, 3>(kVelocity, kNg) = -dvdot_dgyro;
+  D->template block<3, 3>(kAttitude, kNg) = -E;
+  if constexpr (kN == kSizeWithBias) {
+    D->template block<3, 3>(kVelocity, kAccelBias) = -Eigen::Matrix3d::Identity();
+    D->template block<3, 3>(kVelocity, kGyroBias) = -dvdot_dgyro;
+    D->template block<3, 3>(kAttitude, kGyroBias) = -E;
+    D->template block<3, 3>(kAccelBias, kN + 6) = Eigen::Matrix3d::Identity();
+    D->template block<3, 3>(kGyroBias, kN + 9) = Eigen::Matrix3d::Identity();
+  }
+  return xdot;
+}
+
+/// RK4 step and its exact Jacobians by the chain rule through the four stages:
+/// d(x + c k) = dx + c dk, dk_i = A_i dx_i + B_i dw with x_i the stage point.
+template <int kN>
+void stepJacobiansFixed(const Eigen::Matrix<double, kN, 1>& x0, const ImuSample& s0,
+                        const ImuSample& s1, double dt, double gravity,
+                        Eigen::Matrix<double, kN, 1>* x_next,
+                        Eigen::Matrix<double, kN, kN>* dx1_dx0,
+                        Eigen::Matrix<double, kN, kN - 3>* dx1_dw) {
+  constexpr int kW = kN - 3, kD = kN + kW;
+  using Vec = Eigen::Matrix<double, kN, 1>;
+  using Jac = Eigen::Matrix<double, kN, kD>;
+  const Eigen::Vector3d gm = 0.5 * (s0.gyro_B + s1.gyro_B);
+  const Eigen::Vector3d am = 0.5 * (s0.accel_B + s1.accel_B);
+  const double h = dt;
+  Jac I0 = Jac::Zero();  // d(x)/d[x, w]
+  I0.template leftCols<kN>().setIdentity();
+  Jac D, dk1, dk2, dk3, dk4;
+  const auto stage = [&](const Vec& xs, const Jac& dxs, const Eigen::Vector3d& gyro,
+                         const Eigen::Vector3d& accel, Jac* dk) {
+    const Vec k = dynamicsWithJacobian<kN>(xs, gyro, accel, gravity, &D);
+    // lazyProduct: at 9–15 rows Eigen's GEMM set-up costs more than the arithmetic.
+    dk->noalias() = D.template leftCols<kN>().lazyProduct(dxs);
+    dk->template rightCols<kW>() += D.template rightCols<kW>();
+    return k;
+  };
+  const Vec k1 = stage(x0, I0, s0.gyro_B, s0.accel_B, &dk1);
+  const Vec k2 = stage(x0 + 0.5 * h * k1, I0 + 0.5 * h * dk1, gm, am, &dk2);
+  const Vec k3 = stage(x0 + 0.5 * h * k2, I0 + 0.5 * h * dk2, gm, am, &dk3);
+  const Vec k4 = stage(x0 + h * k3, I0 + h * dk3, s1.gyro_B, s1.accel_B, &dk4);
+  const Jac dx1 = I0 + (h / 6.0) * (dk1 + 2.0 * dk2 + 2.0 * dk3 + dk4);
+  *x_next = x0 + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+  *dx1_dx0 = dx1.template leftCols<kN>();
+  *dx1_dw = dx1.template rightCols<kW>();
+}
+
+/// Rejects steps at the Euler singularity and non-finite results.
+Status checkStepInput(double pitch) {
+  // Eq. 2.4 is singular at θ = ±90° (gimbal lock): refuse to step within ~0.06° of it.
+  if (std::abs(std::cos(pitch)) < 1e-3) {
+    return Status::Error("INS pitch " + std::to_string(pitch) +
+                         " rad is at the Euler singularity (eq. 2.4)");
+  }
+  return Status::Ok();
+}
+
+Status checkStepOutput(bool finite, int64_t t_us) {
+  // A non-finite step (bad input) must not reach the covariance.
+  if (!finite) {
+    return Status::Error("INS step is not finite (check the IMU sample at " + std::to_string(t_us) +
+                         " us)");
+  }
+  return Status::Ok();
 }
 
 Status checkInterval(const ImuSample& s0, const ImuSample& s1, double max_dt, double* dt) {
@@ -89,6 +200,51 @@ Status checkInterval(const ImuSample& s0, const ImuSample& s1, double max_dt, do
     return Status::Error("IMU gap of " + std::to_string(*dt) + " s exceeds max_dt " +
                          std::to_string(max_dt) + " s");
   }
+  return Status::Ok();
+}
+
+template <int kN>
+void stepDynamic(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1, double dt,
+                 double gravity, Eigen::VectorXd* x_next, Eigen::MatrixXd* dx1_dx0,
+                 Eigen::MatrixXd* dx1_dw) {
+  Eigen::Matrix<double, kN, 1> x1;
+  Eigen::Matrix<double, kN, kN> F;
+  Eigen::Matrix<double, kN, kN - 3> G;
+  stepJacobiansFixed<kN>(x, s0, s1, dt, gravity, &x1, &F, &G);
+  *x_next = x1;
+  *dx1_dx0 = F;
+  *dx1_dw = G;
+}
+
+/// propagate() with fixed-size matrices: dynamic 9×9 products spent more time in GEMM set-up
+/// than in the model.
+template <int kN>
+Status propagateFixed(const InsPropagator& ins, const Eigen::VectorXd& x,
+                      const std::vector<ImuSample>& samples, InsTransition* out) {
+  using Mat = Eigen::Matrix<double, kN, kN>;
+  Eigen::Matrix<double, kN, 1> xk = x, x_next;
+  Mat Phi = Mat::Identity(), Qd = Mat::Zero(), F;
+  Eigen::Matrix<double, kN, kN - 3> G;
+  for (std::size_t k = 1; k < samples.size(); ++k) {
+    double dt = 0.0;
+    const ImuSample &s0 = samples[k - 1], &s1 = samples[k];
+    if (Status s = checkInterval(s0, s1, ins.options().max_dt, &dt); !s.ok()) return s;
+    if (Status s = checkStepInput(xk(vehicle::kAttitude + 1)); !s.ok()) return s;
+    stepJacobiansFixed<kN>(xk, s0, s1, dt, ins.options().gravity, &x_next, &F, &G);
+    const bool finite = x_next.allFinite() && F.allFinite() && G.allFinite();
+    if (Status s = checkStepOutput(finite, s1.t_us); !s.ok()) return s;
+    const Eigen::Matrix<double, kN - 3, 1> q = ins.noiseVariances(dt);
+    xk = x_next;
+    Phi = F.lazyProduct(Phi).eval();
+    // Discrete Riccati without measurements (eq. 3.20): Qd ← F Qd Fᵀ + G Q_w Gᵀ.
+    const Mat FQd = F.lazyProduct(Qd);
+    const Eigen::Matrix<double, kN, kN - 3> GQ = G * q.asDiagonal();
+    Qd = FQd.lazyProduct(F.transpose()) + GQ.lazyProduct(G.transpose());
+  }
+  out->x = xk;
+  out->Phi = Phi;
+  out->Qd = Qd;
+  out->t_us = samples.back().t_us;
   return Status::Ok();
 }
 
@@ -133,22 +289,14 @@ Status InsPropagator::step(const Eigen::VectorXd& x, const ImuSample& s0, const 
   }
   double dt = 0.0;
   if (Status s = checkInterval(s0, s1, o_.max_dt, &dt); !s.ok()) return s;
-  // Eq. 2.4 is singular at θ = ±90° (gimbal lock): refuse to step within ~0.06° of it.
-  if (std::abs(std::cos(x(vehicle::kAttitude + 1))) < 1e-3) {
-    return Status::Error("INS pitch " + std::to_string(x(vehicle::kAttitude + 1)) +
-                         " rad is at the Euler singularity (eq. 2.4)");
-  }
+  if (Status s = checkStepInput(x(vehicle::kAttitude + 1)); !s.ok()) return s;
   if (o_.estimate_imu_bias) {
-    stepJacobiansFixed<vehicle::kSizeWithBias>(x, s0, s1, dt, o_.gravity, x_next, dx1_dx0, dx1_dw);
+    stepDynamic<vehicle::kSizeWithBias>(x, s0, s1, dt, o_.gravity, x_next, dx1_dx0, dx1_dw);
   } else {
-    stepJacobiansFixed<vehicle::kSizeNoBias>(x, s0, s1, dt, o_.gravity, x_next, dx1_dx0, dx1_dw);
+    stepDynamic<vehicle::kSizeNoBias>(x, s0, s1, dt, o_.gravity, x_next, dx1_dx0, dx1_dw);
   }
-  // A non-finite step (bad input) must not reach the covariance.
-  if (!x_next->allFinite() || !dx1_dx0->allFinite() || !dx1_dw->allFinite()) {
-    return Status::Error("INS step is not finite (pitch " +
-                         std::to_string(x(vehicle::kAttitude + 1)) +
-                         " rad; eq. 2.4 is singular at ±π/2)");
-  }
+  const bool finite = x_next->allFinite() && dx1_dx0->allFinite() && dx1_dw->allFinite();
+  if (Status s = checkStepOutput(finite, s1.t_us); !s.ok()) return s;
   *Q_w = noiseVariances(dt).asDiagonal();
   return Status::Ok();
 }
@@ -156,23 +304,14 @@ Status InsPropagator::step(const Eigen::VectorXd& x, const ImuSample& s0, const 
 Status InsPropagator::propagate(const Eigen::VectorXd& x, const std::vector<ImuSample>& samples,
                                 InsTransition* out) const {
   if (samples.empty()) return Status::Error("no IMU samples to propagate with");
-  const int n = stateSize();
-  out->x = x;
-  out->Phi.setIdentity(n, n);
-  out->Qd.setZero(n, n);
-  out->t_us = samples.front().t_us;
-  Eigen::VectorXd x_next;
-  Eigen::MatrixXd F, G, Q_w;
-  for (std::size_t k = 1; k < samples.size(); ++k) {
-    if (Status s = step(out->x, samples[k - 1], samples[k], &x_next, &F, &G, &Q_w); !s.ok()) {
-      return s;
-    }
-    out->x = x_next;
-    out->Phi = F * out->Phi;
-    // Discrete Riccati without measurements (eq. 3.20): Qd ← F Qd Fᵀ + G Q_w Gᵀ.
-    out->Qd = F * out->Qd * F.transpose() + G * Q_w * G.transpose();
-    out->t_us = samples[k].t_us;
+  if (x.size() != stateSize()) {
+    return Status::Error("INS state has size " + std::to_string(x.size()) + ", expected " +
+                         std::to_string(stateSize()));
   }
+  const Status s = o_.estimate_imu_bias
+                       ? propagateFixed<vehicle::kSizeWithBias>(*this, x, samples, out)
+                       : propagateFixed<vehicle::kSizeNoBias>(*this, x, samples, out);
+  if (!s.ok()) return s;
   out->x(vehicle::kAttitude + 2) = wrapAngle(out->x(vehicle::kAttitude + 2));
   return Status::Ok();
 }

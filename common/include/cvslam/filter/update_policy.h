@@ -64,6 +64,8 @@ struct FilterOptions {
   ThetaWeighting theta_weighting = ThetaWeighting::kObserved;
 
   Status load(const ConfigNode& node);
+  /// The options as YAML (one `key: value` per line); load() reads it back unchanged.
+  std::string print() const;
   /// c_v² of eq. 3.58 (1 for the EKF).
   double measurementNoiseScale() const;
   /// The policy for CovarianceHelper. Fails when the NH∞ parameters give c_v² ≤ 0.

@@ -12,11 +12,14 @@
 // interpolated linearly between the two samples and the noise held constant over the step
 // (zero-order hold). The discrete white noise then has covariance Q_w = diag(σ²/dt) for a
 // continuous density σ, which makes the discrete covariance P ← F P Fᵀ + G Q_w Gᵀ exact to
-// first order. F = ∂x₁/∂x₀ and G = ∂x₁/∂w are the Jacobians of the RK4 map itself, obtained
-// with ceres::Jet (so they match the mean propagation exactly, not an Euler approximation).
+// first order. F = ∂x₁/∂x₀ and G = ∂x₁/∂w are the exact Jacobians of the RK4 map itself
+// (chain rule through the four stages; stage Jacobians written out, with the attitude terms
+// differentiated by a 3-dimensional ceres::Jet), so they agree with the mean propagation
+// rather than with an Euler approximation of it.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <string>
 #include <vector>
 
 #include "cvslam/core/status.h"
@@ -45,6 +48,8 @@ struct InsPropagatorOptions {
   double max_dt = 0.1;
 
   Status load(const ConfigNode& node);
+  /// The options as YAML (one `key: value` per line); load() reads it back unchanged.
+  std::string print() const;
 };
 
 /// Result of propagating the vehicle state over several IMU intervals.
