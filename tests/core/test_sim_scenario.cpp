@@ -213,3 +213,45 @@ TEST(SimSimulator, ThesisLoopSpeed) {
 
 }  // namespace
 }  // namespace cvslam::sim
+
+namespace cvslam::sim {
+namespace {
+
+TEST(SimSimulator, InitialEstimateIsTruthOrASampleAroundIt) {
+  auto sc = Scenario::loadFile(scenarioPath("single_circle.yaml"));
+  ASSERT_TRUE(sc.ok());
+  sc->duration = 1.0;
+  auto exact = Simulator::create(*sc);
+  ASSERT_TRUE(exact.ok());
+  const GroundTruth truth = exact->agent(0).truth(0);
+  EXPECT_EQ(exact->agent(0).initialEstimate().state.p_BinN, truth.p_BinN);
+  EXPECT_EQ(exact->agent(0).initialEstimate().state.euler, truth.euler);
+  // Perturbed: errors of the configured size, over many seeds.
+  sc->agents[0].initial.perturb = true;
+  sc->agents[0].initial.position_sigma = Eigen::Vector3d(1.0, 2.0, 0.5);
+  Eigen::Vector3d sum2 = Eigen::Vector3d::Zero();
+  const int runs = 300;
+  for (int r = 0; r < runs; ++r) {
+    sc->seed = 100 + static_cast<uint64_t>(r);
+    auto sim = Simulator::create(*sc);
+    ASSERT_TRUE(sim.ok());
+    const Eigen::Vector3d e = sim->agent(0).initialEstimate().state.p_BinN - truth.p_BinN;
+    sum2 += e.cwiseProduct(e);
+  }
+  const Eigen::Vector3d stdv = (sum2 / runs).cwiseSqrt();
+  EXPECT_NEAR(stdv.x(), 1.0, 0.15);
+  EXPECT_NEAR(stdv.y(), 2.0, 0.3);
+  EXPECT_NEAR(stdv.z(), 0.5, 0.075);
+}
+
+TEST(SimScenario, LoopSpeedSetsThePeriod) {
+  auto s = Scenario::fromString(
+      "agents: [{id: 1, trajectory: {kind: circle, radius: 30, speed: 3}}]", "t.yaml");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_NEAR(s->agents[0].trajectory.loop.period, 2 * M_PI * 30 / 3, 1e-9);
+  auto traj = s->agents[0].trajectory.build();
+  EXPECT_NEAR((*traj)->state(7.0).v_N.norm(), 3.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace cvslam::sim
