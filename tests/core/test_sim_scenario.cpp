@@ -214,12 +214,6 @@ TEST(SimSimulator, ThesisLoopSpeed) {
   EXPECT_LT(run_s, 5.0);  // generous for loaded CI machines; typically far below 1 s
 }
 
-}  // namespace
-}  // namespace cvslam::sim
-
-namespace cvslam::sim {
-namespace {
-
 TEST(SimSimulator, InitialEstimateIsTruthOrASampleAroundIt) {
   auto sc = Scenario::loadFile(scenarioPath("single_circle.yaml"));
   ASSERT_TRUE(sc.ok());
@@ -255,12 +249,6 @@ TEST(SimScenario, LoopSpeedSetsThePeriod) {
   auto traj = s->agents[0].trajectory.build();
   EXPECT_NEAR((*traj)->state(7.0).v_N.norm(), 3.0, 1e-9);
 }
-
-}  // namespace
-}  // namespace cvslam::sim
-
-namespace cvslam::sim {
-namespace {
 
 // End to end on the observations: UAV1 re-observes its own old landmarks only when it closes
 // the loop (≈200 s); UAV2 sees landmarks UAV1 saw only around 80 s and 150 s and never
