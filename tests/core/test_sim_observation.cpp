@@ -167,9 +167,9 @@ TEST(SimObservation, OutliersAndFeatureCap) {
         return full.camera().landmarkInCamera(s.p_BinN, s.euler, w.landmarks()[id].p_LinN).norm();
       };
       std::vector<double> all;
-      for (const auto& o : b.observations) all.push_back(range(o.index));
+      for (const auto& ob : b.observations) all.push_back(range(ob.index));
       std::sort(all.begin(), all.end());
-      for (const auto& o : a.observations) EXPECT_LE(range(o.index), all[9] + 1e-12);
+      for (const auto& ob : a.observations) EXPECT_LE(range(ob.index), all[9] + 1e-12);
     }
   }
 }
