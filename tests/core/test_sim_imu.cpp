@@ -57,6 +57,20 @@ TEST(SimImu, NoiseFreeIntegrationReproducesTrajectory) {
   }
 }
 
+TEST(SimImu, NoiseFreeIntegrationReproducesTumTrajectory) {
+  // EuRoC ground truth through the TUM splines: ω from the quaternion spline's derivative and
+  // f from the position spline integrate back to the same trajectory.
+  TumTrajectoryOptions o;
+  o.file = cvslam::test::sharedDataDir() + "/euroc/V1_01_easy.tum";
+  auto traj = TumTrajectory::load(o);
+  ASSERT_TRUE(traj.ok()) << traj.status().message();
+  const double t0 = 10.0, t1 = 40.0;
+  const simtest::NavState x = integrateImu(**traj, t0, t1, 1e-3);
+  const TrajectoryState truth = (*traj)->state(t1);
+  EXPECT_LT((x.p_N - truth.p_BinN).norm(), 1e-6);
+  EXPECT_LT((x.R_BtoN - truth.R_NtoB.transpose()).norm(), 1e-6);
+}
+
 TEST(SimImu, WrongGravitySignWouldBeCaught) {
   // The same integration with +g in the specific force drifts by metres: the test above can fail.
   LoopPath::Params loop;
