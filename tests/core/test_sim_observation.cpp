@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -160,6 +161,16 @@ TEST(SimObservation, OutliersAndFeatureCap) {
     const auto a = capped.observe(0, s, w), b = full.observe(0, s, w);
     ASSERT_GT(b.observations.size(), 10u);
     EXPECT_EQ(a.observations.size(), 10u);
+    if (cap == FeatureCap::kNearest) {
+      // The kept ones are the 10 nearest of all visible.
+      const auto range = [&](uint32_t id) {
+        return full.camera().landmarkInCamera(s.p_BinN, s.euler, w.landmarks()[id].p_LinN).norm();
+      };
+      std::vector<double> all;
+      for (const auto& ob : b.observations) all.push_back(range(ob.index));
+      std::sort(all.begin(), all.end());
+      for (const auto& ob : a.observations) EXPECT_LE(range(ob.index), all[9] + 1e-12);
+    }
   }
 }
 

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -141,6 +142,8 @@ TEST(SimSimulator, StreamIsOrderedAndComplete) {
   EXPECT_EQ(imu, 1001);    // 200 Hz over [0, 5] s inclusive
   EXPECT_EQ(frames, 101);  // 20 Hz
   EXPECT_EQ(last, 5000000);
+  ASSERT_NE(sim->agentById(1), nullptr);
+  EXPECT_EQ(sim->agentById(2), nullptr);
 }
 
 // Drains a simulator into a digest of everything it emitted.
@@ -209,6 +212,80 @@ TEST(SimSimulator, ThesisLoopSpeed) {
       static_cast<double>(obs) / static_cast<double>(frames));
   EXPECT_GT(static_cast<double>(obs) / static_cast<double>(frames), 5.0);
   EXPECT_LT(run_s, 5.0);  // generous for loaded CI machines; typically far below 1 s
+}
+
+TEST(SimSimulator, InitialEstimateIsTruthOrASampleAroundIt) {
+  auto sc = Scenario::loadFile(scenarioPath("single_circle.yaml"));
+  ASSERT_TRUE(sc.ok());
+  sc->duration = 1.0;
+  auto exact = Simulator::create(*sc);
+  ASSERT_TRUE(exact.ok());
+  const GroundTruth truth = exact->agent(0).truth(0);
+  EXPECT_EQ(exact->agent(0).initialEstimate().state.p_BinN, truth.p_BinN);
+  EXPECT_EQ(exact->agent(0).initialEstimate().state.euler, truth.euler);
+  // Perturbed: errors of the configured size, over many seeds.
+  sc->agents[0].initial.perturb = true;
+  sc->agents[0].initial.position_sigma = Eigen::Vector3d(1.0, 2.0, 0.5);
+  Eigen::Vector3d sum2 = Eigen::Vector3d::Zero();
+  const int runs = 300;
+  for (int r = 0; r < runs; ++r) {
+    sc->seed = 100 + static_cast<uint64_t>(r);
+    auto sim = Simulator::create(*sc);
+    ASSERT_TRUE(sim.ok());
+    const Eigen::Vector3d e = sim->agent(0).initialEstimate().state.p_BinN - truth.p_BinN;
+    sum2 += e.cwiseProduct(e);
+  }
+  const Eigen::Vector3d stdv = (sum2 / runs).cwiseSqrt();
+  EXPECT_NEAR(stdv.x(), 1.0, 0.15);
+  EXPECT_NEAR(stdv.y(), 2.0, 0.3);
+  EXPECT_NEAR(stdv.z(), 0.5, 0.075);
+}
+
+TEST(SimScenario, LoopSpeedSetsThePeriod) {
+  auto s = Scenario::fromString(
+      "agents: [{id: 1, trajectory: {kind: circle, radius: 30, speed: 3}}]", "t.yaml");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_NEAR(s->agents[0].trajectory.loop.period, 2 * M_PI * 30 / 3, 1e-9);
+  auto traj = s->agents[0].trajectory.build();
+  EXPECT_NEAR((*traj)->state(7.0).v_N.norm(), 3.0, 1e-9);
+}
+
+// End to end on the observations: UAV1 re-observes its own old landmarks only when it closes
+// the loop (≈200 s); UAV2 sees landmarks UAV1 saw only around 80 s and 150 s and never
+// re-observes its own old ones (thesis §6.4, Fig. 6.5).
+TEST(SimSimulator, ThesisLoopSharedAndReobservedLandmarks) {
+  auto sc = Scenario::loadFile(scenarioPath("thesis_loop.yaml"));
+  ASSERT_TRUE(sc.ok());
+  auto sim = Simulator::create(*sc);
+  ASSERT_TRUE(sim.ok());
+  const std::size_t n = sim->landmarks().size();
+  // First time each agent saw each landmark [s], or −1.
+  std::vector<double> first1(n, -1.0), first2(n, -1.0);
+  std::vector<double> uav1_loop_times, uav2_own_revisits, shared_times;
+  SimEvent e;
+  while (sim->next(e)) {
+    if (e.type != SimEventType::kFrame) continue;
+    const double t = 1e-6 * static_cast<double>(e.t_us);
+    auto& mine = e.agent_id == 1 ? first1 : first2;
+    for (const auto& o : e.frame.observations) {
+      double& f = mine[o.index];
+      if (f < 0) f = t;
+      if (t - f > 30.0) (e.agent_id == 1 ? uav1_loop_times : uav2_own_revisits).push_back(t);
+      if (e.agent_id == 2 && first1[o.index] >= 0) shared_times.push_back(t);
+    }
+  }
+  ASSERT_FALSE(uav1_loop_times.empty());
+  EXPECT_GT(*std::min_element(uav1_loop_times.begin(), uav1_loop_times.end()), 195.0);
+  EXPECT_TRUE(uav2_own_revisits.empty());
+  ASSERT_FALSE(shared_times.empty());
+  int near80 = 0, near150 = 0;
+  for (double t : shared_times) {
+    EXPECT_TRUE(std::abs(t - 80.0) < 5.0 || std::abs(t - 150.0) < 5.0) << t;
+    near80 += std::abs(t - 80.0) < 5.0;
+    near150 += std::abs(t - 150.0) < 5.0;
+  }
+  EXPECT_GT(near80, 10);
+  EXPECT_GT(near150, 10);
 }
 
 }  // namespace

@@ -110,6 +110,12 @@ Expected<Simulator> Simulator::create(const Scenario& scenario) {
   return sim;
 }
 
+const AgentSimulator* Simulator::agentById(int id) const {
+  for (const AgentSimulator& a : agents_)
+    if (a.id() == id) return &a;
+  return nullptr;
+}
+
 bool Simulator::next(SimEvent& event) {
   std::size_t best = agents_.size();
   int64_t best_t = std::numeric_limits<int64_t>::max();

@@ -120,7 +120,9 @@ Status TrajectorySpec::load(const ConfigNode& node, const std::string& base_dir)
       }
       node.get("closed", closed);
       node.get("speed", speed);
-      node.check(points.size() >= 2, "points", "need at least 2 waypoints");
+      node.check(points.size() >= (closed ? 4u : 2u), "points",
+                 closed ? "a closed path needs at least 3 points plus the first repeated"
+                        : "need at least 2 waypoints");
       node.check(times.empty() || times.size() == points.size(), "points",
                  "give a time t for every waypoint or for none");
       bool increasing = true;

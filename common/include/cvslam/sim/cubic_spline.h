@@ -7,6 +7,9 @@
 // Segment i on [t_i, t_{i+1}], h = t_{i+1} − t_i, A = (t_{i+1} − t)/h, B = 1 − A, M = y'':
 //   y = A y_i + B y_{i+1} + ((A³ − A) M_i + (B³ − B) M_{i+1}) h²/6.
 // Outside the knots an open spline continues its end cubic; a periodic one wraps.
+// The jerk (third derivative) is piecewise constant, so attitude laws that use it (the bank
+// rate in FlightTrajectory) would step at the knots: waypoint paths use QuinticSpline instead.
+// CubicSpline interpolates TUM trajectories (positions and quaternions, ω from q̇ is continuous).
 
 #include <Eigen/Core>
 #include <Eigen/Dense>

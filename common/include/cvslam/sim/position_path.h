@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "cvslam/sim/cubic_spline.h"
+#include "cvslam/sim/quintic_spline.h"
 
 namespace cvslam::sim {
 
@@ -79,8 +80,9 @@ class HoverPath : public PositionPath {
   PathPoint point_;
 };
 
-/// C² cubic spline through waypoints (NED), natural ends or closed (periodic). Knot times are
-/// given, or follow from the chord lengths at a nominal speed.
+/// C⁴ quintic spline through waypoints (NED), natural ends or closed (periodic), so that the
+/// body rates of a flight along it are continuous. Knot times are given, or follow from the
+/// chord lengths at a nominal speed.
 class SplinePath : public PositionPath {
  public:
   SplinePath(std::vector<double> times, std::vector<Eigen::Vector3d> waypoints, bool closed)
@@ -93,7 +95,7 @@ class SplinePath : public PositionPath {
   double duration() const override;
 
  private:
-  CubicSpline<3> spline_;
+  QuinticSpline<3> spline_;
 };
 
 /// Waypoints of a lawnmower (boustrophedon) survey: `rows` parallel rows of `row_length`,

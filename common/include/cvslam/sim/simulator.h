@@ -100,6 +100,8 @@ class Simulator {
   std::size_t agentCount() const { return agents_.size(); }
   AgentSimulator& agent(std::size_t i) { return agents_[i]; }
   const AgentSimulator& agent(std::size_t i) const { return agents_[i]; }
+  /// The agent with this id, or nullptr.
+  const AgentSimulator* agentById(int id) const;
 
   /// The next event over all agents, in time order; false when every stream is over.
   bool next(SimEvent& event);
