@@ -134,6 +134,31 @@ std::vector<Match> matchDescriptors(const Features& query, const Features& train
   return out;
 }
 
+std::vector<std::vector<int>> candidatesNear(const std::vector<cv::Point2f>& predicted,
+                                             const Features& train, double radius_px) {
+  std::vector<int> by_row(train.size());
+  for (std::size_t j = 0; j < train.size(); ++j) by_row[j] = static_cast<int>(j);
+  auto row = [&](int j) { return train.keypoints[static_cast<std::size_t>(j)].pt.y; };
+  std::sort(by_row.begin(), by_row.end(), [&](int a, int b) { return row(a) < row(b); });
+  std::vector<float> rows(by_row.size());
+  for (std::size_t k = 0; k < by_row.size(); ++k) rows[k] = row(by_row[k]);
+  const double r2 = radius_px * radius_px;
+  std::vector<std::vector<int>> out(predicted.size());
+  for (std::size_t i = 0; i < predicted.size(); ++i) {
+    const cv::Point2f p = predicted[i];
+    auto lo = std::lower_bound(rows.begin(), rows.end(), static_cast<float>(p.y - radius_px));
+    auto hi = std::upper_bound(rows.begin(), rows.end(), static_cast<float>(p.y + radius_px));
+    for (auto it = lo; it != hi; ++it) {
+      const int j = by_row[static_cast<std::size_t>(it - rows.begin())];
+      const cv::Point2f q = train.keypoints[static_cast<std::size_t>(j)].pt;
+      const double dx = q.x - p.x;
+      const double dy = q.y - p.y;
+      if (dx * dx + dy * dy <= r2) out[i].push_back(j);
+    }
+  }
+  return out;
+}
+
 std::vector<Match> filterByScaleRate(const std::vector<Match>& matches, const Features& query,
                                      const Features& train, double expected,
                                      double tolerance_log2) {

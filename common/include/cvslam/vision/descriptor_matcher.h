@@ -46,6 +46,12 @@ std::vector<Match> matchDescriptors(const Features& query, const Features& train
                                     const MatchOptions& options,
                                     const std::vector<std::vector<int>>* candidates = nullptr);
 
+/// Candidate lists for matchDescriptors from predicted positions: train features within
+/// `radius_px` of predicted[i] (e.g. the query's position mapped by the predicted motion, or a
+/// landmark's predicted projection). Rows are sorted so the search is O(n log m + candidates).
+std::vector<std::vector<int>> candidatesNear(const std::vector<cv::Point2f>& predicted,
+                                             const Features& train, double radius_px);
+
 /// Scale-rate stability (§4.2.7): correct matches share the scale ratio of the two views
 /// (3 ± 0.14 for the thesis's 3:1 pair). Keeps matches with
 /// |log2(rate / expected)| ≤ tolerance_log2, rate = size_train / size_query; expected ≤ 0
