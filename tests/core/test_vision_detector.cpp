@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include <opencv2/imgproc.hpp>
 #include <iostream>
+#include <opencv2/imgproc.hpp>
 
 #include "cvslam/io/config_node.h"
 #include "cvslam/vision/feature_detector.h"
