@@ -95,6 +95,23 @@ TEST(VisionFrontEnd, CreateChecksOptions) {
   EXPECT_TRUE(cfg->finish().ok()) << cfg->finish().message();
 }
 
+TEST(VisionFrontEnd, ShippedConfigMatchesDefaults) {
+  auto cfg = ConfigNode::loadFile(test::sourceDir() + "/config/front_end.yaml");
+  ASSERT_TRUE(cfg.ok()) << cfg.status().message();
+  StereoFrontEndOptions o;
+  ASSERT_TRUE(o.load(cfg->child("front_end")).ok()) << cfg->status().message();
+  EXPECT_TRUE(cfg->finish().ok()) << cfg->finish().message();  // no unknown keys
+  const StereoFrontEndOptions d;
+  EXPECT_EQ(o.detector.type, d.detector.type);
+  EXPECT_DOUBLE_EQ(o.detector.adaptive_sift.energy_low, d.detector.adaptive_sift.energy_low);
+  EXPECT_DOUBLE_EQ(o.detector.adaptive_sift.energy_high, d.detector.adaptive_sift.energy_high);
+  EXPECT_EQ(o.detector.adaptive_sift.max_features, d.detector.adaptive_sift.max_features);
+  EXPECT_EQ(o.detector.orb_max_features, d.detector.orb_max_features);
+  EXPECT_DOUBLE_EQ(o.stereo.min_depth_m, d.stereo.min_depth_m);
+  EXPECT_DOUBLE_EQ(o.stereo.match.dist_ratio, d.stereo.match.dist_ratio);
+  EXPECT_EQ(o.stereo.match.norm, d.stereo.match.norm);
+}
+
 TEST(VisionAssociation, GateAndDescriptorDecide) {
   RealRun run = runFrontEnd(DetectorType::kAdaptiveSift, 5);
   ASSERT_GT(run.obs.size(), 60u);
