@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "../core/vision_test_data.h"
+#include "cvslam/vision/descriptor_matcher.h"
 #include "cvslam/vision/stereo_front_end.h"
 #include "cvslam/vision/stereo_rectifier.h"
 
@@ -91,6 +92,41 @@ BENCHMARK(frontEnd)
     ->Args({1, 0})
     ->Unit(benchmark::kMillisecond)
     ->MinTime(1.0);
+
+// Brute-force matching of one 752×480 image's features against another's (all pairs, DistRatio
+// test, mutual check): criterion 0 L∞, 1 L2, 2 angle (SIFT), 3 Hamming (ORB).
+void bruteForceMatch(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const int criterion = static_cast<int>(state.range(0));
+  const Pair p = loadPair(false);
+  if (p.left.empty()) {
+    state.SkipWithError("EuRoC micro data missing");
+    return;
+  }
+  DetectorOptions d;
+  d.type = criterion == 3 ? DetectorType::kOrb : DetectorType::kAdaptiveSift;
+  auto det = makeFeatureDetector(d);
+  Features a, b;
+  if (!det.ok() || !(*det)->detect(p.left, &a).ok() || !(*det)->detect(p.right, &b).ok()) {
+    state.SkipWithError("detection failed");
+    return;
+  }
+  MatchOptions o;
+  o.norm = criterion == 0 ? MatchNorm::kLinf : criterion == 2 ? MatchNorm::kAngle : MatchNorm::kL2;
+  std::size_t n = 0;
+  for (auto _ : state) {
+    const auto m = matchDescriptors(a, b, o);
+    n = m.size();
+    benchmark::DoNotOptimize(m.data());
+  }
+  state.counters["pairs"] = static_cast<double>(a.size() * b.size());
+  state.counters["matches"] = static_cast<double>(n);
+}
+
+BENCHMARK(bruteForceMatch)
+    ->ArgNames({"criterion"})
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

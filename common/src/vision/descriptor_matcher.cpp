@@ -30,36 +30,29 @@ MatchNorm effectiveNorm(MatchNorm requested, DescriptorType type) {
 
 namespace {
 
-// Distances are compared in an integer surrogate where possible (squared L2, L∞, Hamming) and
-// converted once for the ratio test; the angle uses the cosine.
+// Distances are compared in an integer surrogate where possible (L∞, squared L2, Hamming)
+// or −cos for the angle, and converted once for the ratio test. The criterion is a template
+// parameter so that each inner loop inlines its distance.
+template <MatchNorm kNorm>
 struct Scorer {
-  MatchNorm norm;
   int n;
-  std::vector<double> query_norms;
-  std::vector<double> train_norms;
+  const std::vector<double>* query_norms;
+  const std::vector<double>* train_norms;
 
-  double operator()(const Features& q, int i, const Features& t, int j) const {
-    const uint8_t* a = q.descriptor(static_cast<std::size_t>(i));
-    const uint8_t* b = t.descriptor(static_cast<std::size_t>(j));
-    switch (norm) {
-      case MatchNorm::kLinf:
-        return distanceLinf(a, b, n);
-      case MatchNorm::kL2:
-        return distanceL2Squared(a, b, n);
-      case MatchNorm::kHamming:
-        return distanceHamming(a, b, n);
-      case MatchNorm::kAngle: {
-        const double nn =
-            query_norms[static_cast<std::size_t>(i)] * train_norms[static_cast<std::size_t>(j)];
-        return nn > 0 ? -dotProduct(a, b, n) / nn : 0.0;  // −cos: smaller is better
-      }
+  double operator()(const uint8_t* a, int i, const uint8_t* b, int j) const {
+    if constexpr (kNorm == MatchNorm::kLinf) return distanceLinf(a, b, n);
+    if constexpr (kNorm == MatchNorm::kL2) return distanceL2Squared(a, b, n);
+    if constexpr (kNorm == MatchNorm::kHamming) return distanceHamming(a, b, n);
+    if constexpr (kNorm == MatchNorm::kAngle) {
+      const double nn =
+          (*query_norms)[static_cast<std::size_t>(i)] * (*train_norms)[static_cast<std::size_t>(j)];
+      return nn > 0 ? -dotProduct(a, b, n) / nn : 0.0;  // −cos: smaller is better
     }
     return 0.0;
   }
-  // Score → distance in the criterion's units.
-  double distance(double score) const {
-    if (norm == MatchNorm::kL2) return std::sqrt(score);
-    if (norm == MatchNorm::kAngle) return std::acos(std::clamp(-score, -1.0, 1.0));
+  static double distance(double score) {
+    if constexpr (kNorm == MatchNorm::kL2) return std::sqrt(score);
+    if constexpr (kNorm == MatchNorm::kAngle) return std::acos(std::clamp(-score, -1.0, 1.0));
     return score;
   }
 };
@@ -71,18 +64,17 @@ std::vector<double> norms(const Features& f, int n) {
   return out;
 }
 
-}  // namespace
-
-std::vector<Match> matchDescriptors(const Features& query, const Features& train,
-                                    const MatchOptions& o,
-                                    const std::vector<std::vector<int>>* candidates) {
+template <MatchNorm kNorm>
+std::vector<Match> matchImpl(const Features& query, const Features& train, const MatchOptions& o,
+                             const std::vector<std::vector<int>>* candidates) {
   std::vector<Match> out;
-  if (query.size() == 0 || train.size() == 0 || query.type != train.type) return out;
-  Scorer scorer{effectiveNorm(o.norm, query.type), descriptorBytes(query.type), {}, {}};
-  if (scorer.norm == MatchNorm::kAngle) {
-    scorer.query_norms = norms(query, scorer.n);
-    scorer.train_norms = norms(train, scorer.n);
+  const int bytes = descriptorBytes(query.type);
+  std::vector<double> qn, tn;
+  if constexpr (kNorm == MatchNorm::kAngle) {
+    qn = norms(query, bytes);
+    tn = norms(train, bytes);
   }
+  const Scorer<kNorm> scorer{bytes, &qn, &tn};
   constexpr double kInf = std::numeric_limits<double>::infinity();
   // Reverse bests for the mutual check: best score of each train feature over all queries
   // that considered it.
@@ -90,12 +82,15 @@ std::vector<Match> matchDescriptors(const Features& query, const Features& train
   std::vector<int> train_best_query(train.size(), -1);
   const int nq = static_cast<int>(query.size());
   const int nt = static_cast<int>(train.size());
+  const uint8_t* tdata = train.descriptors.ptr<uint8_t>(0);
+  const std::size_t tstep = train.descriptors.step[0];
   for (int i = 0; i < nq; ++i) {
+    const uint8_t* qd = query.descriptor(static_cast<std::size_t>(i));
     double s1 = kInf;
     double s2 = kInf;
     int j1 = -1;
     auto consider = [&](int j) {
-      const double s = scorer(query, i, train, j);
+      const double s = scorer(qd, i, tdata + static_cast<std::size_t>(j) * tstep, j);
       if (s < s1) {
         s2 = s1;
         s1 = s;
@@ -132,6 +127,25 @@ std::vector<Match> matchDescriptors(const Features& query, const Features& train
               out.end());
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<Match> matchDescriptors(const Features& query, const Features& train,
+                                    const MatchOptions& o,
+                                    const std::vector<std::vector<int>>* candidates) {
+  if (query.size() == 0 || train.size() == 0 || query.type != train.type) return {};
+  switch (effectiveNorm(o.norm, query.type)) {
+    case MatchNorm::kLinf:
+      return matchImpl<MatchNorm::kLinf>(query, train, o, candidates);
+    case MatchNorm::kL2:
+      return matchImpl<MatchNorm::kL2>(query, train, o, candidates);
+    case MatchNorm::kAngle:
+      return matchImpl<MatchNorm::kAngle>(query, train, o, candidates);
+    case MatchNorm::kHamming:
+      return matchImpl<MatchNorm::kHamming>(query, train, o, candidates);
+  }
+  return {};
 }
 
 std::vector<std::vector<int>> candidatesNear(const std::vector<cv::Point2f>& predicted,

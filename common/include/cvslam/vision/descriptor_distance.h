@@ -19,13 +19,37 @@ enum class MatchNorm {
   kHamming,  ///< binary descriptors (ORB); used automatically for DescriptorType::kOrb
 };
 
+// Inline so that the matchers' inner loops inline and vectorise them.
+
 /// max |a_k − b_k| over n bytes.
-int distanceLinf(const uint8_t* a, const uint8_t* b, int n);
+inline int distanceLinf(const uint8_t* a, const uint8_t* b, int n) {
+  uint8_t m = 0;
+  for (int k = 0; k < n; ++k) {
+    const uint8_t d =
+        a[k] > b[k] ? static_cast<uint8_t>(a[k] - b[k]) : static_cast<uint8_t>(b[k] - a[k]);
+    m = d > m ? d : m;
+  }
+  return m;
+}
+
 /// Σ (a_k − b_k)² over n bytes (squared Euclidean distance).
-int distanceL2Squared(const uint8_t* a, const uint8_t* b, int n);
+inline int distanceL2Squared(const uint8_t* a, const uint8_t* b, int n) {
+  int s = 0;
+  for (int k = 0; k < n; ++k) {
+    const int d = static_cast<int>(a[k]) - static_cast<int>(b[k]);
+    s += d * d;
+  }
+  return s;
+}
+
 /// Σ a_k b_k over n bytes.
-int dotProduct(const uint8_t* a, const uint8_t* b, int n);
-/// Number of differing bits over n bytes.
+inline int dotProduct(const uint8_t* a, const uint8_t* b, int n) {
+  int s = 0;
+  for (int k = 0; k < n; ++k) s += static_cast<int>(a[k]) * static_cast<int>(b[k]);
+  return s;
+}
+
+/// Number of differing bits over n bytes (OpenCV's SIMD popcount).
 int distanceHamming(const uint8_t* a, const uint8_t* b, int n);
 
 /// Distance of `norm` between two descriptors of `n` bytes, as a double in the criterion's
