@@ -125,6 +125,40 @@ TEST(VisionStereoReal, RectifiedEurocPairHasRowAlignedPlausibleMatches) {
   EXPECT_GE(precision, 0.98);
 }
 
+// Hand-made features: one left feature and one right candidate with the same descriptor; the
+// candidate is moved through the constraints of §4.2.8 and §4.2.7.
+TEST(VisionStereo, WindowAndScaleRateConstraints) {
+  auto make = [](float u, float v, float size) {
+    Features f;
+    f.type = DescriptorType::kSift;
+    f.keypoints.emplace_back(cv::Point2f(u, v), size);
+    f.descriptors = cv::Mat(1, 128, CV_8U);
+    for (int k = 0; k < 128; ++k) f.descriptors.at<uint8_t>(0, k) = static_cast<uint8_t>(k);
+    return f;
+  };
+  StereoMatchOptions o;
+  o.focal_px = 400;
+  o.baseline_m = 0.1;
+  o.min_depth_m = 1.0;  // HD_max = 40 px
+  o.match.max_distance = 10;
+  o.match.accept_single_candidate = true;
+  const Features left = make(200, 100, 4);
+  auto matched = [&](float u, float v, float size) {
+    return matchStereo(left, make(u, v, size), o).size() == 1;
+  };
+  EXPECT_TRUE(matched(180, 100, 4));           // d = 20
+  EXPECT_TRUE(matched(160.5f, 101.5f, 4.5f));  // d = 39.5, |Δv| = 1.5, rate 1.125
+  EXPECT_FALSE(matched(159, 100, 4));          // d = 41 > HD_max
+  EXPECT_FALSE(matched(200, 100, 4));          // d = 0
+  EXPECT_FALSE(matched(210, 100, 4));          // d < 0
+  EXPECT_FALSE(matched(180, 102.5f, 4));       // |Δv| > VD_max
+  EXPECT_FALSE(matched(180, 100, 6));          // scale rate 1.5 > 2^0.5
+  o.scale_rate_tolerance_log2 = 0;             // check disabled
+  EXPECT_TRUE(matched(180, 100, 6));
+  o.match.accept_single_candidate = false;  // no second candidate, no ratio test: refused
+  EXPECT_FALSE(matched(180, 100, 4));
+}
+
 TEST(VisionStereo, OptionsCheck) {
   StereoMatchOptions o;
   EXPECT_FALSE(o.check().ok());  // focal and baseline required
