@@ -8,6 +8,7 @@
 
 #include "cvslam/io/config_node.h"
 #include "cvslam/vision/feature_detector.h"
+#include "cvslam/vision/keypoint_grid.h"
 #include "vision_test_data.h"
 
 namespace cvslam::vision {
@@ -128,6 +129,26 @@ TEST(VisionDetector, OrbAndErrors) {
     EXPECT_FALSE((*det)->detect(cv::Mat(), &f).ok());
     EXPECT_FALSE((*det)->detect(cv::Mat(10, 10, CV_32F), &f).ok());
   }
+}
+
+TEST(VisionDetector, KeypointGridSpreadsTheBudget) {
+  // 1000 strong keypoints crowded in one corner cell, 100 weak ones spread over other cells.
+  std::vector<cv::KeyPoint> kps;
+  for (int i = 0; i < 1000; ++i)
+    kps.emplace_back(cv::Point2f(static_cast<float>(i % 30), static_cast<float>(i / 30)), 5.0f,
+                     -1.0f, 100.0f + i);
+  for (int i = 0; i < 100; ++i)
+    kps.emplace_back(cv::Point2f(static_cast<float>(100 + (i % 10) * 50),
+                                 static_cast<float>(100 + (i / 10) * 35)),
+                     5.0f, -1.0f, 1.0f);
+  const auto kept = retainUniform(kps, cv::Size(640, 480), 200, 8, 6);
+  ASSERT_EQ(kept.size(), 200u);
+  int weak = 0;
+  for (const auto& k : kept) weak += k.response == 1.0f ? 1 : 0;
+  EXPECT_EQ(weak, 100);  // every spread keypoint survives; the crowd only fills the rest
+  EXPECT_EQ(retainUniform(kps, cv::Size(640, 480), 5000, 8, 6).size(), kps.size());
+  const auto again = retainUniform(kps, cv::Size(640, 480), 200, 8, 6);
+  for (std::size_t i = 0; i < kept.size(); ++i) EXPECT_EQ(kept[i].pt, again[i].pt);
 }
 
 TEST(VisionDetector, OptionsLoad) {

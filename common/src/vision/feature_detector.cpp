@@ -3,6 +3,7 @@
 #include <opencv2/features2d.hpp>
 
 #include "cvslam/io/config_node.h"
+#include "cvslam/vision/keypoint_grid.h"
 
 namespace cvslam::vision {
 
@@ -21,6 +22,11 @@ Status DetectorOptions::load(const ConfigNode& node) {
   node.get("orb_scale_factor", orb_scale_factor);
   node.get("orb_levels", orb_levels);
   node.get("orb_fast_threshold", orb_fast_threshold);
+  node.get("orb_grid_cols", orb_grid_cols);
+  node.get("orb_grid_rows", orb_grid_rows);
+  node.check(
+      orb_grid_cols >= 0 && orb_grid_rows >= 0 && (orb_grid_cols == 0) == (orb_grid_rows == 0),
+      "orb_grid_cols", "grid must be 0 × 0 (off) or positive in both directions");
   node.check(sift_max_features >= 0, "sift_max_features", "must be >= 0");
   node.check(sift_octave_layers >= 1, "sift_octave_layers", "must be >= 1");
   node.check(sift_contrast_threshold >= 0, "sift_contrast_threshold", "must be >= 0");
@@ -73,20 +79,31 @@ class SiftDetector final : public FeatureDetector {
 class OrbDetector final : public FeatureDetector {
  public:
   explicit OrbDetector(const DetectorOptions& o)
-      : orb_(cv::ORB::create(o.orb_max_features, static_cast<float>(o.orb_scale_factor),
-                             o.orb_levels, 31, 0, 2, cv::ORB::HARRIS_SCORE, 31,
-                             o.orb_fast_threshold)) {}
+      : o_(o),
+        orb_(cv::ORB::create(o.orb_grid_cols > 0 ? 3 * o.orb_max_features : o.orb_max_features,
+                             static_cast<float>(o.orb_scale_factor), o.orb_levels, 31, 0, 2,
+                             cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold)) {}
   Status detect(const cv::Mat& gray, Features* out) override {
     if (Status s = checkImage(gray); !s.ok()) return s;
     out->type = DescriptorType::kOrb;
     out->keypoints.clear();
-    orb_->detectAndCompute(gray, cv::noArray(), out->keypoints, out->descriptors);
+    if (o_.orb_grid_cols > 0) {
+      // Over-detect, spread over a grid, then describe only the kept keypoints.
+      std::vector<cv::KeyPoint> all;
+      orb_->detect(gray, all);
+      out->keypoints =
+          retainUniform(all, gray.size(), o_.orb_max_features, o_.orb_grid_cols, o_.orb_grid_rows);
+      orb_->compute(gray, out->keypoints, out->descriptors);
+    } else {
+      orb_->detectAndCompute(gray, cv::noArray(), out->keypoints, out->descriptors);
+    }
     if (out->descriptors.empty()) out->descriptors = cv::Mat(0, 32, CV_8U);
     return Status::Ok();
   }
   DescriptorType descriptorType() const override { return DescriptorType::kOrb; }
 
  private:
+  DetectorOptions o_;
   cv::Ptr<cv::ORB> orb_;
 };
 

@@ -31,6 +31,8 @@ struct DetectorOptions {
   double orb_scale_factor = 1.2;  ///< pyramid ratio
   int orb_levels = 6;             ///< pyramid levels
   int orb_fast_threshold = 12;    ///< FAST threshold [grey levels]
+  int orb_grid_cols = 8;          ///< spread keypoints over a cols × rows grid; 0 = off
+  int orb_grid_rows = 6;          ///< (keypoint_grid.h)
 
   Status load(const ConfigNode& node);
 };
