@@ -112,6 +112,32 @@ TEST(VisionFrontEnd, ShippedConfigMatchesDefaults) {
   EXPECT_EQ(o.stereo.match.norm, d.stereo.match.norm);
 }
 
+TEST(VisionAssociation, OptionsLoadAndErrors) {
+  auto cfg = ConfigNode::fromString(
+      "association: {descriptor_type: orb, gate_chi2: 9.49, max_descriptor_distance: 60, "
+      "dist_ratio: 0.7}",
+      "a.yaml");
+  ASSERT_TRUE(cfg.ok());
+  MapAssociationOptions o;
+  ASSERT_TRUE(o.load(cfg->child("association")).ok()) << cfg->status().message();
+  EXPECT_EQ(o.descriptor_type, DescriptorType::kOrb);
+  EXPECT_DOUBLE_EQ(o.gate_chi2, 9.49);
+  EXPECT_TRUE(cfg->finish().ok());
+  for (const char* bad :
+       {"{gate_chi2: -1}", "{dist_ratio: 1.5}", "{norm: manhattan}", "{descriptor_type: surf}"}) {
+    auto c = ConfigNode::fromString(std::string("association: ") + bad, "a.yaml");
+    ASSERT_TRUE(c.ok());
+    MapAssociationOptions x;
+    const Status s = x.load(c->child("association"));
+    EXPECT_FALSE(s.ok()) << bad;
+    EXPECT_EQ(s.message().rfind("a.yaml: association.", 0), 0u) << s.message();
+  }
+  auto m = ConfigNode::fromString("match: {dist_ratio: 0}", "m.yaml");
+  ASSERT_TRUE(m.ok());
+  MatchOptions mo;
+  EXPECT_FALSE(mo.load(m->child("match")).ok());
+}
+
 TEST(VisionAssociation, GateAndDescriptorDecide) {
   RealRun run = runFrontEnd(DetectorType::kAdaptiveSift, 5);
   ASSERT_GT(run.obs.size(), 60u);
