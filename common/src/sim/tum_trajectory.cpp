@@ -1,11 +1,10 @@
 #include "cvslam/sim/tum_trajectory.h"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 #include "cvslam/geometry/euler.h"
+#include "cvslam/io/tum_trajectory.h"
 
 namespace cvslam::sim {
 
@@ -20,30 +19,15 @@ struct TumRow {
 }  // namespace
 
 Expected<std::shared_ptr<TumTrajectory>> TumTrajectory::load(const TumTrajectoryOptions& o) {
-  std::ifstream in(o.file);
-  if (!in) return Status::Error(o.file + ": cannot open TUM trajectory file");
   if (!(o.knot_interval > 0.0)) return Status::Error(o.file + ": knot_interval must be > 0");
+  // The one TUM parser of the project (io/tum_trajectory.h) checks fields and time order.
+  auto poses = readTumTrajectory(o.file);
+  if (!poses.ok()) return poses.status();
   std::vector<TumRow> rows;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream ss(line);
-    TumRow r{};
-    double qx = 0, qy = 0, qz = 0, qw = 0;
-    if (!(ss >> r.t >> r.p.x() >> r.p.y() >> r.p.z() >> qx >> qy >> qz >> qw)) {
-      return Status::Error(o.file + ":" + std::to_string(line_no) +
-                           ": expected 8 numbers 't x y z qx qy qz qw'");
-    }
-    r.q << qw, qx, qy, qz;
-    if (!(r.q.norm() > 0.5) || (!rows.empty() && !(r.t > rows.back().t))) {
-      return Status::Error(o.file + ":" + std::to_string(line_no) +
-                           ": bad quaternion or time not increasing");
-    }
-    r.q.normalize();
-    rows.push_back(r);
+  rows.reserve(poses->size());
+  for (const TumPose& pose : *poses) {
+    const Eigen::Quaterniond q = pose.q_BtoN.normalized();
+    rows.push_back({pose.t, pose.p_BinN, Eigen::Vector4d(q.w(), q.x(), q.y(), q.z())});
   }
   if (rows.size() < 4) return Status::Error(o.file + ": fewer than 4 poses");
 
