@@ -1,0 +1,111 @@
+#include "cvslam/lcm/lcm_bus.h"
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <utility>
+
+#include "cvslam/lcm/channels.h"
+
+namespace cvslam::transport {
+
+std::function<bool(int32_t)> acceptOnly(std::set<int32_t> agent_ids) {
+  return [ids = std::move(agent_ids)](int32_t id) { return ids.count(id) > 0; };
+}
+
+LcmBus::LcmBus(BusOptions options) : options_(std::move(options)) {}
+
+Expected<std::unique_ptr<LcmBus>> LcmBus::create(BusOptions options) {
+  std::unique_ptr<LcmBus> bus(new LcmBus(std::move(options)));
+  bus->lcm_ = std::make_unique<::lcm::LCM>(bus->options_.url);
+  if (!bus->lcm_->good()) {
+    return Status::Error("cannot open LCM at '" + bus->options_.url +
+                         "' (multicast route? see scripts/setup.sh)");
+  }
+  return bus;
+}
+
+LcmBus::~LcmBus() {
+  stop();
+}
+
+Status LcmBus::add(std::unique_ptr<SubscriptionBase> subscription) {
+  const std::string& channel = subscription->channel();
+  if (!isPlainChannelName(channel)) {
+    return Status::Error("bad channel name '" + channel + "': use [A-Za-z0-9_/] only");
+  }
+  // LCM's handler table is read by the receive thread without our lock: forbid changes
+  // once it runs instead of relying on LCM's internal locking.
+  if (running()) return Status::Error("subscribe to " + channel + " after start()");
+  ::lcm::Subscription* lcm_sub =
+      lcm_->subscribe(channel, &SubscriptionBase::onRaw, subscription.get());
+  if (lcm_sub == nullptr) return Status::Error("LCM refused the subscription to " + channel);
+  lcm_sub->setQueueCapacity(options_.lcm_queue_capacity);
+  std::lock_guard<std::mutex> lock(subscriptions_mutex_);
+  subscriptions_.push_back(std::move(subscription));
+  return Status::Ok();
+}
+
+Status LcmBus::publishRaw(const std::string& channel, const void* data, std::size_t size) {
+  if (size > options_.receive.max_message_bytes) {
+    return Status::Error("publish " + channel + ": " + std::to_string(size) +
+                         " bytes exceed the message size limit");
+  }
+  if (lcm_->publish(channel, data, static_cast<unsigned int>(size)) != 0) {
+    return Status::Error("LCM publish failed on " + channel);
+  }
+  return Status::Ok();
+}
+
+int64_t LcmBus::nextSeq(const std::string& channel) {
+  std::lock_guard<std::mutex> lock(seq_mutex_);
+  return next_seq_[channel]++;
+}
+
+Status LcmBus::start() {
+  if (running()) return Status::Ok();
+  stop_requested_ = false;
+  thread_ = std::thread([this] { receiveLoop(); });
+  return Status::Ok();
+}
+
+void LcmBus::stop() {
+  stop_requested_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+void LcmBus::receiveLoop() {
+  constexpr int kTimeoutMs = 100;  // bounds how long stop() waits
+  while (!stop_requested_) {
+    if (lcm_->handleTimeout(kTimeoutMs) < 0) {
+      if (options_.receive.on_error) {
+        options_.receive.on_error("", Status::Error("LCM handleTimeout failed"));
+      }
+      break;
+    }
+  }
+}
+
+std::vector<ChannelCounters> LcmBus::counters() const {
+  std::lock_guard<std::mutex> lock(subscriptions_mutex_);
+  std::vector<ChannelCounters> all;
+  all.reserve(subscriptions_.size());
+  for (const auto& s : subscriptions_) all.push_back(s->counters());
+  return all;
+}
+
+ChannelCounters LcmBus::counters(const std::string& channel) const {
+  ChannelCounters sum;
+  sum.channel = channel;
+  for (const ChannelCounters& c : counters()) {
+    if (c.channel != channel) continue;
+    sum.type = sum.type.empty() ? c.type : sum.type;
+    sum.received += c.received;
+    sum.dropped += c.dropped;
+    sum.invalid += c.invalid;
+    sum.seq_gaps += c.seq_gaps;
+    sum.seq_resets += c.seq_resets;
+  }
+  return sum;
+}
+
+}  // namespace cvslam::transport
