@@ -27,8 +27,9 @@ extern char** environ;
 namespace cvslam::transport {
 namespace {
 
-// Our own port; recv_buf_size lets the kernel hold ~25 stereo pairs if this process lags.
+// Our own ports; recv_buf_size lets the kernel hold ~25 stereo pairs if this process lags.
 constexpr const char* kUrl = "udpm://239.255.76.67:27701?ttl=0&recv_buf_size=16777216";
+constexpr const char* kHostileUrl = "udpm://239.255.76.67:27703?ttl=0&recv_buf_size=16777216";
 
 /// A child process started with posix_spawn; killed (by pid) if still running at the end.
 class ChildProcess {
@@ -130,7 +131,7 @@ TEST(LcmMultiProcess, ReceivesEveryMixedMessageInOrderFromAnotherProcess) {
         std::lock_guard<std::mutex> lock(mutex);
         return arrivals.size() >= static_cast<std::size_t>(kImu + 2 * kImages + 1);
       },
-      std::chrono::milliseconds(3000));
+      std::chrono::milliseconds(10000));
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   bus.stop();
@@ -157,6 +158,41 @@ TEST(LcmMultiProcess, ReceivesEveryMixedMessageInOrderFromAnotherProcess) {
   }
   std::printf("[ figures  ] %zu messages (%d stereo pairs of 2 x 300800 B) in %.2f s\n",
               arrivals.size(), kImages, elapsed);
+}
+
+TEST(LcmMultiProcess, JunkAndUnknownSendersFromAnotherProcessAreCountedNotDelivered) {
+  constexpr int kAgent = 4, kRounds = 100;
+  BusOptions options;
+  options.url = kHostileUrl;
+  options.receive.accept_agent = acceptOnly({kAgent});
+  Expected<std::unique_ptr<LcmBus>> created = LcmBus::create(options);
+  ASSERT_TRUE(created.ok()) << created.status().message() << " (run scripts/setup.sh)";
+  LcmBus& bus = **created;
+  auto queue = bus.subscribeQueue<cvslam::imu_t>(channels::imu(kAgent), 1000);
+  ASSERT_TRUE(queue.ok());
+  ASSERT_TRUE(bus.start().ok());
+
+  ChildProcess peer(
+      {CVSLAM_LCM_TEST_PEER, "hostile", "--url", kHostileUrl, "--agent", std::to_string(kAgent)});
+  ASSERT_TRUE(peer.started());
+  ASSERT_EQ(peer.wait(std::chrono::seconds(20)), 0);
+  EXPECT_TRUE(testing::waitFor(
+      [&] {
+        const ChannelCounters c = bus.counters(channels::imu(kAgent));
+        return c.received + c.invalid >= 3 * kRounds;
+      },
+      std::chrono::milliseconds(10000)));
+  bus.stop();
+  const ChannelCounters c = bus.counters(channels::imu(kAgent));
+  EXPECT_EQ(c.received, kRounds);
+  EXPECT_EQ(c.invalid, 2 * kRounds);
+  EXPECT_EQ(c.seq_gaps, 0) << "the valid sender's sequence is complete";
+  for (int k = 0; k < kRounds; ++k) {
+    auto m = (*queue)->tryPop();
+    ASSERT_TRUE(m.has_value());
+    EXPECT_EQ(m->header.agent_id, kAgent);
+    EXPECT_EQ(m->header.utime, 1000 * k);
+  }
 }
 
 }  // namespace

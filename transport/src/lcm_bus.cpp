@@ -7,6 +7,17 @@
 #include "cvslam/lcm/channels.h"
 
 namespace cvslam::transport {
+namespace {
+
+// LCM's C entry point. We subscribe through the C API rather than lcm::LCM's
+// member-function template: under -fsanitize=undefined the 1.3.1 C++ wrapper hands its
+// callback a bad subscription pointer (reproduced with LCM alone), and the C API lets us
+// own the handler object's lifetime explicitly.
+void onLcmMessage(const lcm_recv_buf_t* rbuf, const char*, void* user_data) {
+  static_cast<SubscriptionBase*>(user_data)->handleBytes(rbuf->data, rbuf->data_size);
+}
+
+}  // namespace
 
 std::function<bool(int32_t)> acceptOnly(std::set<int32_t> agent_ids) {
   return [ids = std::move(agent_ids)](int32_t id) { return ids.count(id) > 0; };
@@ -36,10 +47,10 @@ Status LcmBus::add(std::unique_ptr<SubscriptionBase> subscription) {
   // LCM's handler table is read by the receive thread without our lock: forbid changes
   // once it runs instead of relying on LCM's internal locking.
   if (running()) return Status::Error("subscribe to " + channel + " after start()");
-  ::lcm::Subscription* lcm_sub =
-      lcm_->subscribe(channel, &SubscriptionBase::onRaw, subscription.get());
+  lcm_subscription_t* lcm_sub =
+      lcm_subscribe(lcm_->getUnderlyingLCM(), channel.c_str(), &onLcmMessage, subscription.get());
   if (lcm_sub == nullptr) return Status::Error("LCM refused the subscription to " + channel);
-  lcm_sub->setQueueCapacity(options_.lcm_queue_capacity);
+  lcm_subscription_set_queue_capacity(lcm_sub, options_.lcm_queue_capacity);
   std::lock_guard<std::mutex> lock(subscriptions_mutex_);
   subscriptions_.push_back(std::move(subscription));
   return Status::Ok();

@@ -1,12 +1,6 @@
 #include "cvslam/lcm/subscription.h"
 
-#include <lcm/lcm-cpp.hpp>
-
 namespace cvslam::transport {
-
-void SubscriptionBase::onRaw(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
-  handleBytes(rbuf->data, rbuf->data_size);
-}
 
 void SubscriptionBase::handleBytes(const void* data, std::size_t size) {
   int32_t agent_id = 0;

@@ -7,6 +7,9 @@
 //       pose_t on UAV<N>/GT at image-hz, then one status_t on UAV<N>/STATUS whose
 //       processed_utime is the last dataset time. Image bytes are (seq + i + side) mod 256
 //       so the receiver can check content.
+//   cvslam_lcm_test_peer hostile --url U [--agent N]
+//       On UAV<N>/IMU, 100 rounds of: a valid imu_t from agent N, one from agent N + 1000,
+//       and a buffer of random bytes (half with imu_t's fingerprint), 1 ms apart.
 //   cvslam_lcm_test_peer demo --url U [--agent N] [--seconds S]
 //       Publishes a pose_t on UAV<N>/GT and an agent_state_t on UAV<N>/POSE at 5 Hz.
 //
@@ -15,8 +18,10 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <random>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/lcm_bus.h"
@@ -56,8 +61,9 @@ bool parse(int argc, char** argv, Options& o) {
       return false;
     }
   }
-  return (argc % 2 == 0) && (o.mode == "stream" || o.mode == "demo") && o.imu_hz > 0 &&
-         o.image_hz > 0 && o.imu_hz % o.image_hz == 0 && o.seconds > 0;
+  const bool known_mode = o.mode == "stream" || o.mode == "demo" || o.mode == "hostile";
+  return (argc % 2 == 0) && known_mode && o.imu_hz > 0 && o.image_hz > 0 &&
+         o.imu_hz % o.image_hz == 0 && o.seconds > 0;
 }
 
 cvslam::pose_t makePose(int agent, int64_t utime, double t) {
@@ -128,6 +134,39 @@ int stream(LcmBus& bus, const Options& o) {
   return 0;
 }
 
+int hostile(LcmBus& bus, const Options& o) {
+  constexpr int kRounds = 100;
+  std::mt19937 rng(12345);
+  const std::string channel = channels::imu(o.agent);
+  for (int k = 0; k < kRounds; ++k) {
+    cvslam::imu_t imu{};
+    imu.header.utime = 1000 * k;
+    imu.header.agent_id = o.agent;
+    imu.accel[2] = -9.81;
+    Status s = bus.publish(channel, imu);
+    // A sender the receiver does not know. Raw, so it does not use up a sequence number
+    // of this channel and the valid sender's sequence stays gap-free.
+    imu.header.agent_id = o.agent + 1000;
+    const auto stranger = cvslam::transport::encodeMessage(imu);
+    if (s.ok())
+      s = stranger.ok() ? bus.publishRaw(channel, stranger->data(), stranger->size())
+                        : stranger.status();
+    std::vector<uint8_t> junk(rng() % 200);
+    for (auto& b : junk) b = static_cast<uint8_t>(rng());
+    if (junk.size() >= 8 && k % 2 == 0) {
+      const int64_t hash = cvslam::imu_t::getHash();
+      for (int i = 0; i < 8; ++i) junk[i] = static_cast<uint8_t>(hash >> (56 - 8 * i));
+      junk.resize(8 + 20 + 48 + 1);  // one byte too long for an imu_t
+    }
+    if (s.ok()) s = bus.publishRaw(channel, junk.data(), junk.size());
+    if (!s.ok()) return std::fprintf(stderr, "peer: %s\n", s.message().c_str()), 1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  std::printf("%s %d valid, %d unknown agent, %d junk\n", channel.c_str(), kRounds, kRounds,
+              kRounds);
+  return 0;
+}
+
 int demo(LcmBus& bus, const Options& o) {
   const int n = static_cast<int>(o.seconds * 5);
   for (int k = 0; k < n; ++k) {
@@ -160,9 +199,10 @@ int demo(LcmBus& bus, const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   if (!parse(argc, argv, o)) {
-    std::fprintf(stderr,
-                 "usage: cvslam_lcm_test_peer stream|demo --url U [--agent N] [--seconds S] "
-                 "[--imu-hz H] [--image-hz H]\n");
+    std::fprintf(
+        stderr,
+        "usage: cvslam_lcm_test_peer stream|hostile|demo --url U [--agent N] [--seconds S] "
+        "[--imu-hz H] [--image-hz H]\n");
     return 2;
   }
   cvslam::transport::BusOptions options;
@@ -172,5 +212,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "peer: %s\n", bus.status().message().c_str());
     return 1;
   }
-  return o.mode == "stream" ? stream(**bus, o) : demo(**bus, o);
+  if (o.mode == "stream") return stream(**bus, o);
+  if (o.mode == "hostile") return hostile(**bus, o);
+  return demo(**bus, o);
 }

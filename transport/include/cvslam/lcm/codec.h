@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,7 @@ template <typename Msg>
 Expected<Msg> decodeMessage(const void* data, std::size_t size,
                             std::size_t max_bytes = kDefaultMaxMessageBytes) {
   constexpr std::size_t kFingerprint = 8;
-  if (size > max_bytes) {
+  if (size > max_bytes || size > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     return Status::Error("oversized: " + std::to_string(size) + " bytes > limit " +
                          std::to_string(max_bytes));
   }

@@ -17,10 +17,6 @@
 #include "cvslam/lcm/bounded_queue.h"
 #include "cvslam/lcm/codec.h"
 
-namespace lcm {
-struct ReceiveBuffer;
-}
-
 namespace cvslam::transport {
 
 /// Message counts of one subscription. Every arriving buffer is exactly one of
@@ -50,10 +46,7 @@ class SubscriptionBase {
   SubscriptionBase(const SubscriptionBase&) = delete;
   SubscriptionBase& operator=(const SubscriptionBase&) = delete;
 
-  /// LCM's entry point (receive thread only).
-  void onRaw(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
-
-  /// Feeds one encoded buffer as if it had arrived (receive thread, or tests).
+  /// Feeds one encoded buffer as it arrived (receive thread only, or tests).
   void handleBytes(const void* data, std::size_t size);
 
   ChannelCounters counters() const;
