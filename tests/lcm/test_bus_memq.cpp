@@ -47,6 +47,8 @@ TEST(LcmBusMemq, QueueSubscriptionDeliversInOrderWithStampedSeq) {
     EXPECT_EQ(m->header.utime, 1000 + i);
     EXPECT_DOUBLE_EQ(m->accel[2], -9.81);
   }
+  // The counter is bumped just after the push, so it may trail the queue briefly.
+  EXPECT_TRUE(waitFor([&] { return bus->counters(channels::imu(1)).received == 20; }));
   const ChannelCounters c = bus->counters(channels::imu(1));
   EXPECT_EQ(c.received, 20);
   EXPECT_EQ(c.dropped, 0);
