@@ -23,6 +23,14 @@ using AllMessageTypes =
                      cvslam::observation_batch_t, cvslam::gs_state_t, cvslam::map_t,
                      cvslam::status_t>;
 
+/// Names typed tests after the message type (CodecTest/imu_t.…) instead of an index.
+struct TypeNames {
+  template <typename Msg>
+  static std::string GetName(int) {
+    return Msg::getTypeName();
+  }
+};
+
 inline void setHeader(cvslam::header_t& h, int64_t utime) {
   h.utime = utime;
   h.seq = 7;

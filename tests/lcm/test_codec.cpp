@@ -17,7 +17,7 @@ using testing::sample;
 
 template <typename Msg>
 class CodecTest : public ::testing::Test {};
-TYPED_TEST_SUITE(CodecTest, AllMessageTypes);
+TYPED_TEST_SUITE(CodecTest, AllMessageTypes, testing::TypeNames);
 
 TYPED_TEST(CodecTest, RoundTripReproducesTheMessage) {
   using Msg = TypeParam;
