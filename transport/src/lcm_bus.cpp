@@ -37,6 +37,7 @@ Expected<std::unique_ptr<LcmBus>> LcmBus::create(BusOptions options) {
 
 LcmBus::~LcmBus() {
   stop();
+  lcm_.reset();  // before the subscriptions: LCM holds raw pointers to them
 }
 
 Status LcmBus::add(std::unique_ptr<SubscriptionBase> subscription) {
