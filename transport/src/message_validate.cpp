@@ -202,8 +202,8 @@ Status validate(const cvslam::observation_batch_t& msg) {
       .finite("u_right", msg.u_right)
       .finite("v_right", msg.v_right);
   for (int8_t type : msg.type) {
-    c.require(type == cvslam::observation_batch_t::TYPE_MAPPED ||
-                  type == cvslam::observation_batch_t::TYPE_NEW,
+    c.require(type >= cvslam::observation_batch_t::TYPE_REOBSERVED &&
+                  type <= cvslam::observation_batch_t::TYPE_NEW,
               "unknown observation type");
   }
   return c.status();
