@@ -1,5 +1,7 @@
 #include "cvslam/camera/stereo_camera.h"
 
+#include <Eigen/LU>  // determinant()
+
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/config_node.h"
 
