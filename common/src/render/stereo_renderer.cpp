@@ -48,6 +48,12 @@ int halfLog2(float x) {
   return e >> 1;  // arithmetic shift: floor division, also for negative exponents
 }
 
+// floor() without a libm call (baseline x86-64 has no SSE4.1 rounding instruction).
+int64_t floorToInt64(double x) {
+  const auto i = static_cast<int64_t>(x);
+  return i - (x < static_cast<double>(i));
+}
+
 // Bounding box in (x, y) of the view frustum (apex to the far plane) inside the slab
 // z ∈ [z_lo, z_hi]: its vertices are the frustum's edges clipped to the slab.
 bool frustumSlabBounds(const Eigen::Vector3d& apex, const Eigen::Vector3d (&far_corner)[4],
@@ -203,44 +209,59 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
     int64_t last_cs = INT64_MIN, last_ct = INT64_MIN;
     int last_material = -1, tile_index = 0;
     bool mirror_s = false, mirror_t = false;
-    for (int i = 0; i < image.cols; ++i) {
+    int i = 0;
+    while (i < image.cols) {
+      // A run of pixels on one triangle shares its material, plane and texture mapping.
       const int id = idrow[i];
+      int end = i + 1;
+      while (end < image.cols && idrow[end] == id) ++end;
       if (id < 0) {
-        out[i] = background;
+        std::memset(out + i, background, static_cast<std::size_t>(end - i));
+        i = end;
         continue;
       }
       const int m = materials[static_cast<std::size_t>(id)];
       const MaterialSetup& S = setups[static_cast<std::size_t>(m)];
-      const double inv_w = 1.0 / wrow[i];
-      const double ns = S.ls.x() * i + S.ls.y() * j + S.ls.z();
-      const double nt = S.lt.x() * i + S.lt.y() * j + S.lt.z();
-      const double s = ns * inv_w + S.bs;
-      const double t = nt * inv_w + S.bt;
-      // Screen-space derivatives of (s, t) choose the mip level (footprint in texels).
       const Eigen::Vector3d& P = planes[static_cast<std::size_t>(id)];
-      const double ds_du = (S.ls.x() - ns * inv_w * P.x()) * inv_w;
-      const double ds_dv = (S.ls.y() - ns * inv_w * P.y()) * inv_w;
-      const double dt_du = (S.lt.x() - nt * inv_w * P.x()) * inv_w;
-      const double dt_dv = (S.lt.y() - nt * inv_w * P.y()) * inv_w;
-      const double rho2 = std::max(ds_du * ds_du + dt_du * dt_du, ds_dv * ds_dv + dt_dv * dt_dv);
-      const int level = std::clamp(halfLog2(static_cast<float>(rho2) + 1e-30f), 0, max_level);
-      const double fcs = std::floor(s * inv_tile), fct = std::floor(t * inv_tile);
-      const auto cs = static_cast<int64_t>(fcs), ct = static_cast<int64_t>(fct);
-      if (cs != last_cs || ct != last_ct || m != last_material) {
-        const uint64_t h = hashCell(cs, ct, S.salt);
-        tile_index = static_cast<int>(h % tiles);
-        mirror_s = (h >> 40) & 1u;
-        mirror_t = (h >> 41) & 1u;
-        last_cs = cs;
-        last_ct = ct;
+      if (m != last_material) {
+        last_cs = INT64_MIN;
         last_material = m;
       }
-      double ls = s - fcs * tile, lt = t - fct * tile;
-      if (mirror_s) ls = tile - ls;
-      if (mirror_t) lt = tile - lt;
-      const float value =
-          bank.sample(tile_index, level, static_cast<float>(ls), static_cast<float>(lt)) * S.gain;
-      out[i] = cv::saturate_cast<uint8_t>(value);
+      // Numerators of s and t are affine in u: step them along the run.
+      double ns = S.ls.x() * i + S.ls.y() * j + S.ls.z();
+      double nt = S.lt.x() * i + S.lt.y() * j + S.lt.z();
+      int level = 0;
+      for (const int run_start = i; i < end; ++i, ns += S.ls.x(), nt += S.lt.x()) {
+        const double inv_w = 1.0 / wrow[i];
+        const double s = ns * inv_w + S.bs;
+        const double t = nt * inv_w + S.bt;
+        if (i == run_start || (i & 7) == 0) {
+          // Mip level from the screen-space derivatives of (s, t), every 8 pixels: the
+          // footprint changes slowly along a run.
+          const double ds_du = (S.ls.x() - ns * inv_w * P.x()) * inv_w;
+          const double ds_dv = (S.ls.y() - ns * inv_w * P.y()) * inv_w;
+          const double dt_du = (S.lt.x() - nt * inv_w * P.x()) * inv_w;
+          const double dt_dv = (S.lt.y() - nt * inv_w * P.y()) * inv_w;
+          const double rho2 =
+              std::max(ds_du * ds_du + dt_du * dt_du, ds_dv * ds_dv + dt_dv * dt_dv);
+          level = std::clamp(halfLog2(static_cast<float>(rho2) + 1e-30f), 0, max_level);
+        }
+        const int64_t cs = floorToInt64(s * inv_tile), ct = floorToInt64(t * inv_tile);
+        if (cs != last_cs || ct != last_ct) {
+          const uint64_t h = hashCell(cs, ct, S.salt);
+          tile_index = static_cast<int>(h % tiles);
+          mirror_s = (h >> 40) & 1u;
+          mirror_t = (h >> 41) & 1u;
+          last_cs = cs;
+          last_ct = ct;
+        }
+        double ls = s - static_cast<double>(cs) * tile, lt = t - static_cast<double>(ct) * tile;
+        if (mirror_s) ls = tile - ls;
+        if (mirror_t) lt = tile - lt;
+        const float value =
+            bank.sample(tile_index, level, static_cast<float>(ls), static_cast<float>(lt)) * S.gain;
+        out[i] = cv::saturate_cast<uint8_t>(value);
+      }
     }
   }
 }

@@ -93,6 +93,23 @@ Status TextureOptions::load(const ConfigNode& node) {
   return node.status();
 }
 
+TextureBank::Blocked TextureBank::block(const cv::Mat& level, int index) {
+  Blocked b;
+  b.size = level.cols;
+  b.mask = b.size - 1;
+  for (int k = 0; k < b.size; ++k) {
+    b.row_offset.push_back((k >> 3) * 8 * b.size + ((k & 7) << 3));
+    b.column_offset.push_back(((k >> 3) << 6) + (k & 7));
+  }
+  b.scale = 1.0f / static_cast<float>(1 << index);
+  b.texels.resize(static_cast<std::size_t>(b.size) * b.size);
+  for (int y = 0; y < b.size; ++y)
+    for (int x = 0; x < b.size; ++x)
+      b.texels[static_cast<std::size_t>(b.row_offset[y] + b.column_offset[x])] =
+          level.at<uint8_t>(y, x);
+  return b;
+}
+
 Expected<TextureBank> TextureBank::create(const TextureOptions& o) {
   if (o.tile_size < 64 || (o.tile_size & (o.tile_size - 1)) != 0)
     return Status::Error("texture tile_size must be a power of two >= 64");
@@ -108,6 +125,9 @@ Expected<TextureBank> TextureBank::create(const TextureOptions& o) {
       cv::pyrDown(levels.back(), down, cv::Size(), cv::BORDER_REFLECT101);
       levels.push_back(down);
     }
+    bank.levels_ = static_cast<int>(levels.size());
+    for (std::size_t l = 0; l < levels.size(); ++l)
+      bank.blocked_.push_back(block(levels[l], static_cast<int>(l)));
     bank.mips_.push_back(std::move(levels));
   }
   return bank;

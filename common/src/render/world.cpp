@@ -54,8 +54,9 @@ Status WorldOptions::load(const ConfigNode& node) {
 
 double WorldOptions::effectiveTexelSize() const {
   if (texel_size > 0) return texel_size;
-  // Aerial: ~1.8 cm pixel footprint at 10 m with f = 560; hall: ~1 cm at 4.5 m with f = 458.
-  return kind == WorldKind::kAerial ? 0.015 : 0.005;
+  // Aerial: ~1.8 cm pixel footprint at 10 m with f = 560. Hall: ~1 cm at 4.5 m with f = 458, so
+  // the largest shapes (128 texels) are ~1.3 m posters and the smallest ~8 cm.
+  return kind == WorldKind::kAerial ? 0.015 : 0.01;
 }
 
 float sunShading(const Eigen::Vector3d& n_N) {

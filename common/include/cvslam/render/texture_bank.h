@@ -42,36 +42,53 @@ class TextureBank {
 
   int tileSize() const { return tile_size_; }
   int tileCount() const { return static_cast<int>(mips_.size()); }
-  int levels() const { return static_cast<int>(mips_.front().size()); }
+  int levels() const { return levels_; }
   /// Mip level `level` (0 = full size) of tile `tile`: CV_8UC1, tileSize() >> level wide.
   const cv::Mat& tile(int tile, int level) const { return mips_[tile][level]; }
 
   /// Bilinear sample of a tile at a mip level; (s, t) in level-0 texels (texel i covers
   /// [i, i+1)), wrapped into the tile. Returns grey level in [0, 255].
-  float sample(int tile, int level, float s, float t) const {
-    const cv::Mat& m = mips_[tile][level];
-    const float scale = 1.0f / static_cast<float>(1 << level);
-    const float x = s * scale - 0.5f;
-    const float y = t * scale - 0.5f;
-    const int mask = m.cols - 1;
-    const float fx0 = std::floor(x);
-    const float fy0 = std::floor(y);
-    const float ax = x - fx0;
-    const float ay = y - fy0;
-    const int x0 = static_cast<int>(fx0) & mask;
-    const int y0 = static_cast<int>(fy0) & mask;
-    const int x1 = (x0 + 1) & mask;
-    const int y1 = (y0 + 1) & mask;
-    const uint8_t* r0 = m.ptr<uint8_t>(y0);
-    const uint8_t* r1 = m.ptr<uint8_t>(y1);
-    const float top = r0[x0] + ax * (r0[x1] - r0[x0]);
-    const float bottom = r1[x0] + ax * (r1[x1] - r1[x0]);
+  [[gnu::always_inline]] float sample(int tile, int level, float s, float t) const {
+    const Blocked& m = blocked_[static_cast<std::size_t>(tile * levels_ + level)];
+    const float x = s * m.scale - 0.5f;
+    const float y = t * m.scale - 0.5f;
+    // Fast floor (no libm call): truncation corrected for negative values.
+    const int xt = static_cast<int>(x), yt = static_cast<int>(y);
+    const int xi = xt - (x < static_cast<float>(xt));
+    const int yi = yt - (y < static_cast<float>(yt));
+    const float ax = x - static_cast<float>(xi);
+    const float ay = y - static_cast<float>(yi);
+    const int x0 = xi & m.mask, y0 = yi & m.mask;
+    const int x1 = (x0 + 1) & m.mask, y1 = (y0 + 1) & m.mask;
+    const uint8_t* base = m.texels.data();
+    const int* col = m.column_offset.data();
+    const int* row = m.row_offset.data();
+    const float t00 = base[row[y0] + col[x0]], t10 = base[row[y0] + col[x1]];
+    const float t01 = base[row[y1] + col[x0]], t11 = base[row[y1] + col[x1]];
+    const float top = t00 + ax * (t10 - t00);
+    const float bottom = t01 + ax * (t11 - t01);
     return top + ay * (bottom - top);
   }
 
  private:
+  // A mip level stored in 8×8-texel blocks (one 64-byte cache line each): a pixel row of the
+  // image crosses the texture in any direction, and blocks keep its neighbours cached.
+  struct Blocked {
+    std::vector<uint8_t> texels;
+    int size = 0;        // texels per side
+    int mask = 0;        // size − 1 (sizes are powers of two)
+    int row_stride = 0;  // texels per row of blocks: 8·size
+    float scale = 1.0f;  // level-0 texels → this level's texels
+    // Offsets of texel (x, y) = row_offset[y] + column_offset[x]: table lookups are cheaper
+    // than the shifts and masks of the blocked address.
+    std::vector<int> row_offset, column_offset;
+  };
+  static Blocked block(const cv::Mat& level, int index);
+
   int tile_size_ = 0;
-  std::vector<std::vector<cv::Mat>> mips_;  // [tile][level]
+  int levels_ = 0;
+  std::vector<std::vector<cv::Mat>> mips_;  // [tile][level], row-major, for inspection
+  std::vector<Blocked> blocked_;            // [tile * levels_ + level], for sampling
 };
 
 }  // namespace cvslam

@@ -16,7 +16,7 @@
 // YAML (section passed to WorldOptions::load):
 //   kind: aerial            # aerial | hall
 //   seed: 1                 # geometry and texture seed
-//   texel_size: 0           # metres per texel; 0 = kind default (aerial 0.015, hall 0.005)
+//   texel_size: 0           # metres per texel; 0 = kind default (aerial 0.015, hall 0.01)
 //   texture: {variant: high, tile_size: 1024, tile_count: 6}
 //   aerial: {size: 1000, cell: 4, amplitude: 3, wavelength: 150,
 //            buildings: 60, building_size: [4, 20], building_height: [2, 6], clear_radius: 30}
@@ -65,7 +65,7 @@ struct HallWorldOptions {
 struct WorldOptions {
   WorldKind kind = WorldKind::kAerial;  ///< aerial | hall
   uint64_t seed = 1;                    ///< geometry seed (texture has its own)
-  double texel_size = 0.0;              ///< metres per texel; 0: aerial 0.015, hall 0.005
+  double texel_size = 0.0;              ///< metres per texel; 0: aerial 0.015, hall 0.01
   TextureOptions texture;               ///< section `texture`
   AerialWorldOptions aerial;            ///< section `aerial`
   HallWorldOptions hall;                ///< section `hall`
