@@ -207,7 +207,8 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
     uint8_t* out = image.ptr<uint8_t>(j);
     // The tile of the previous pixel's texture cell: neighbours almost always share it.
     int64_t last_cs = INT64_MIN, last_ct = INT64_MIN;
-    int last_material = -1, tile_index = 0;
+    int last_material = -1, tile_index = 0, last_tile = -1, last_level = -1;
+    const TextureBank::Level* texture = nullptr;
     bool mirror_s = false, mirror_t = false;
     int i = 0;
     while (i < image.cols) {
@@ -258,8 +259,13 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
         double ls = s - static_cast<double>(cs) * tile, lt = t - static_cast<double>(ct) * tile;
         if (mirror_s) ls = tile - ls;
         if (mirror_t) lt = tile - lt;
+        if (tile_index != last_tile || level != last_level) {
+          texture = &bank.level(tile_index, level);
+          last_tile = tile_index;
+          last_level = level;
+        }
         const float value =
-            bank.sample(tile_index, level, static_cast<float>(ls), static_cast<float>(lt)) * S.gain;
+            texture->sample(static_cast<float>(ls), static_cast<float>(lt)) * S.gain;
         out[i] = cv::saturate_cast<uint8_t>(value);
       }
     }

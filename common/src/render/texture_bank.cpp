@@ -93,19 +93,19 @@ Status TextureOptions::load(const ConfigNode& node) {
   return node.status();
 }
 
-TextureBank::Blocked TextureBank::block(const cv::Mat& level, int index) {
-  Blocked b;
-  b.size = level.cols;
-  b.mask = b.size - 1;
-  for (int k = 0; k < b.size; ++k) {
-    b.row_offset.push_back((k >> 3) * 8 * b.size + ((k & 7) << 3));
-    b.column_offset.push_back(((k >> 3) << 6) + (k & 7));
+TextureBank::Level TextureBank::block(const cv::Mat& level, int index) {
+  Level b;
+  const int size = level.cols;
+  b.mask_ = size - 1;
+  b.scale_ = 1.0f / static_cast<float>(1 << index);
+  for (int k = 0; k < size; ++k) {
+    b.row_offset_.push_back((k >> 3) * 8 * size + ((k & 7) << 3));
+    b.column_offset_.push_back(((k >> 3) << 6) + (k & 7));
   }
-  b.scale = 1.0f / static_cast<float>(1 << index);
-  b.texels.resize(static_cast<std::size_t>(b.size) * b.size);
-  for (int y = 0; y < b.size; ++y)
-    for (int x = 0; x < b.size; ++x)
-      b.texels[static_cast<std::size_t>(b.row_offset[y] + b.column_offset[x])] =
+  b.texels_.resize(static_cast<std::size_t>(size) * size);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      b.texels_[static_cast<std::size_t>(b.row_offset_[y] + b.column_offset_[x])] =
           level.at<uint8_t>(y, x);
   return b;
 }

@@ -46,49 +46,59 @@ class TextureBank {
   /// Mip level `level` (0 = full size) of tile `tile`: CV_8UC1, tileSize() >> level wide.
   const cv::Mat& tile(int tile, int level) const { return mips_[tile][level]; }
 
-  /// Bilinear sample of a tile at a mip level; (s, t) in level-0 texels (texel i covers
-  /// [i, i+1)), wrapped into the tile. Returns grey level in [0, 255].
-  [[gnu::always_inline]] float sample(int tile, int level, float s, float t) const {
-    const Blocked& m = blocked_[static_cast<std::size_t>(tile * levels_ + level)];
-    const float x = s * m.scale - 0.5f;
-    const float y = t * m.scale - 0.5f;
-    // Fast floor (no libm call): truncation corrected for negative values.
-    const int xt = static_cast<int>(x), yt = static_cast<int>(y);
-    const int xi = xt - (x < static_cast<float>(xt));
-    const int yi = yt - (y < static_cast<float>(yt));
-    const float ax = x - static_cast<float>(xi);
-    const float ay = y - static_cast<float>(yi);
-    const int x0 = xi & m.mask, y0 = yi & m.mask;
-    const int x1 = (x0 + 1) & m.mask, y1 = (y0 + 1) & m.mask;
-    const uint8_t* base = m.texels.data();
-    const int* col = m.column_offset.data();
-    const int* row = m.row_offset.data();
-    const float t00 = base[row[y0] + col[x0]], t10 = base[row[y0] + col[x1]];
-    const float t01 = base[row[y1] + col[x0]], t11 = base[row[y1] + col[x1]];
-    const float top = t00 + ax * (t10 - t00);
-    const float bottom = t01 + ax * (t11 - t01);
-    return top + ay * (bottom - top);
+  /// One mip level of one tile, stored in 8×8-texel blocks (one 64-byte cache line each):
+  /// an image row crosses the texture in any direction, and blocks keep its neighbours cached.
+  class Level {
+   public:
+    /// Bilinear sample; (s, t) in level-0 texels (texel i covers [i, i+1)), wrapped into the
+    /// tile. Returns a grey level in [0, 255].
+    float sample(float s, float t) const {
+      const float x = s * scale_ - 0.5f;
+      const float y = t * scale_ - 0.5f;
+      // Fast floor (no libm call): truncation corrected for negative values.
+      const int xt = static_cast<int>(x), yt = static_cast<int>(y);
+      const int xi = xt - (x < static_cast<float>(xt));
+      const int yi = yt - (y < static_cast<float>(yt));
+      const float ax = x - static_cast<float>(xi);
+      const float ay = y - static_cast<float>(yi);
+      const int x0 = xi & mask_, y0 = yi & mask_;
+      const int x1 = (x0 + 1) & mask_, y1 = (y0 + 1) & mask_;
+      const uint8_t* base = texels_.data();
+      const int* col = column_offset_.data();
+      const int* row = row_offset_.data();
+      const float t00 = base[row[y0] + col[x0]], t10 = base[row[y0] + col[x1]];
+      const float t01 = base[row[y1] + col[x0]], t11 = base[row[y1] + col[x1]];
+      const float top = t00 + ax * (t10 - t00);
+      const float bottom = t01 + ax * (t11 - t01);
+      return top + ay * (bottom - top);
+    }
+
+   private:
+    friend class TextureBank;
+    std::vector<uint8_t> texels_;
+    int mask_ = 0;        // size − 1 (sizes are powers of two)
+    float scale_ = 1.0f;  // level-0 texels → this level's texels
+    // Offset of texel (x, y) = row_offset_[y] + column_offset_[x]: table lookups are cheaper
+    // than the shifts and masks of the blocked address.
+    std::vector<int> row_offset_, column_offset_;
+  };
+
+  /// Mip level `level` of tile `tile`, for sampling.
+  const Level& level(int tile, int level) const {
+    return blocked_[static_cast<std::size_t>(tile * levels_ + level)];
+  }
+  /// Same as level(tile, level).sample(s, t).
+  float sample(int tile, int level, float s, float t) const {
+    return this->level(tile, level).sample(s, t);
   }
 
  private:
-  // A mip level stored in 8×8-texel blocks (one 64-byte cache line each): a pixel row of the
-  // image crosses the texture in any direction, and blocks keep its neighbours cached.
-  struct Blocked {
-    std::vector<uint8_t> texels;
-    int size = 0;        // texels per side
-    int mask = 0;        // size − 1 (sizes are powers of two)
-    int row_stride = 0;  // texels per row of blocks: 8·size
-    float scale = 1.0f;  // level-0 texels → this level's texels
-    // Offsets of texel (x, y) = row_offset[y] + column_offset[x]: table lookups are cheaper
-    // than the shifts and masks of the blocked address.
-    std::vector<int> row_offset, column_offset;
-  };
-  static Blocked block(const cv::Mat& level, int index);
+  static Level block(const cv::Mat& level, int index);
 
   int tile_size_ = 0;
   int levels_ = 0;
   std::vector<std::vector<cv::Mat>> mips_;  // [tile][level], row-major, for inspection
-  std::vector<Blocked> blocked_;            // [tile * levels_ + level], for sampling
+  std::vector<Level> blocked_;              // [tile * levels_ + level], for sampling
 };
 
 }  // namespace cvslam
