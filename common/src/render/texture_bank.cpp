@@ -19,7 +19,7 @@ struct VariantParams {
 VariantParams paramsFor(TextureVariant v) {
   if (v == TextureVariant::kHigh) return {{0.10, 0.08, 0.06, 0.04}, 0.45, 0.42};
   // Low texture: smooth, faint noise and a few faint shapes (thesis §4.2.4).
-  return {{0.05, 0.025, 0.01, 0.0}, 0.01, 0.05};
+  return {{0.05, 0.025, 0.01, 0.0}, 0.015, 0.10};
 }
 
 void addValueNoise(SeededRandom& rng, int cells, double amplitude, cv::Mat1f& img) {
