@@ -77,6 +77,7 @@ void World::setTerrain(Heightfield terrain, int material) {
 
 void World::addBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, uint64_t salt,
                    bool inward) {
+  if (!inward) boxes_.push_back({lo, hi});
   SeededRandom rng(salt);
   for (int axis = 0; axis < 3; ++axis) {
     for (int side = 0; side < 2; ++side) {

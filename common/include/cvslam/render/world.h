@@ -86,6 +86,14 @@ struct SurfaceMaterial {
   uint64_t salt = 0;
 };
 
+/// An axis-aligned solid box in N (buildings, machines, pallets), for collision checks.
+struct WorldBox {
+  Eigen::Vector3d lo_N, hi_N;
+  bool contains(const Eigen::Vector3d& p_N, double margin = 0.0) const {
+    return ((p_N.array() > lo_N.array() - margin) && (p_N.array() < hi_N.array() + margin)).all();
+  }
+};
+
 struct WorldTriangle {
   std::array<Eigen::Vector3d, 3> p_N;  ///< vertices in N [m]
   int material = 0;                    ///< index into World::materials()
@@ -105,6 +113,8 @@ class World {
   /// Every triangle that is not terrain (buildings, hall surfaces and boxes).
   const std::vector<WorldTriangle>& triangles() const { return triangles_; }
   const std::vector<SurfaceMaterial>& materials() const { return materials_; }
+  /// Solid boxes (not the hall's room, which is seen from inside).
+  const std::vector<WorldBox>& boxes() const { return boxes_; }
 
   // Construction helpers used by the world builders.
   int addMaterial(const SurfaceMaterial& m);
@@ -121,6 +131,7 @@ class World {
   int terrain_material_ = 0;
   std::vector<WorldTriangle> triangles_;
   std::vector<SurfaceMaterial> materials_;
+  std::vector<WorldBox> boxes_;
 };
 
 /// Fixed face shading: brightness of a surface with outward normal n_N under our sun.
