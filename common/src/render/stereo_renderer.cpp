@@ -205,11 +205,13 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
     const float* wrow = raster.inverseDepth().ptr<float>(j);
     const int* idrow = raster.triangleIds().ptr<int>(j);
     uint8_t* out = image.ptr<uint8_t>(j);
-    // The tile of the previous pixel's texture cell: neighbours almost always share it.
-    int64_t last_cs = INT64_MIN, last_ct = INT64_MIN;
+    // The texture cell of the previous pixel (neighbours almost always share it): its
+    // extent [s0, s0 + tile) × [t0, t0 + tile), tile, and the map to tile coordinates
+    // ls = sign_s·s + off_s (the sign mirrors the tile).
+    double cell_s0 = 1.0, cell_t0 = 1.0;  // empty cell: s ≥ 1 and s < 1 − tile fail
+    double sign_s = 1.0, sign_t = 1.0, off_s = 0.0, off_t = 0.0;
     int last_material = -1, tile_index = 0, last_tile = -1, last_level = -1;
     const TextureBank::Level* texture = nullptr;
-    bool mirror_s = false, mirror_t = false;
     int i = 0;
     while (i < image.cols) {
       // A run of pixels on one triangle shares its material, plane and texture mapping.
@@ -225,7 +227,7 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
       const MaterialSetup& S = setups[static_cast<std::size_t>(m)];
       const Eigen::Vector3d& P = planes[static_cast<std::size_t>(id)];
       if (m != last_material) {
-        last_cs = INT64_MIN;
+        cell_s0 = cell_t0 = 1.0;
         last_material = m;
       }
       // Numerators of s and t are affine in u: step them along the run.
@@ -247,18 +249,21 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
               std::max(ds_du * ds_du + dt_du * dt_du, ds_dv * ds_dv + dt_dv * dt_dv);
           level = std::clamp(halfLog2(static_cast<float>(rho2) + 1e-30f), 0, max_level);
         }
-        const int64_t cs = floorToInt64(s * inv_tile), ct = floorToInt64(t * inv_tile);
-        if (cs != last_cs || ct != last_ct) {
+        if (!(s >= cell_s0 && s < cell_s0 + tile && t >= cell_t0 && t < cell_t0 + tile)) {
+          const int64_t cs = floorToInt64(s * inv_tile), ct = floorToInt64(t * inv_tile);
           const uint64_t h = hashCell(cs, ct, S.salt);
           tile_index = static_cast<int>(h % tiles);
-          mirror_s = (h >> 40) & 1u;
-          mirror_t = (h >> 41) & 1u;
-          last_cs = cs;
-          last_ct = ct;
+          cell_s0 = static_cast<double>(cs) * tile;
+          cell_t0 = static_cast<double>(ct) * tile;
+          const bool mirror_s = (h >> 40) & 1u, mirror_t = (h >> 41) & 1u;
+          sign_s = mirror_s ? -1.0 : 1.0;
+          sign_t = mirror_t ? -1.0 : 1.0;
+          off_s = mirror_s ? cell_s0 + tile : -cell_s0;
+          off_t = mirror_t ? cell_t0 + tile : -cell_t0;
         }
-        double ls = s - static_cast<double>(cs) * tile, lt = t - static_cast<double>(ct) * tile;
-        if (mirror_s) ls = tile - ls;
-        if (mirror_t) lt = tile - lt;
+        // Clamped at 0: rounding at a cell edge must not give a (tiny) negative coordinate.
+        const double ls = std::max(0.0, sign_s * s + off_s);
+        const double lt = std::max(0.0, sign_t * t + off_t);
         if (tile_index != last_tile || level != last_level) {
           texture = &bank.level(tile_index, level);
           last_tile = tile_index;

@@ -50,18 +50,17 @@ class TextureBank {
   /// an image row crosses the texture in any direction, and blocks keep its neighbours cached.
   class Level {
    public:
-    /// Bilinear sample; (s, t) in level-0 texels (texel i covers [i, i+1)), wrapped into the
-    /// tile. Returns a grey level in [0, 255].
+    /// Bilinear sample; (s, t) ≥ 0 in level-0 texels (texel i covers [i, i+1)), wrapped into
+    /// the tile. Returns a grey level in [0, 255].
     float sample(float s, float t) const {
-      const float x = s * scale_ - 0.5f;
-      const float y = t * scale_ - 0.5f;
-      // Fast floor (no libm call): truncation corrected for negative values.
-      const int xt = static_cast<int>(x), yt = static_cast<int>(y);
-      const int xi = xt - (x < static_cast<float>(xt));
-      const int yi = yt - (y < static_cast<float>(yt));
+      // Texel centres are at i + 0.5; shifted by one texel so that x, y ≥ 0.5 and truncation
+      // is floor (no libm call, no sign test); the −1 is undone by the wrap mask.
+      const float x = s * scale_ + 0.5f;
+      const float y = t * scale_ + 0.5f;
+      const int xi = static_cast<int>(x), yi = static_cast<int>(y);
       const float ax = x - static_cast<float>(xi);
       const float ay = y - static_cast<float>(yi);
-      const int x0 = xi & mask_, y0 = yi & mask_;
+      const int x0 = (xi - 1) & mask_, y0 = (yi - 1) & mask_;
       const int x1 = (x0 + 1) & mask_, y1 = (y0 + 1) & mask_;
       const uint8_t* base = texels_.data();
       const int* col = column_offset_.data();
@@ -87,7 +86,7 @@ class TextureBank {
   const Level& level(int tile, int level) const {
     return blocked_[static_cast<std::size_t>(tile * levels_ + level)];
   }
-  /// Same as level(tile, level).sample(s, t).
+  /// Same as level(tile, level).sample(s, t); (s, t) ≥ 0.
   float sample(int tile, int level, float s, float t) const {
     return this->level(tile, level).sample(s, t);
   }
