@@ -42,9 +42,9 @@ inline std::pair<Eigen::Vector3d, Eigen::Vector3d> aerialPose() {
   return {Eigen::Vector3d(3.0, 7.0, -10.0), Eigen::Vector3d(0.05, -0.03, 0.4)};
 }
 
-/// Inside the default hall, 3 m above the floor, looking north-east and down.
+/// Inside the default hall, 3 m above the floor, looking east (towards shelves) and down.
 inline std::pair<Eigen::Vector3d, Eigen::Vector3d> hallPose() {
-  return {Eigen::Vector3d(5.0, -4.0, -1.0), Eigen::Vector3d(0.02, -0.3, 0.3)};
+  return {Eigen::Vector3d(5.0, -4.0, -1.0), Eigen::Vector3d(0.02, -0.2, 1.3)};
 }
 
 }  // namespace cvslam::test

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/config_node.h"
@@ -208,7 +209,8 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
     // The texture cell of the previous pixel (neighbours almost always share it): its
     // extent [s0, s0 + tile) × [t0, t0 + tile), tile, and the map to tile coordinates
     // ls = sign_s·s + off_s (the sign mirrors the tile).
-    double cell_s0 = 1.0, cell_t0 = 1.0;  // empty cell: s ≥ 1 and s < 1 − tile fail
+    // NaN: no cell yet (every comparison with it fails).
+    double cell_s0 = std::numeric_limits<double>::quiet_NaN(), cell_t0 = cell_s0;
     double sign_s = 1.0, sign_t = 1.0, off_s = 0.0, off_t = 0.0;
     int last_material = -1, tile_index = 0, last_tile = -1, last_level = -1;
     const TextureBank::Level* texture = nullptr;
@@ -227,7 +229,7 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
       const MaterialSetup& S = setups[static_cast<std::size_t>(m)];
       const Eigen::Vector3d& P = planes[static_cast<std::size_t>(id)];
       if (m != last_material) {
-        cell_s0 = cell_t0 = 1.0;
+        cell_s0 = cell_t0 = std::numeric_limits<double>::quiet_NaN();
         last_material = m;
       }
       // Numerators of s and t are affine in u: step them along the run.
