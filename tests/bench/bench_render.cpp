@@ -1,0 +1,86 @@
+// Render time of one stereo pair (both images, shading and ground-truth buffers) for the
+// aerial and hall worlds at 320×240 and 752×480, on one core.
+//
+//   build/tests/bench_render [--write-samples=DIR] [google-benchmark flags]
+// With --write-samples, also writes DIR/render_sample_{aerial,hall}.png (left | right).
+
+#include <benchmark/benchmark.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstring>
+#include <string>
+
+#include "cvslam/render/stereo_renderer.h"
+#include "render_test_scenes.h"
+
+namespace {
+
+using cvslam::StereoCamera;
+using cvslam::StereoCameraOptions;
+using cvslam::StereoRenderer;
+using cvslam::WorldKind;
+
+StereoCamera aerialCamera(int width, int height) {
+  StereoCameraOptions o;  // thesis Table 5.6: α = 560, 0.20 m baseline, looking down
+  o.width = width;
+  o.height = height;
+  o.cx = 0.5 * width;
+  o.cy = 0.5 * height;
+  return StereoCamera(o);
+}
+
+void renderLoop(benchmark::State& state, WorldKind kind) {
+  const int w = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
+  const StereoCamera cam =
+      kind == WorldKind::kAerial ? aerialCamera(w, h) : cvslam::test::euroCCamera(w, h);
+  StereoRenderer renderer(cvslam::test::makeWorld(kind), cam);
+  auto [p, e] = kind == WorldKind::kAerial ? cvslam::test::aerialPose() : cvslam::test::hallPose();
+  uint64_t frame = 0;
+  for (auto _ : state) {
+    // Fly a little between frames so nothing is rendered twice from the same pose.
+    const Eigen::Vector3d p_k =
+        p + Eigen::Vector3d(0.05, 0.02, 0.0) * static_cast<double>(frame % 40);
+    benchmark::DoNotOptimize(renderer.render(p_k, e, frame++));
+  }
+  state.SetLabel(std::to_string(w) + "x" + std::to_string(h) + " pair");
+}
+
+void BM_RenderAerial(benchmark::State& state) {
+  renderLoop(state, WorldKind::kAerial);
+}
+void BM_RenderHall(benchmark::State& state) {
+  renderLoop(state, WorldKind::kHall);
+}
+BENCHMARK(BM_RenderAerial)->Args({320, 240})->Args({752, 480})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RenderHall)->Args({320, 240})->Args({752, 480})->Unit(benchmark::kMillisecond);
+
+void writeSample(const std::string& path, WorldKind kind, const StereoCamera& cam) {
+  StereoRenderer renderer(cvslam::test::makeWorld(kind), cam);
+  const auto [p, e] =
+      kind == WorldKind::kAerial ? cvslam::test::aerialPose() : cvslam::test::hallPose();
+  const cvslam::StereoRendering out = renderer.render(p, e);
+  cv::Mat pair;
+  cv::hconcat(out.left.image, out.right.image, pair);
+  cv::imwrite(path, pair);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const char* flag = "--write-samples=";
+    if (std::strncmp(argv[i], flag, std::strlen(flag)) == 0) {
+      const std::string dir = argv[i] + std::strlen(flag);
+      writeSample(dir + "/render_sample_aerial.png", WorldKind::kAerial, aerialCamera(320, 240));
+      writeSample(dir + "/render_sample_hall.png", WorldKind::kHall,
+                  cvslam::test::euroCCamera(376, 240));
+      return 0;
+    }
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
