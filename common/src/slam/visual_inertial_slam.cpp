@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cvslam/geometry/euler.h"
 #include "cvslam/io/config_node.h"
+#include "cvslam/slam/loop_alignment.h"
 
 namespace cvslam {
 
@@ -18,12 +20,12 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.check(reactivation_min_age_s >= 0.0, "reactivation_min_age_s", "must be ≥ 0");
   node.get("first_estimate_jacobians", first_estimate_jacobians);
   node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
-  node.get("loop_closure_consensus_px", loop_closure_consensus_px);
+  node.get("loop_closure_max_residual_m", loop_closure_max_residual_m);
   node.get("loop_closure_passes", loop_closure_passes);
   node.get("loop_closure_window_s", loop_closure_window_s);
   node.check(loop_closure_window_s > 0.0, "loop_closure_window_s", "must be > 0");
   node.check(loop_closure_min_landmarks >= 0, "loop_closure_min_landmarks", "must be ≥ 0");
-  node.check(loop_closure_consensus_px > 0.0, "loop_closure_consensus_px", "must be > 0");
+  node.check(loop_closure_max_residual_m > 0.0, "loop_closure_max_residual_m", "must be > 0");
   node.check(loop_closure_passes >= 1, "loop_closure_passes", "must be ≥ 1");
   node.get("initial_accel_bias_sigma", initial_accel_bias_sigma);
   node.get("initial_gyro_bias_sigma", initial_gyro_bias_sigma);
@@ -215,29 +217,57 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
   }
 }
 
-int VisualInertialSlam::loopConsensus(const StereoFrameObservations& frame) {
-  const Eigen::Matrix<double, 9, 1> x = pose9();
-  std::vector<std::pair<int64_t, Eigen::Vector4d>> innovations;
+int VisualInertialSlam::alignLoop(const StereoFrameObservations& frame) {
+  const StateVariable* veh = state_.find(vehicle_);
+  const Eigen::Matrix<double, 9, 1> x = state_.value(*veh).head<9>();
+  std::vector<int64_t> ids;
+  std::vector<LoopPair> pairs;
   for (const StereoObservation& obs : frame.observations) {
     if (!std::binary_search(loop_ids_.begin(), loop_ids_.end(), obs.landmark_id)) continue;
     const StateVariable* lm =
         state_.find(VariableKey::landmark(static_cast<uint64_t>(obs.landmark_id)));
-    if (lm == nullptr) continue;
-    innovations.emplace_back(obs.landmark_id, obs.z - camera_.project(x, state_.value(*lm)));
+    Eigen::Vector3d p_observed;
+    if (lm == nullptr || !camera_.triangulate(obs.z, x, &p_observed).ok()) continue;
+    ids.push_back(obs.landmark_id);
+    pairs.push_back({p_observed, state_.value(*lm)});
   }
-  Eigen::Vector4d median;
-  std::vector<double> c(innovations.size());
-  for (int k = 0; k < 4; ++k) {
-    for (std::size_t i = 0; i < innovations.size(); ++i) c[i] = innovations[i].second(k);
-    auto mid = c.begin() + static_cast<std::ptrdiff_t>(c.size() / 2);
-    std::nth_element(c.begin(), mid, c.end());
-    median(k) = c.empty() ? 0.0 : *mid;
+  // Fit, drop pairs that disagree with the fit (wrong associations), fit again.
+  const Eigen::Vector3d pivot = x.head<3>();
+  Expected<LoopAlignment> fit = cvslam::alignLoop(pairs, pivot);
+  for (int round = 0; round < 2 && fit.ok(); ++round) {
+    std::vector<int64_t> kept_ids;
+    std::vector<LoopPair> kept;
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      if ((fit->apply(pairs[i].p_observed_N) - pairs[i].p_map_N).norm() <=
+          o_.slam.loop_closure_max_residual_m) {
+        kept_ids.push_back(ids[i]);
+        kept.push_back(pairs[i]);
+      }
+    }
+    ids.swap(kept_ids);
+    pairs.swap(kept);
+    fit = cvslam::alignLoop(pairs, pivot);
   }
   loop_ids_.clear();
-  for (const auto& [id, r] : innovations) {
-    if ((r - median).norm() <= o_.slam.loop_closure_consensus_px) loop_ids_.push_back(id);
-  }
+  if (!fit.ok() || static_cast<int>(ids.size()) < o_.slam.loop_closure_min_landmarks) return 0;
+  loop_ids_ = ids;
   std::sort(loop_ids_.begin(), loop_ids_.end());
+
+  // Move the linearisation point: the vehicle and the landmarks that drifted with it (all
+  // state landmarks but the loop ones) by the fitted rigid motion. The update that follows
+  // then sees small innovations and corrects the covariance as usual.
+  Eigen::VectorXd xv = state_.value(*veh);
+  xv.head<3>() = fit->apply(xv.head<3>());
+  xv(vehicle::kAttitude + 2) = wrapAngle(xv(vehicle::kAttitude + 2) + fit->yaw);
+  state_.setValue(*veh, xv);
+  for (const StateVariable& v : state_.variables()) {
+    if (v.key.kind != VariableKey::Kind::kLandmark) continue;
+    const auto id = static_cast<int64_t>(v.key.id);
+    if (std::binary_search(loop_ids_.begin(), loop_ids_.end(), id)) continue;
+    state_.setValue(v, fit->apply(state_.value(v)));
+    auto info = info_.find(id);
+    if (info != info_.end()) info->second.first_estimate = fit->apply(info->second.first_estimate);
+  }
   return static_cast<int>(loop_ids_.size());
 }
 
@@ -372,8 +402,8 @@ Status VisualInertialSlam::processFrame(const StereoFrameObservations& frame, Fr
   Selection rest = loop_ids_.empty() ? Selection::kAll : Selection::kAllButLoop;
   if (o_.slam.loop_closure_min_landmarks > 0 &&
       static_cast<int>(loop_ids_.size()) >= o_.slam.loop_closure_min_landmarks &&
-      loopConsensus(frame) >= o_.slam.loop_closure_min_landmarks) {
-    // Loop closing: the agreeing loop landmarks first, ungated, iterated.
+      alignLoop(frame) >= o_.slam.loop_closure_min_landmarks) {
+    // Loop closing: the aligned loop landmarks first, ungated, iterated.
     UpdatePolicy ungated = policy_;
     ungated.gate_probability = 0.0;
     const int loop_passes = o_.slam.loop_closure_passes;

@@ -62,14 +62,16 @@ struct SlamOptions {
   /// successive updates cannot fabricate information about the unobservable yaw and
   /// translation — the main cause of EKF-SLAM over-confidence (cf. thesis §5.7.3, Rco < 1).
   bool first_estimate_jacobians = true;
-  /// Loop closing (§5.5.2): landmarks re-activated after at least loop_closure_min_age_s
+  /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
   /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
-  /// this many are observed in one frame and their innovations agree (a common vehicle
-  /// error moves them together), they are applied before the other observations, without
-  /// the gate and with iterated relinearisation. 0 disables this (loop landmarks are gated).
+  /// this many are observed in one frame and a rigid yaw + translation aligns where the
+  /// cameras see them with where the map has them (loop_alignment.h), the vehicle and the
+  /// recent landmarks are moved by that alignment (the linearisation point) and the loop
+  /// landmarks are applied before the other observations, ungated, with iterated passes.
+  /// 0 disables this (loop landmarks are then gated like the others).
   int loop_closure_min_landmarks = 3;
-  double loop_closure_consensus_px = 15.0;  ///< max distance of an innovation to the median [px]
-  int loop_closure_passes = 3;              ///< iterated passes for the loop-closing update
+  double loop_closure_max_residual_m = 2.0;  ///< loop landmarks farther off the fit are dropped [m]
+  int loop_closure_passes = 3;               ///< iterated passes for the loop-closing update
   /// Loop landmarks that find no consensus within this time return to the gated updates [s].
   double loop_closure_window_s = 5.0;
   double initial_accel_bias_sigma = 0.05;  ///< 1σ of the initial accel bias state [m/s²]
@@ -147,8 +149,9 @@ class VisualInertialSlam {
   enum class Selection { kAll, kOnlyLoop, kAllButLoop };
   Status updatePass(const StereoFrameObservations& frame, int passes, Selection selection,
                     const UpdatePolicy& policy, UpdateReport* report);
-  /// Keeps the loop landmarks whose innovations agree; returns how many.
-  int loopConsensus(const StereoFrameObservations& frame);
+  /// Aligns the loop landmarks, keeps those that fit, moves the linearisation point;
+  /// returns how many were kept.
+  int alignLoop(const StereoFrameObservations& frame);
   Status initialiseNew(const StereoFrameObservations& frame, FrameReport* report);
   Eigen::Matrix<double, 9, 1> pose9() const;
 
