@@ -12,9 +12,10 @@ MergedSensorSource::MergedSensorSource(std::vector<std::unique_ptr<AgentSensorSt
   start_us_ = std::llround(window.start * 1e6);
   int64_t longest = 0;
   for (const auto& a : agents_) longest = std::max(longest, a->endPlayUs());
-  end_us_ = window.duration > 0.0
-                ? std::min(longest, start_us_ + std::llround(window.duration * 1e6))
-                : longest;
+  end_us_ =
+      window.duration > 0.0
+          ? std::min(longest, start_us_ + static_cast<int64_t>(std::llround(window.duration * 1e6)))
+          : longest;
 }
 
 std::vector<int> MergedSensorSource::agentIds() const {

@@ -1,5 +1,7 @@
 #include "cvslam/sim/imu_simulator.h"
 
+#include <Eigen/LU>
+
 #include <cmath>
 
 #include "cvslam/io/config_node.h"

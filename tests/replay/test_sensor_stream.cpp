@@ -13,7 +13,7 @@
 #include "cvslam/sensors/render_world_choice.h"
 #include "cvslam/sensors/simulated_sensor_stream.h"
 #include "euroc_test_folder.h"
-#include "replay/small_scenario.h"
+#include "small_scenario.h"
 #include "test_paths.h"
 
 namespace cvslam {
