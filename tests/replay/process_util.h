@@ -43,15 +43,20 @@ class Child {
   Child& operator=(const Child&) = delete;
   bool started() const { return pid_ > 0; }
   pid_t pid() const { return pid_; }
-  /// Exit status, or -1 on timeout (the child is then killed) or abnormal end.
+  /// True once the child has ended (reaps it and keeps its status for wait()).
+  bool exited() {
+    int status = 0;
+    if (!exited_ && waitpid(pid_, &status, WNOHANG) == pid_) {
+      exited_ = true;
+      status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+    return exited_;
+  }
+  /// Exit status, or -1 on timeout or abnormal end.
   int wait(std::chrono::seconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
-    int status = 0;
     while (std::chrono::steady_clock::now() < deadline) {
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        exited_ = true;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      }
+      if (exited()) return status_;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     return -1;
@@ -69,6 +74,7 @@ class Child {
   std::string out_, err_;
   pid_t pid_ = -1;
   bool exited_ = false;
+  int status_ = -1;
 };
 
 /// Runs a program to completion; returns its exit status and fills stdout/stderr.

@@ -42,8 +42,7 @@ std::string simulateDataset(const test::TempFolder& tmp, double duration) {
 template <typename Msg>
 std::vector<Msg> drain(transport::BoundedQueue<Msg>& q) {
   std::vector<Msg> out;
-  Msg m;
-  while (q.tryPop(m)) out.push_back(std::move(m));
+  while (std::optional<Msg> m = q.tryPop()) out.push_back(std::move(*m));
   return out;
 }
 
@@ -189,7 +188,7 @@ TEST(ReplayProcess, LockstepWaitsForEveryStatus) {
       }
       publishStatus(id, t);
     }
-    if (waitpid(replay.pid(), nullptr, WNOHANG) != 0) break;
+    if (replay.exited()) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   status = replay.wait(std::chrono::seconds(2));

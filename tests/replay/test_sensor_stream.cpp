@@ -49,7 +49,9 @@ TEST(SensorStream, SimulatedFeatureTeamIsMergedInOrder) {
                 1e-12);
       EXPECT_LT((e.truth.v_N - truth.v_N).norm(), 1e-12);
     }
-    if (e.type == SensorEventType::kFeatures) EXPECT_FALSE(e.features.observations.empty());
+    if (e.type == SensorEventType::kFeatures) {
+      EXPECT_FALSE(e.features.observations.empty());
+    }
     ++counts[{e.agent_id, e.type}];
     prev = e;
     first = false;
@@ -119,7 +121,9 @@ TEST(SensorStream, EurocFoldersShareOneClock) {
       s.t_us = starts_us[k] + i * 5000;
       s.accel_B.z() = -9.81 + k;
       ASSERT_TRUE(w->addImu(s).ok());
-      if (i % 10 == 0) ASSERT_TRUE(w->addStereoFrame(s.t_us * 1000, img, img).ok());
+      if (i % 10 == 0) {
+        ASSERT_TRUE(w->addStereoFrame(s.t_us * 1000, img, img).ok());
+      }
     }
     ASSERT_TRUE(w->close().ok());
   }
