@@ -5,16 +5,20 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <sstream>
 
 #include "core/sim_test_helpers.h"
 #include "cvslam/io/euroc_dataset.h"
 #include "cvslam/sensors/merged_sensor_source.h"
 #include "cvslam/sensors/render_world_choice.h"
 #include "cvslam/sensors/simulated_sensor_stream.h"
+#include "cvslam/sim/imu_recording.h"
 #include "euroc_test_folder.h"
 #include "process_util.h"
 #include "small_scenario.h"
+#include "test_paths.h"
 
 namespace cvslam {
 namespace {
@@ -143,6 +147,45 @@ TEST(SimulateProcess, NoiseFreeImuIntegratesToTheGroundTruth) {
     // And it really moved: metres, not a hover.
     EXPECT_GT((end.p_SinR - gt[0].p_SinR).norm(), 5.0);
   }
+}
+
+// The EuRoC hall scenario: rendered in the hall with EuRoC's camera, UAV 3 carrying the real
+// MH_03 IMU (rotated into FRD), calibration written as EuRoC does.
+TEST(SimulateProcess, EurocHallScenarioWithTheRealImu) {
+  test::TempFolder tmp;
+  std::string err;
+  ASSERT_EQ(simulate({"--scenario", test::sourceDir() + "/config/scenarios/euroc_mh03_hall.yaml",
+                      "--out", tmp / "out", "--duration", "0.2"},
+                     tmp / "sim", &err),
+            0)
+      << err;
+  auto d = EurocDataset::open(tmp / "out/uav3");
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  ASSERT_TRUE(d->cam0Info().has_value());
+  EXPECT_EQ(d->cam0Info()->intrinsics, Eigen::Vector4d(458.654, 457.296, 367.215, 248.375));
+  EXPECT_EQ(d->imageSize(), cv::Size(752, 480));
+  EXPECT_EQ(d->frameCount(), 5u);  // 20 Hz, 0..0.2 s
+  auto f = d->loadFrame(2);
+  ASSERT_TRUE(f.ok());
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(f->left, mean, stddev);
+  EXPECT_GT(stddev[0], 10.0);  // textured hall, not background
+  Eigen::Matrix3d R_StoB;
+  R_StoB << 0, 0, 1, 0, 1, 0, -1, 0, 0;
+  auto rec =
+      sim::ImuRecording::load(test::sharedDataDir() + "/euroc/imu/MH_03_medium_imu0.csv", R_StoB);
+  ASSERT_TRUE(rec.ok());
+  ASSERT_EQ(d->imu().size(), 41u);
+  for (const ImuSample& s : d->imu()) {
+    const ImuSample want =
+        (*rec)->sampleAt(1403637132.88832 + 1e-6 * static_cast<double>(s.t_us), 0);
+    EXPECT_LT((s.accel_B - want.accel_B).norm(), 1e-12);
+    EXPECT_LT((s.gyro_B - want.gyro_B).norm(), 1e-12);
+  }
+  std::ifstream yaml(tmp / "out/sensors.yaml");
+  std::stringstream text;
+  text << yaml.rdbuf();
+  EXPECT_NE(text.str().find("render_world: \"hall"), std::string::npos) << text.str();
 }
 
 TEST(SimulateProcess, BadInputGivesOneLineAndStatus2) {
