@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <csignal>
@@ -156,6 +157,7 @@ int main(int argc, char** argv) {
   Clock::time_point wall0;
   int64_t play0 = 0;
   bool first = true;
+  double max_lag_s = 0.0;  // worst delay behind the --rate schedule
   auto last_print = Clock::now();
   cvslam::SensorEvent e;
   while (!g_stop && source->next(e)) {
@@ -187,6 +189,8 @@ int main(int argc, char** argv) {
         std::this_thread::sleep_until(
             std::min(target, Clock::now() + std::chrono::milliseconds(100)));
       if (g_stop) break;
+      // Rendering or decoding slower than the requested rate shows up here.
+      max_lag_s = std::max(max_lag_s, std::chrono::duration<double>(Clock::now() - target).count());
     }
     Status s = publisher.publish(e);
     if (!s.ok()) return fail(s.message());
@@ -223,6 +227,10 @@ int main(int argc, char** argv) {
         lockstep.tracker
             ? (", " + std::to_string(lockstep.tracker->epochsClosed()) + " epochs").c_str()
             : "");
+    if (max_lag_s > 0.1) {
+      std::fprintf(stderr, "cvslam_replay: fell behind the --rate %g schedule by up to %.2f s\n",
+                   args.rate, max_lag_s);
+    }
   }
   (*bus)->stop();
   return 0;
