@@ -79,7 +79,13 @@ bool EurocSensorStream::next(SensorEvent& event) {
     event.truth.gyro_bias = g.gyro_bias;
     event.truth.accel_bias = g.accel_bias;
   } else {
-    auto frame = dataset_.loadFrame(next_frame_++);
+    Expected<EurocStereoFrame> frame =
+        prefetch_.valid() ? prefetch_.get() : dataset_.loadFrame(next_frame_);
+    ++next_frame_;
+    if (frame.ok() && next_frame_ < dataset_.frameCount()) {
+      const std::size_t i = next_frame_;
+      prefetch_ = std::async(std::launch::async, [this, i] { return dataset_.loadFrame(i); });
+    }
     if (!frame.ok()) {
       status_ = frame.status();
       return false;
