@@ -1,5 +1,7 @@
 #include "cvslam/sim/imu_simulator.h"
 
+#include <Eigen/LU>
+
 #include <cmath>
 
 #include "cvslam/io/config_node.h"
@@ -19,6 +21,12 @@ Status ImuOptions::load(const ConfigNode& node) {
   node.get("accel_random_walk", accel_random_walk);
   node.get("gyro_bias", gyro_bias);
   node.get("accel_bias", accel_bias);
+  node.get("recording", recording);
+  node.get("recording_R_StoB", recording_R_StoB);
+  node.get("recording_start", recording_start);
+  node.check((recording_R_StoB * recording_R_StoB.transpose()).isIdentity(1e-6) &&
+                 recording_R_StoB.determinant() > 0,
+             "recording_R_StoB", "must be a rotation matrix");
   node.check(rate_hz > 0.0 && rate_hz <= 1e5, "rate_hz", "must be in (0, 100000]");
   node.check(gyro_noise_density >= 0.0, "gyro_noise_density", "must be >= 0");
   node.check(accel_noise_density >= 0.0, "accel_noise_density", "must be >= 0");
@@ -50,7 +58,19 @@ Eigen::Vector3d ImuSimulator::noiseVector(double sigma) {
   return n;
 }
 
+void ImuSimulator::useRecording(std::shared_ptr<const ImuRecording> recording,
+                                double file_time_at_zero) {
+  recording_ = std::move(recording);
+  recording_time_at_zero_ = file_time_at_zero;
+  gyro_bias_.setZero();
+  accel_bias_.setZero();
+}
+
 ImuSample ImuSimulator::sample(int64_t t_us) {
+  if (recording_) {
+    return recording_->sampleAt(
+        recording_time_at_zero_ + 1e-6 * static_cast<double>(t_us) + time_offset_, t_us);
+  }
   const TrajectoryState truth = trajectory_->state(1e-6 * static_cast<double>(t_us) + time_offset_);
   ImuSample s = perfectSample(truth, t_us);
   if (!o_.noise) return s;

@@ -26,6 +26,8 @@ Status AgentSpec::load(const ConfigNode& node, const std::string& base_dir) {
   trajectory.load(node.child("trajectory"), base_dir);
   initial.load(node.child("initial_uncertainty"));
   imu.load(node.child("imu"));
+  if (!imu.recording.empty() && imu.recording.front() != '/' && !base_dir.empty())
+    imu.recording = base_dir + "/" + imu.recording;
   camera.load(node.child("camera"));
   node.get("camera_rate_hz", camera_rate_hz);
   node.check(camera_rate_hz > 0.0 && camera_rate_hz <= 1000.0, "camera_rate_hz",

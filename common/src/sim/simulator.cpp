@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cvslam/geometry/euler.h"
+#include "cvslam/sim/tum_trajectory.h"
 
 namespace cvslam::sim {
 
@@ -10,6 +11,30 @@ namespace {
 
 int64_t periodUs(double rate_hz) {
   return std::max<int64_t>(1, std::llround(1e6 / rate_hz));
+}
+
+// ImuOptions::recording: load the file, find which file time is simulation time 0 and check
+// that the recording covers the whole run.
+Status attachImuRecording(const AgentSpec& spec, const Trajectory& trajectory, double duration,
+                          AgentSimulator& agent) {
+  const ImuOptions& o = spec.imu;
+  if (o.recording.empty()) return Status::Ok();
+  auto recording = ImuRecording::load(o.recording, o.recording_R_StoB);
+  if (!recording.ok()) return recording.status();
+  double start = o.recording_start;
+  if (std::isnan(start)) {
+    const auto* tum = dynamic_cast<const TumTrajectory*>(&trajectory);
+    start = tum != nullptr ? tum->startTime() : (*recording)->startTime();
+  }
+  const double first = start + spec.trajectory.time_offset;
+  const double last = first + duration;
+  if (first < (*recording)->startTime() || last > (*recording)->endTime()) {
+    return Status::Error("agent " + std::to_string(spec.id) + ": imu.recording " + o.recording +
+                         " does not cover the run (needs file time " + std::to_string(first) +
+                         ".." + std::to_string(last) + " s)");
+  }
+  agent.useImuRecording(*recording, start);
+  return Status::Ok();
 }
 
 }  // namespace
@@ -106,6 +131,9 @@ Expected<Simulator> Simulator::create(const Scenario& scenario) {
   for (std::size_t i = 0; i < scenario.agents.size(); ++i) {
     sim.agents_.emplace_back(scenario.agents[i], trajectories[i], sim.world_, scenario.seed,
                              scenario.duration);
+    Status s = attachImuRecording(scenario.agents[i], *trajectories[i], scenario.duration,
+                                  sim.agents_.back());
+    if (!s.ok()) return Status::Error(scenario.source + ": " + s.message());
   }
   return sim;
 }

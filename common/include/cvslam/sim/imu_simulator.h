@@ -9,10 +9,13 @@
 // (../shared/data/euroc_micro/mav0/imu0/sensor.yaml).
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
+#include <string>
 
 #include "cvslam/core/status.h"
 #include "cvslam/ins/imu_sample.h"
+#include "cvslam/sim/imu_recording.h"
 #include "cvslam/sim/noise_model.h"
 #include "cvslam/sim/rng.h"
 #include "cvslam/sim/trajectory.h"
@@ -34,6 +37,12 @@ struct ImuOptions {
   double accel_random_walk = 3.0e-3;                     ///< bias random walk [m/s³/√Hz]
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();   ///< initial gyro bias [rad/s]
   Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();  ///< initial accel bias [m/s²]
+  /// EuRoC imu0/data.csv to play instead of synthesising (imu_recording.h); "" = synthesise.
+  /// Relative to the scenario file. Noise and bias settings are then ignored.
+  std::string recording;
+  Eigen::Matrix3d recording_R_StoB = Eigen::Matrix3d::Identity();  ///< recorded → body
+  /// File time [s] of simulation time 0; NaN: the TUM trajectory's start, else the file's.
+  double recording_start = std::numeric_limits<double>::quiet_NaN();
 
   Status load(const ConfigNode& node);
 };
@@ -53,6 +62,9 @@ class ImuSimulator {
   const Eigen::Vector3d& gyroBias() const { return gyro_bias_; }
   const Eigen::Vector3d& accelBias() const { return accel_bias_; }
   const ImuOptions& options() const { return o_; }
+  /// From now on samples come from `recording` at file time file_time_at_zero + t (+ the
+  /// trajectory time offset); biases read zero (the recording's are unknown).
+  void useRecording(std::shared_ptr<const ImuRecording> recording, double file_time_at_zero);
 
  private:
   Eigen::Vector3d noiseVector(double sigma);
@@ -65,6 +77,8 @@ class ImuSimulator {
   Eigen::Vector3d accel_bias_;
   int64_t last_t_us_ = 0;
   bool started_ = false;
+  std::shared_ptr<const ImuRecording> recording_;
+  double recording_time_at_zero_ = 0.0;
 };
 
 }  // namespace cvslam::sim

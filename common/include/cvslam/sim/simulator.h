@@ -65,6 +65,11 @@ class AgentSimulator {
   const Trajectory& trajectory() const { return *trajectory_; }
   const StereoCamera& camera() const { return observer_.camera(); }
 
+  /// Plays a recorded IMU instead of synthesising one (ImuOptions::recording).
+  void useImuRecording(std::shared_ptr<const ImuRecording> recording, double file_time_at_zero) {
+    imu_.useRecording(std::move(recording), file_time_at_zero);
+  }
+
   /// Time of the next event, or INT64_MAX when the stream is over.
   int64_t peekTime() const;
   /// The next event; false (event untouched) when the stream is over.

@@ -1,0 +1,38 @@
+#pragma once
+// Command line of cvslam_replay (kept apart from the publishing loop).
+#include <string>
+#include <vector>
+#include "cvslam/core/status.h"
+#include "cvslam/lcm/lcm_bus.h"
+
+namespace cvslam::replay {
+
+extern const char* const kUsage;
+
+struct DatasetArg {
+  int id = 0;
+  std::string path;
+};
+
+struct Args {
+  std::string scenario;
+  std::vector<DatasetArg> datasets;
+  double rate = 1.0;  ///< play speed; 0 = as fast as possible
+  bool lockstep = false;
+  std::vector<int> participants;   ///< lockstep participants; empty = the replayed agents
+  double lockstep_timeout = 60.0;  ///< [s]
+  std::string lcm_url = transport::kDefaultLcmUrl;
+  double duration = 0.0;  ///< ≤ 0: everything
+  double start = 0.0;
+  bool compress = false;
+  bool no_gt = false;
+  std::string sensing = "images";  ///< scenario: images | features
+  std::string world;               ///< scenario: aerial | hall | "" (choose)
+  long long seed = -1;
+  bool quiet = false;
+};
+
+/// Fills `args`; `help` set for -h/--help. Errors are one line.
+Status parseArgs(int argc, char** argv, Args& args, bool& help);
+
+}  // namespace cvslam::replay

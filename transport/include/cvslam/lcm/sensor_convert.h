@@ -1,0 +1,26 @@
+#pragma once
+// Conversions from the core's sensor stream (sensors/sensor_stream.h) to LCM messages:
+// ground truth → pose_t, stereo pair → stereo_image_t (mono8 or PNG). IMU and features
+// have their own adapters (imu_convert.h, features_convert.h).
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include "cvslam/core/status.h"
+#include "cvslam/lcm/message_types.h"
+#include "cvslam/sensors/sensor_stream.h"
+
+namespace cvslam::transport {
+
+/// header.agent_id of everything the replay or simulator publishes (header_t.lcm).
+constexpr int32_t kReplaySenderId = -1;
+
+cvslam::pose_t toPoseMessage(const VehiclePose& pose, int64_t t_us, int32_t sender_id);
+
+/// Both images must be CV_8UC1 of the same size. `png`: each image as a PNG file (lossless,
+/// fastest compression level, since the replay must keep up with real time).
+Expected<cvslam::stereo_image_t> toStereoMessage(const cv::Mat& left, const cv::Mat& right,
+                                                 int64_t t_us, int32_t sender_id, bool png);
+
+/// Decodes a stereo_image_t (either encoding) into two CV_8UC1 images.
+Status fromStereoMessage(const cvslam::stereo_image_t& msg, cv::Mat& left, cv::Mat& right);
+
+}  // namespace cvslam::transport
