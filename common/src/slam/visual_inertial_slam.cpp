@@ -260,13 +260,17 @@ int VisualInertialSlam::alignLoop(const StereoFrameObservations& frame) {
   xv.head<3>() = fit->apply(xv.head<3>());
   xv(vehicle::kAttitude + 2) = wrapAngle(xv(vehicle::kAttitude + 2) + fit->yaw);
   state_.setValue(*veh, xv);
+  const auto min_age_us = static_cast<int64_t>(o_.slam.loop_closure_min_age_s * 1e6);
   for (const StateVariable& v : state_.variables()) {
     if (v.key.kind != VariableKey::Kind::kLandmark) continue;
     const auto id = static_cast<int64_t>(v.key.id);
     if (std::binary_search(loop_ids_.begin(), loop_ids_.end(), id)) continue;
-    state_.setValue(v, fit->apply(state_.value(v)));
+    // Only landmarks seen recently drifted with the vehicle; old ones (the full map keeps
+    // them in the state) are in the old frame, like the loop landmarks.
     auto info = info_.find(id);
-    if (info != info_.end()) info->second.first_estimate = fit->apply(info->second.first_estimate);
+    if (info == info_.end() || t_us_ - info->second.last_seen_us >= min_age_us) continue;
+    state_.setValue(v, fit->apply(state_.value(v)));
+    info->second.first_estimate = fit->apply(info->second.first_estimate);
   }
   return static_cast<int>(loop_ids_.size());
 }
