@@ -360,10 +360,13 @@ int main(int argc, char** argv) {
       std::printf(
           "        images: %.1f observations/frame; per frame: render %.1f ms, front end %.1f ms, "
           "association %.2f ms, filter %.2f ms; stereo precision %.4f (%ld checked), map "
-          "association precision %.4f (%ld of %ld type-1 checked)\n",
+          "association precision %.4f (%ld of %ld type-1 checked); disparity error of right "
+          "matches "
+          "mean %.3f px, RMS %.3f px\n",
           static_cast<double>(s.observations) / n, s.render_ms / n, s.front_end_ms / n,
           s.association_ms / n, s.filter_ms / n, s.stereoPrecision(), s.stereo_checked,
-          s.associationPrecision(), s.associated_checked, s.associated);
+          s.associationPrecision(), s.associated_checked, s.associated, s.disparityBias(),
+          s.disparityRms());
     }
   }
   std::printf("  outputs in %s (evaluate with: cvslam_eval --run %s --summary-json F)\n",

@@ -167,10 +167,10 @@ TEST_F(MapPredictionTest, PredictsStateAndArchivedLandmarksWithCovariance) {
   for (const PredictedObservation& p : preds) {
     ASSERT_NE(p.descriptor, nullptr);
     EXPECT_EQ(p.descriptor->size(), 32u);
-    const Eigen::Vector3d p_L = p.archived
-                                    ? slam_->archive().find(p.landmark_id)->p_LinN
-                                    : Eigen::Vector3d(slam_->state().value(*slam_->state().find(
-                                          VariableKey::landmark(7))));
+    const Eigen::Vector3d p_L =
+        p.archived
+            ? slam_->archive().find(p.landmark_id)->p_LinN
+            : Eigen::Vector3d(slam_->state().value(*slam_->state().find(VariableKey::landmark(7))));
     EXPECT_TRUE(p.z.isApprox(camera_.project(x, p_L), 1e-12));
     // S = H P Hᵀ + R: symmetric, and larger than R alone.
     EXPECT_TRUE(p.S.isApprox(p.S.transpose(), 1e-9));
@@ -217,15 +217,15 @@ TEST(VisualSlamPipeline, RejectsBadImagesAndOptions) {
   ASSERT_TRUE(pipeline.ok()) << pipeline.status().message();
   VisualInertialSlamOptions so;
   VisualInertialSlam slam(so, camera);
-  ASSERT_TRUE(slam.initialize(0, Eigen::VectorXd::Zero(15),
-                              Eigen::MatrixXd::Identity(15, 15) * 0.01)
-                  .ok());
+  ASSERT_TRUE(
+      slam.initialize(0, Eigen::VectorXd::Zero(15), Eigen::MatrixXd::Identity(15, 15) * 0.01).ok());
   VisualFrameResult r;
   const cv::Mat good(240, 320, CV_8UC1, cv::Scalar(100));
   EXPECT_FALSE(pipeline->process(0, cv::Mat(), good, slam, &r).ok());
   EXPECT_FALSE(pipeline->process(0, cv::Mat(240, 320, CV_8UC3), good, slam, &r).ok());
-  EXPECT_FALSE(pipeline->process(0, cv::Mat(120, 160, CV_8UC1, cv::Scalar(1)),
-                                 cv::Mat(120, 160, CV_8UC1, cv::Scalar(1)), slam, &r)
+  EXPECT_FALSE(pipeline
+                   ->process(0, cv::Mat(120, 160, CV_8UC1, cv::Scalar(1)),
+                             cv::Mat(120, 160, CV_8UC1, cv::Scalar(1)), slam, &r)
                    .ok());
   // A blank pair is fine: no observations, the filter just propagates.
   EXPECT_TRUE(pipeline->process(100000, good, good, slam, &r).ok());
@@ -238,7 +238,10 @@ TEST(VisualSlamPipeline, RejectsBadImagesAndOptions) {
   o.front_end.detector.type = vision::DetectorType::kOrb;
   cv::Mat desc(64, 128, CV_8U);
   cv::randu(desc, 0, 255);
-  auto vocab = vision::Vocabulary::train(desc, vision::DescriptorType::kSift, {});
+  vision::VocabularyOptions vo;
+  vo.branching = 4;
+  vo.depth = 1;
+  auto vocab = vision::Vocabulary::train(desc, vision::DescriptorType::kSift, vo);
   ASSERT_TRUE(vocab.ok()) << vocab.status().message();
   EXPECT_FALSE(VisualSlamPipeline::create(
                    o, camera, std::make_shared<const vision::Vocabulary>(std::move(*vocab)))

@@ -57,9 +57,9 @@ Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
     pred.landmark_id = id;
     pred.archived = archived;
     pred.z = camera.project(x, p_LinN, &dz_dxv, &dz_dpL);
-    const Eigen::Matrix4d cross =
-        P_vL != nullptr ? Eigen::Matrix4d(dz_dxv * (*P_vL) * dz_dpL.transpose())
-                        : Eigen::Matrix4d::Zero();
+    const Eigen::Matrix4d cross = P_vL != nullptr
+                                      ? Eigen::Matrix4d(dz_dxv * (*P_vL) * dz_dpL.transpose())
+                                      : Eigen::Matrix4d::Zero();
     pred.S = dz_dxv * P_vv * dz_dxv.transpose() + dz_dpL * P_LL * dz_dpL.transpose() + cross +
              cross.transpose() + R;
     if (!pred.z.allFinite() || !pred.S.allFinite()) return;
@@ -74,7 +74,8 @@ Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
     predict(static_cast<int64_t>(v.key.id), state.value(v), state.covarianceOf(v), &P_vL, false);
   }
   if (options.include_archived) {
-    for (const auto& [id, a] : slam.archive().all()) predict(id, a.p_LinN, a.covariance, nullptr, true);
+    for (const auto& [id, a] : slam.archive().all())
+      predict(id, a.p_LinN, a.covariance, nullptr, true);
   }
   std::sort(predictions->begin(), predictions->end(),
             [](const PredictedObservation& a, const PredictedObservation& b) {

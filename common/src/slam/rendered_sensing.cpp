@@ -32,6 +32,17 @@ double RenderedSensingStats::associationPrecision() const {
   return ratio(associated_correct, associated_checked);
 }
 
+double RenderedSensingStats::disparityBias() const {
+  return stereo_correct > 0 ? disparity_error_sum / static_cast<double>(stereo_correct)
+                            : std::numeric_limits<double>::quiet_NaN();
+}
+
+double RenderedSensingStats::disparityRms() const {
+  return stereo_correct > 0
+             ? std::sqrt(disparity_error_sq_sum / static_cast<double>(stereo_correct))
+             : std::numeric_limits<double>::quiet_NaN();
+}
+
 RenderedSensing::RenderedSensing(std::shared_ptr<const World> world, const StereoCamera& camera,
                                  const RenderOptions& render, VisualSlamPipeline pipeline,
                                  const RenderedSensingOptions& options)
@@ -67,7 +78,14 @@ void RenderedSensing::checkFrame() {
     if (!s) continue;
     const std::optional<Eigen::Vector2d> right = projectInto(rendering_.right, s->p_N);
     ++stats_.stereo_checked;
-    if (right && (*right - o.z.tail<2>()).norm() <= o_.stereo_tolerance_px) ++stats_.stereo_correct;
+    if (right && (*right - o.z.tail<2>()).norm() <= o_.stereo_tolerance_px) {
+      ++stats_.stereo_correct;
+      const PinholeIntrinsics& k = rendering_.left.intrinsics;
+      const double baseline = (rendering_.right.p_CinN - rendering_.left.p_CinN).norm();
+      const double e = (o.z(0) - o.z(2)) - k.fx * baseline / s->depth;
+      stats_.disparity_error_sum += e;
+      stats_.disparity_error_sq_sum += e * e;
+    }
   }
   // Map associations: the landmark's true point must be where it was observed.
   for (const StereoObservation& o : obs) {

@@ -32,8 +32,8 @@ struct MapPredictionOptions {
 
 struct PredictedObservation {
   int64_t landmark_id = -1;
-  Eigen::Vector4d z = Eigen::Vector4d::Zero();      ///< ẑ = [u_L v_L u_R v_R] [px]
-  Eigen::Matrix4d S = Eigen::Matrix4d::Identity();  ///< innovation covariance [px²]
+  Eigen::Vector4d z = Eigen::Vector4d::Zero();       ///< ẑ = [u_L v_L u_R v_R] [px]
+  Eigen::Matrix4d S = Eigen::Matrix4d::Identity();   ///< innovation covariance [px²]
   const std::vector<uint8_t>* descriptor = nullptr;  ///< owned by the filter; may be empty
   bool archived = false;
 };

@@ -18,8 +18,8 @@
 #include <unordered_map>
 
 #include "cvslam/render/stereo_renderer.h"
-#include "cvslam/slam/frame_sensing.h"
 #include "cvslam/sim/scenario.h"
+#include "cvslam/slam/frame_sensing.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
 
 namespace cvslam {
@@ -35,6 +35,8 @@ struct RenderedSensingStats {
   long observations = 0;
   long stereo_checked = 0;  ///< stereo matches whose left pixel shows a surface
   long stereo_correct = 0;
+  double disparity_error_sum = 0.0;  ///< Σ (u_L − u_R) − f·b/z_true over correct matches [px]
+  double disparity_error_sq_sum = 0.0;
   long associated = 0;          ///< type-1 observations
   long associated_checked = 0;  ///< … whose landmark has a known true position
   long associated_correct = 0;
@@ -45,6 +47,8 @@ struct RenderedSensingStats {
 
   double stereoPrecision() const;       ///< stereo_correct / stereo_checked (NaN if none)
   double associationPrecision() const;  ///< associated_correct / associated_checked
+  double disparityBias() const;         ///< mean disparity error of correct matches [px]
+  double disparityRms() const;          ///< RMS disparity error of correct matches [px]
 };
 
 class RenderedSensing : public FrameSensing {
