@@ -20,6 +20,8 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
   node.get("loop_closure_consensus_px", loop_closure_consensus_px);
   node.get("loop_closure_passes", loop_closure_passes);
+  node.get("loop_closure_window_s", loop_closure_window_s);
+  node.check(loop_closure_window_s > 0.0, "loop_closure_window_s", "must be > 0");
   node.check(loop_closure_min_landmarks >= 0, "loop_closure_min_landmarks", "must be ≥ 0");
   node.check(loop_closure_consensus_px > 0.0, "loop_closure_consensus_px", "must be > 0");
   node.check(loop_closure_passes >= 1, "loop_closure_passes", "must be ≥ 1");
@@ -198,6 +200,7 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
     if (it != info_.end()) {
       a.index = it->second.index;
       a.first_seen_us = it->second.first_seen_us;
+      a.last_seen_us = it->second.last_seen_us;
       a.descriptor = std::move(it->second.descriptor);
       info_.erase(it);
     }
@@ -215,11 +218,7 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
     if (!a) continue;
     CovarianceHelper::addVariable(state_, key, a->p_LinN, a->covariance);
     ++report->reactivated;
-    if (static_cast<double>(t_us_ - a->first_seen_us) * 1e-6 >= o_.slam.loop_closure_min_age_s) {
-      ++report->loop_landmarks;
-      pending_loop_.insert(id);
-    }
-    info_[id] = {a->index, a->first_seen_us, std::move(a->descriptor), a->p_LinN};
+    info_[id] = {a->index, a->first_seen_us, a->last_seen_us, std::move(a->descriptor), a->p_LinN};
   }
 }
 
@@ -339,7 +338,7 @@ Status VisualInertialSlam::initialiseNew(const StereoFrameObservations& frame,
         !s.ok()) {
       return s;
     }
-    info_[id] = {obs.index, t_us_, obs.descriptor, p_LinN};
+    info_[id] = {obs.index, t_us_, t_us_, obs.descriptor, p_LinN};
     ++report->initialised;
   }
   return Status::Ok();
@@ -358,10 +357,22 @@ Status VisualInertialSlam::processFrame(const StereoFrameObservations& frame, Fr
   if (Status s = propagateTo(frame.t_us); !s.ok()) return s;
 
   manageMap(frame, &r);
-  // Loop landmarks waiting for a closure that are observed now; they stay out of the gated
-  // updates, where a drifted vehicle would reject them one by one.
+  // Loop landmarks (§5.5.2): seen again after a long absence. Until enough of them agree
+  // they stay out of the gated updates, where a drifted vehicle would reject them one by one.
+  const auto min_age_us = static_cast<int64_t>(o_.slam.loop_closure_min_age_s * 1e6);
+  const auto window_us = static_cast<int64_t>(o_.slam.loop_closure_window_s * 1e6);
+  for (auto it = pending_loop_.begin(); it != pending_loop_.end();) {
+    it = t_us_ - it->second > window_us ? pending_loop_.erase(it) : std::next(it);
+  }
   loop_ids_.clear();
   for (const StereoObservation& obs : frame.observations) {
+    auto info = info_.find(obs.landmark_id);
+    if (info == info_.end()) continue;
+    if (t_us_ - info->second.last_seen_us >= min_age_us) {
+      pending_loop_.emplace(obs.landmark_id, t_us_);
+      ++r.loop_landmarks;
+    }
+    info->second.last_seen_us = t_us_;
     if (pending_loop_.count(obs.landmark_id)) loop_ids_.push_back(obs.landmark_id);
   }
   std::sort(loop_ids_.begin(), loop_ids_.end());

@@ -18,6 +18,7 @@ struct ArchivedLandmark {
   Eigen::Vector3d p_LinN = Eigen::Vector3d::Zero();      ///< mean [m], NED
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  ///< marginal covariance [m²]
   int64_t first_seen_us = 0;                             ///< time it was initialised
+  int64_t last_seen_us = 0;                              ///< time it was last observed
   int64_t archived_us = 0;                               ///< time it left the state
   std::vector<uint8_t> descriptor;                       ///< for appearance checks
 };

@@ -17,7 +17,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
-#include <set>
+#include <map>
 #include <unordered_map>
 #include <vector>
 
@@ -54,7 +54,8 @@ struct SlamOptions {
   /// over-confident for a landmark archived a moment ago, whose error is still the vehicle's.
   /// Observations of more recently archived landmarks are not used.
   double reactivation_min_age_s = 10.0;
-  /// A re-activated landmark first seen at least this long ago marks a loop closure [s].
+  /// A landmark observed again after at least this long unseen is a loop landmark [s]
+  /// (whether it was archived meanwhile or, with the full map, stayed in the state).
   double loop_closure_min_age_s = 30.0;
   /// First-estimates Jacobians (Huang, Mourikis & Roumeliotis 2008): linearise each
   /// landmark's observations at the estimate it had when it entered the state, so that
@@ -69,8 +70,10 @@ struct SlamOptions {
   int loop_closure_min_landmarks = 3;
   double loop_closure_consensus_px = 15.0;  ///< max distance of an innovation to the median [px]
   int loop_closure_passes = 3;              ///< iterated passes for the loop-closing update
-  double initial_accel_bias_sigma = 0.1;    ///< 1σ of the initial accel bias state [m/s²]
-  double initial_gyro_bias_sigma = 0.005;   ///< 1σ of the initial gyro bias state [rad/s]
+  /// Loop landmarks that find no consensus within this time return to the gated updates [s].
+  double loop_closure_window_s = 5.0;
+  double initial_accel_bias_sigma = 0.05;  ///< 1σ of the initial accel bias state [m/s²]
+  double initial_gyro_bias_sigma = 0.001;  ///< 1σ of the initial gyro bias state [rad/s]
 
   Status load(const ConfigNode& node);
 };
@@ -94,7 +97,7 @@ struct FrameReport {
   int initialised = 0;     ///< new landmarks added to the state
   int archived = 0;        ///< landmarks moved from the state to the archive
   int reactivated = 0;     ///< archived landmarks brought back into the state
-  int loop_landmarks = 0;  ///< re-activated landmarks older than loop_closure_min_age_s
+  int loop_landmarks = 0;  ///< landmarks observed again after loop_closure_min_age_s unseen
   bool loop_closure = false;
   bool theta_reduced = false;  ///< NH∞: eq. 3.40 forced a smaller θ in this frame
   int state_size = 0;          ///< after the frame
@@ -168,12 +171,14 @@ class VisualInertialSlam {
   struct LandmarkInfo {
     uint32_t index = 0;
     int64_t first_seen_us = 0;
+    int64_t last_seen_us = 0;
     std::vector<uint8_t> descriptor;
     Eigen::Vector3d first_estimate = Eigen::Vector3d::Zero();  ///< p_LinN when (re)entering
   };
   std::unordered_map<int64_t, LandmarkInfo> info_;  // landmarks in the state
-  std::set<int64_t> pending_loop_;  // re-activated old landmarks not yet used to close a loop
-  std::vector<int64_t> loop_ids_;   // pending loop landmarks observed in the current frame
+  // Landmarks seen again after a long absence, not yet used to close a loop -> since when.
+  std::map<int64_t, int64_t> pending_loop_;
+  std::vector<int64_t> loop_ids_;  // pending loop landmarks observed in the current frame
   FilterStatistics stats_;
   int64_t t_us_ = 0;
   int64_t next_fresh_id_ = int64_t{1} << 40;  // ids for landmarks the front end left unnamed
