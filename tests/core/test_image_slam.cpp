@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
+#include "cvslam/io/config_node.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/slam/map_prediction.h"
 #include "cvslam/slam/rendered_sensing.h"
@@ -45,17 +47,22 @@ struct ImageRun {
   std::vector<Eigen::Vector3d> positions;
 };
 
-ImageRun runImages(const sim::Scenario& scenario, vision::DetectorType detector) {
-  ImageRun out;
+void runImages(const sim::Scenario& scenario, vision::DetectorType detector, ImageRun* result) {
+  ImageRun& out = *result;
+  // The shipped configuration (config/agent.yaml), detector as asked.
   VisualInertialSlamOptions options;
   VisualFrontEndOptions fe;
+  auto cfg = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  ASSERT_TRUE(cfg.ok());
+  ASSERT_TRUE(options.load(*cfg).ok());
+  ASSERT_TRUE(fe.load(cfg->child("frontend")).ok()) << cfg->status().message();
   fe.front_end.detector.type = detector;
   auto factory = makeRenderedSensingFactory(scenario, fe, nullptr);
   EXPECT_TRUE(factory.ok()) << factory.status().message();
-  if (!factory.ok()) return out;
+  if (!factory.ok()) return;
   auto run = SimulatedTeamRun::create(scenario, options, *factory);
   EXPECT_TRUE(run.ok()) << run.status().message();
-  if (!run.ok()) return out;
+  if (!run.ok()) return;
   double se = 0.0, se_ins = 0.0;
   const Status s = (*run)->run([&](const SimulatedFrame& f) {
     const Eigen::Vector3d p = f.slam->vehicleState().head<3>();
@@ -68,7 +75,10 @@ ImageRun runImages(const sim::Scenario& scenario, vision::DetectorType detector)
   EXPECT_TRUE(s.ok()) << s.message();
   out.ate = std::sqrt(se / std::max(out.frames, 1));
   out.ins_ate = std::sqrt(se_ins / std::max(out.frames, 1));
-  const auto& sensing = dynamic_cast<const RenderedSensing&>((*run)->sensing(0));
+  ASSERT_EQ((*run)->agentCount(), 1u);
+  const auto* rendered = dynamic_cast<const RenderedSensing*>(&(*run)->sensing(0));
+  ASSERT_NE(rendered, nullptr);
+  const RenderedSensing& sensing = *rendered;
   out.stats = sensing.stats();
   double e2 = 0.0;
   for (const MapLandmark& m : (*run)->slam(0).map()) {
@@ -79,13 +89,23 @@ ImageRun runImages(const sim::Scenario& scenario, vision::DetectorType detector)
     e2 += (m.p_LinN - p_true).squaredNorm();
   }
   out.landmark_error_rms = std::sqrt(e2 / std::max(out.landmarks_with_truth, 1));
-  return out;
+  const RenderedSensingStats& st = out.stats;
+  std::printf(
+      "[ figures  ] %ld frames, %.0f obs/frame, stereo %.4f of %ld, association %.4f of %ld, "
+      "ATE %.3f m, INS %.3f m, %d landmarks (%d with truth, rms %.3f m), per frame: front end "
+      "%.1f ms, association %.2f ms, filter %.2f ms, render %.1f ms\n",
+      st.frames, static_cast<double>(st.observations) / std::max(st.frames, 1L),
+      st.stereoPrecision(), st.stereo_checked, st.associationPrecision(), st.associated_checked,
+      out.ate, out.ins_ate, out.landmarks, out.landmarks_with_truth, out.landmark_error_rms,
+      st.front_end_ms / std::max(st.frames, 1L), st.association_ms / std::max(st.frames, 1L),
+      st.filter_ms / std::max(st.frames, 1L), st.render_ms / std::max(st.frames, 1L));
 }
 
 TEST(ImageSlam, OrbPrecisionAccuracyAndDeterminismOnRenderedCircle) {
   const sim::Scenario scenario = imageScenario(15.0, 11);
-  const ImageRun a = runImages(scenario, vision::DetectorType::kOrb);
-  ASSERT_EQ(a.frames, 150);
+  ImageRun a;
+  runImages(scenario, vision::DetectorType::kOrb, &a);
+  ASSERT_EQ(a.frames, 151);
   const RenderedSensingStats& st = a.stats;
   EXPECT_GT(st.observations / st.frames, 40) << "too few stereo observations per frame";
   EXPECT_GT(st.stereo_checked, 5000);
@@ -100,7 +120,8 @@ TEST(ImageSlam, OrbPrecisionAccuracyAndDeterminismOnRenderedCircle) {
   EXPECT_GT(a.ins_ate, 2.0);
   EXPECT_LT(a.ate, 0.2 * a.ins_ate) << "ATE " << a.ate << " m, INS-only " << a.ins_ate << " m";
   // Deterministic for a fixed seed.
-  const ImageRun b = runImages(scenario, vision::DetectorType::kOrb);
+  ImageRun b;
+  runImages(scenario, vision::DetectorType::kOrb, &b);
   ASSERT_EQ(b.positions.size(), a.positions.size());
   for (std::size_t i = 0; i < a.positions.size(); ++i) {
     ASSERT_EQ(a.positions[i], b.positions[i]) << "frame " << i;
@@ -108,8 +129,9 @@ TEST(ImageSlam, OrbPrecisionAccuracyAndDeterminismOnRenderedCircle) {
 }
 
 TEST(ImageSlam, AdaptiveSiftPrecisionOnRenderedCircle) {
-  const ImageRun a = runImages(imageScenario(5.0, 12), vision::DetectorType::kAdaptiveSift);
-  ASSERT_EQ(a.frames, 50);
+  ImageRun a;
+  runImages(imageScenario(5.0, 12), vision::DetectorType::kAdaptiveSift, &a);
+  ASSERT_EQ(a.frames, 51);
   EXPECT_GT(a.stats.stereo_checked, 1000);
   EXPECT_GE(a.stats.stereoPrecision(), 0.98);
   EXPECT_GT(a.stats.associated_checked, 300);
@@ -203,6 +225,12 @@ TEST_F(MapPredictionTest, PredictsStateAndArchivedLandmarksWithCovariance) {
 TEST_F(MapPredictionTest, Errors) {
   std::vector<PredictedObservation> preds;
   // Time going backwards.
+  for (int64_t t = 5000; t <= 200000; t += 5000) {
+    ImuSample imu;
+    imu.t_us = t;
+    imu.accel_B = Eigen::Vector3d(0, 0, -9.81);
+    ASSERT_TRUE(slam_->addImu(imu).ok());
+  }
   ASSERT_TRUE(slam_->propagateTo(200000).ok());
   EXPECT_FALSE(predictMapObservations(*slam_, 100000, {}, &preds).ok());
   // An uninitialised filter.
@@ -217,8 +245,9 @@ TEST(VisualSlamPipeline, RejectsBadImagesAndOptions) {
   ASSERT_TRUE(pipeline.ok()) << pipeline.status().message();
   VisualInertialSlamOptions so;
   VisualInertialSlam slam(so, camera);
+  const int n = vehicle::size(so.ins.estimate_imu_bias);
   ASSERT_TRUE(
-      slam.initialize(0, Eigen::VectorXd::Zero(15), Eigen::MatrixXd::Identity(15, 15) * 0.01).ok());
+      slam.initialize(0, Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Identity(n, n) * 0.01).ok());
   VisualFrameResult r;
   const cv::Mat good(240, 320, CV_8UC1, cv::Scalar(100));
   EXPECT_FALSE(pipeline->process(0, cv::Mat(), good, slam, &r).ok());
@@ -230,7 +259,7 @@ TEST(VisualSlamPipeline, RejectsBadImagesAndOptions) {
   // A blank pair is fine: no observations, the filter just propagates.
   EXPECT_TRUE(pipeline->process(100000, good, good, slam, &r).ok());
   EXPECT_TRUE(r.frame.observations.empty());
-  EXPECT_EQ(slam.time(), 100000);
+  EXPECT_EQ(r.report.observations, 0);
   // Uninitialised filter: the error of the filter comes back.
   VisualInertialSlam fresh(so, camera);
   EXPECT_FALSE(pipeline->process(0, good, good, fresh, &r).ok());
@@ -248,10 +277,28 @@ TEST(VisualSlamPipeline, RejectsBadImagesAndOptions) {
                    .ok());
 }
 
-TEST(ImageSlam, RenderedFactoryRejectsBadWorld) {
-  sim::Scenario scenario = imageScenario(1.0, 1);
-  scenario.render_world.aerial.size = -5.0;
-  EXPECT_FALSE(makeRenderedSensingFactory(scenario, VisualFrontEndOptions(), nullptr).ok());
+TEST(ImageSlam, ScenarioRenderSectionErrors) {
+  const std::string agents =
+      "agents:\n  - id: 1\n    trajectory: {kind: circle, radius: 25.0, altitude: 10.0, "
+      "speed: 3.0}\n";
+  EXPECT_TRUE(sim::Scenario::fromString("render: {world: {kind: hall}}\n" + agents, "t.yaml").ok());
+  EXPECT_FALSE(
+      sim::Scenario::fromString("render: {world: {kind: moon}}\n" + agents, "t.yaml").ok());
+  EXPECT_FALSE(sim::Scenario::fromString("render: {wrld: {}}\n" + agents, "t.yaml").ok());
+  auto hall = sim::Scenario::fromString("render: {world: {kind: hall}}\n" + agents, "t.yaml");
+  ASSERT_TRUE(hall.ok());
+  EXPECT_EQ(hall->render_world.kind, WorldKind::kHall);
+}
+
+TEST(ImageSlam, ShippedFrontendConfigLoads) {
+  auto cfg = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  ASSERT_TRUE(cfg.ok());
+  VisualFrontEndOptions o;
+  EXPECT_TRUE(o.load(cfg->child("frontend")).ok()) << cfg->status().message();
+  EXPECT_EQ(o.front_end.detector.type, vision::DetectorType::kOrb);
+  auto bad = ConfigNode::fromString("confirm_gate_px: -1\n", "bad.yaml");
+  ASSERT_TRUE(bad.ok());
+  EXPECT_FALSE(o.load(*bad).ok());
 }
 
 }  // namespace
