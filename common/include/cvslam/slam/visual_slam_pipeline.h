@@ -47,7 +47,7 @@ struct VisualFrontEndOptions {
   MapPredictionOptions prediction;            ///< `prediction:`
   /// Association's absolute descriptor gate for ORB (Hamming bits); SIFT uses
   /// association.max_descriptor_distance.
-  double max_hamming_distance = 64.0;
+  double max_hamming_distance = 50.0;
   bool confirm_new = true;       ///< frame-to-frame confirmation of new landmarks (above)
   double confirm_gate_px = 6.0;  ///< max |z − ẑ| per coordinate for a confirmation [px]
   /// Vocabulary file for the feature index (§6.6.3), relative to the config file; empty: none
