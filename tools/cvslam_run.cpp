@@ -18,6 +18,7 @@
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/sim/scenario.h"
+#include "cvslam/slam/rendered_sensing.h"
 #include "cvslam/slam/simulated_team_run.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
@@ -29,7 +30,8 @@ constexpr const char* kUsage = R"(usage: cvslam_run --scenario FILE --out DIR [o
 
 Runs every UAV of a simulated scenario in one process (no LCM) and writes
 DIR/agent_<id>/{trajectory.tum, ins_trajectory.tum, states.csv, truth.csv,
-landmarks.csv, stats.json, events.csv} and DIR/run.json (docs/run_format.md).
+landmarks.csv, stats.json, events.csv[, frontend.csv]} and DIR/run.json
+(docs/run_format.md).
 
 options:
   --scenario FILE         scenario YAML (config/scenarios/*.yaml)               [required]
@@ -37,7 +39,12 @@ options:
   --config FILE           agent configuration (default: config/agent.yaml of the
                           source tree, else built-in defaults)
   --mode single           single: every UAV alone (dc and cc come with later work)
-  --sensing features      features: feature-level simulation with true landmark ids
+  --sensing KIND          features: feature-level simulation with true landmark ids;
+                          images: stereo pairs rendered at the true pose (the scenario's
+                          `render:` world, default aerial) through the real front end and
+                          map association (configuration section `frontend:`)
+  --world aerial|hall     images: overrides the scenario's render world kind
+  --detector NAME         images: overrides frontend.detector.type (adaptive_sift | sift | orb)
   --filter ekf|nhinf      overrides filter.type of the configuration
   --map knearest|full     overrides map.kind of the configuration
   --passes N              overrides slam.observation_passes (thesis §5.7.3)
@@ -51,7 +58,7 @@ options:
 
 struct Args {
   std::string scenario, out, config, mode = "single", sensing = "features", filter, map;
-  std::string pixel_noise;
+  std::string pixel_noise, world, detector;
   int passes = 0;
   long long seed = -1;
   double duration = -1.0;
@@ -92,6 +99,10 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
       if (!value(&a->filter)) return false;
     } else if (arg == "--map") {
       if (!value(&a->map)) return false;
+    } else if (arg == "--world") {
+      if (!value(&a->world)) return false;
+    } else if (arg == "--detector") {
+      if (!value(&a->detector)) return false;
     } else if (arg == "--pixel-noise") {
       if (!value(&a->pixel_noise)) return false;
     } else if (arg == "--quiet") {
@@ -124,8 +135,11 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
   if (a->mode != "single") {
     return (*error = "--mode " + a->mode + " is not available yet (only: single)"), false;
   }
-  if (a->sensing != "features") {
-    return (*error = "--sensing " + a->sensing + " is not available yet (only: features)"), false;
+  if (a->sensing != "features" && a->sensing != "images") {
+    return (*error = "--sensing must be features or images, not '" + a->sensing + "'"), false;
+  }
+  if (a->sensing != "images" && (!a->world.empty() || !a->detector.empty())) {
+    return (*error = "--world and --detector need --sensing images"), false;
   }
   return true;
 }
@@ -134,6 +148,7 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
 struct AgentOutput {
   std::unique_ptr<cvslam::AgentRunWriter> writer;
   std::ofstream events;
+  std::ofstream frontend;
   int frames = 0;
   double first_loop_t = -1.0;
   double cpu_ms = 0.0;
@@ -168,12 +183,24 @@ int main(int argc, char** argv) {
     config_path = CVSLAM_CONFIG_DIR "/agent.yaml";
   }
   cvslam::VisualInertialSlamOptions options;
+  cvslam::VisualFrontEndOptions frontend;
   if (!config_path.empty()) {
     auto cfg = cvslam::ConfigNode::loadFile(config_path);
     if (!cfg.ok()) return fail(cfg.status().message());
     options.load(*cfg);
-    for (const char* section : {"agent", "lcm", "frontend", "coop"}) cfg->child(section);
+    frontend.load(cfg->child("frontend"));
+    for (const char* section : {"agent", "lcm", "coop"}) cfg->child(section);
     if (Status s = cfg->finish(); !s.ok()) return fail(s.message());
+  }
+  if (!args.world.empty()) {
+    auto cfg = cvslam::ConfigNode::fromString("kind: " + args.world, "--world");
+    scenario->render_world.load(*cfg);
+    if (!cfg->status().ok()) return fail(cfg->status().message());
+  }
+  if (!args.detector.empty()) {
+    auto cfg = cvslam::ConfigNode::fromString("type: " + args.detector, "--detector");
+    frontend.front_end.detector.load(*cfg);
+    if (!cfg->status().ok()) return fail(cfg->status().message());
   }
   if (!args.filter.empty()) {
     auto cfg = cvslam::ConfigNode::fromString("type: " + args.filter, "--filter");
@@ -188,7 +215,28 @@ int main(int argc, char** argv) {
   if (args.passes > 0) options.slam.observation_passes = args.passes;
   if (auto p = options.filter.policy(); !p.ok()) return fail(p.status().message());
 
-  auto team = cvslam::SimulatedTeamRun::create(*scenario, options);
+  cvslam::SimulatedTeamRun::SensingFactory sensing;
+  if (args.sensing == "images") {
+    // The feature index needs a vocabulary of the detector's descriptor type (§6.6.3).
+    std::shared_ptr<const cvslam::vision::Vocabulary> vocabulary;
+    if (!frontend.vocabulary.empty()) {
+      std::filesystem::path file = frontend.vocabulary;
+      if (file.is_relative()) file = std::filesystem::path(config_path).parent_path() / file;
+      auto v = cvslam::vision::Vocabulary::load(file.string());
+      if (!v.ok()) return fail(v.status().message());
+      const bool orb = frontend.front_end.detector.type == cvslam::vision::DetectorType::kOrb;
+      if ((v->type() == cvslam::vision::DescriptorType::kOrb) == orb) {
+        vocabulary = std::make_shared<const cvslam::vision::Vocabulary>(std::move(v.value()));
+      } else if (!args.quiet) {
+        std::fprintf(stderr, "cvslam_run: %s does not fit the detector: feature index 0\n",
+                     file.string().c_str());
+      }
+    }
+    auto factory = cvslam::makeRenderedSensingFactory(*scenario, frontend, vocabulary);
+    if (!factory.ok()) return fail(factory.status().message());
+    sensing = *factory;
+  }
+  auto team = cvslam::SimulatedTeamRun::create(*scenario, options, sensing);
   if (!team.ok()) return fail(team.status().message());
   cvslam::SimulatedTeamRun& run = **team;
 
@@ -205,6 +253,12 @@ int main(int argc, char** argv) {
     if (!o.events) return fail("cannot write " + cvslam::agentDir(args.out, id) + "/events.csv");
     o.events << "t,observations,updated,rejected,initialised,archived,reactivated,"
                 "loop_landmarks,loop_closure,theta_reduced,state_size\n";
+    if (args.sensing == "images") {
+      o.frontend.open(cvslam::agentDir(args.out, id) + "/frontend.csv");
+      if (!o.frontend) return fail("cannot write frontend.csv of agent " + std::to_string(id));
+      o.frontend << "t,observations,predictions,gated_pairs,associated,initialised,front_end_ms,"
+                    "association_ms,filter_ms\n";
+    }
   }
 
   const double duration = scenario->duration;
@@ -214,7 +268,17 @@ int main(int argc, char** argv) {
     AgentOutput& o = outputs[f.agent_id];
     const cvslam::FrameReport& report = *f.report;
     const double t = static_cast<double>(f.t_us) * 1e-6;
-    o.cpu_ms += f.time_ms;
+    double frame_ms = f.time_ms;
+    if (const auto* rs = dynamic_cast<const cvslam::RenderedSensing*>(f.sensing)) {
+      // Frame time of the agent's own work (front end, association, filter), not rendering.
+      const cvslam::VisualFrameResult& r = rs->lastResult();
+      frame_ms = r.front_end_ms + r.association_ms + r.filter_ms;
+      o.frontend << t << ',' << r.frame.observations.size() << ',' << r.predictions << ','
+                 << r.association.candidates_gated << ',' << r.association.associated << ','
+                 << r.initialised.size() << ',' << r.front_end_ms << ',' << r.association_ms << ','
+                 << r.filter_ms << '\n';
+    }
+    o.cpu_ms += frame_ms;
     ++o.frames;
     if (report.loop_closure && o.first_loop_t < 0) o.first_loop_t = t;
 
@@ -225,7 +289,7 @@ int main(int argc, char** argv) {
     if (Status s = o.writer->addInsState(t, f.x_ins->head<9>()); !s.ok()) return s;
     cvslam::FrameStats fs;
     fs.t = t;
-    fs.time_ms = f.time_ms;
+    fs.time_ms = frame_ms;
     fs.state_size = report.state_size;
     fs.landmarks = report.landmarks_in_state;
     double sigma_sum = 0.0;
@@ -251,9 +315,8 @@ int main(int argc, char** argv) {
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-  // True landmark positions for the map's error columns (feature-level sim: id = true id).
-  std::map<int64_t, Eigen::Vector3d> truth;
-  for (const auto& lm : run.simulator().landmarks()) truth[lm.id] = lm.p_LinN;
+  // True landmark positions for the map's error columns: the true id (features) or the
+  // surface the renderer showed where the landmark was initialised (images).
   for (std::size_t i = 0; i < run.agentCount(); ++i) {
     AgentOutput& o = outputs[run.agentId(i)];
     std::vector<cvslam::LandmarkRecord> records;
@@ -262,7 +325,8 @@ int main(int argc, char** argv) {
       r.id = m.id;
       r.p_LinN = m.p_LinN;
       r.var = m.covariance.diagonal();
-      if (auto it = truth.find(m.id); it != truth.end()) r.truth = it->second;
+      Eigen::Vector3d p_true;
+      if (run.sensing(i).landmarkTruth(m.id, &p_true)) r.truth = p_true;
       records.push_back(r);
     }
     if (Status s = o.writer->writeLandmarks(records); !s.ok()) return fail(s.message());
@@ -290,6 +354,20 @@ int main(int argc, char** argv) {
         run.agentId(i), o.frames, o.frames > 0 ? o.cpu_ms / o.frames : 0.0,
         run.slam(i).map().size(), loop.c_str(), st.observations_rejected,
         st.observations_accepted + st.observations_rejected, st.theta_reductions);
+    if (const auto* rs = dynamic_cast<const cvslam::RenderedSensing*>(&run.sensing(i))) {
+      const cvslam::RenderedSensingStats& s = rs->stats();
+      const double n = static_cast<double>(std::max(s.frames, 1L));
+      std::printf(
+          "        images: %.1f observations/frame; per frame: render %.1f ms, front end %.1f ms, "
+          "association %.2f ms, filter %.2f ms; stereo precision %.4f (%ld checked), map "
+          "association precision %.4f (%ld of %ld type-1 checked); disparity error of right "
+          "matches "
+          "mean %.3f px, RMS %.3f px\n",
+          static_cast<double>(s.observations) / n, s.render_ms / n, s.front_end_ms / n,
+          s.association_ms / n, s.filter_ms / n, s.stereoPrecision(), s.stereo_checked,
+          s.associationPrecision(), s.associated_checked, s.associated, s.disparityBias(),
+          s.disparityRms());
+    }
   }
   std::printf("  outputs in %s (evaluate with: cvslam_eval --run %s --summary-json F)\n",
               args.out.c_str(), args.out.c_str());

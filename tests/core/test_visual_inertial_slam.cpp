@@ -11,6 +11,7 @@
 #include "cvslam/io/config_node.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/slam/simulated_team_run.h"
+#include "cvslam/slam/visual_slam_pipeline.h"
 
 namespace cvslam {
 namespace {
@@ -182,10 +183,12 @@ TEST(VisualInertialSlam, OptionsLoadAndValidate) {
   EXPECT_EQ(o.slam.observation_passes, 10);
   auto bad = ConfigNode::fromString("slam: {pixel_sigma: -1}", "a.yaml");
   EXPECT_FALSE(VisualInertialSlamOptions().load(*bad).ok());
-  // The shipped configuration loads with no unknown keys.
+  // The shipped configuration loads with no unknown keys (with the image front end's
+  // section, visual_slam_pipeline.h).
   auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
   ASSERT_TRUE(shipped.ok()) << shipped.status().message();
   ASSERT_TRUE(VisualInertialSlamOptions().load(*shipped).ok());
+  ASSERT_TRUE(VisualFrontEndOptions().load(shipped->child("frontend")).ok());
   EXPECT_TRUE(shipped->finish().ok()) << shipped->finish().message();
 }
 

@@ -46,6 +46,11 @@ Status Scenario::load(const ConfigNode& node, const std::string& base_dir) {
   node.get("duration", duration);
   node.check(duration > 0.0, "duration", "must be > 0 s");
   world.load(node.child("world"));
+  if (node.has("render")) {
+    const ConfigNode r = node.child("render");
+    render_world.load(r.child("world"));
+    render.load(r.child("options"));
+  }
   agents.clear();
   const auto items = node.sequence("agents");
   if (!node.has("agents")) {

@@ -5,7 +5,8 @@
 namespace cvslam {
 
 Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
-    const sim::Scenario& scenario, const VisualInertialSlamOptions& options) {
+    const sim::Scenario& scenario, const VisualInertialSlamOptions& options,
+    const SensingFactory& sensing) {
   if (auto p = options.filter.policy(); !p.ok()) return p.status();
   auto simulator = sim::Simulator::create(scenario);
   if (!simulator.ok()) return simulator.status();
@@ -33,8 +34,19 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
       sigma.segment<3>(vehicle::kAccelBias).setConstant(options.slam.initial_accel_bias_sigma);
       sigma.segment<3>(vehicle::kGyroBias).setConstant(options.slam.initial_gyro_bias_sigma);
     }
+    std::unique_ptr<FrameSensing> agent_sensing;
+    if (sensing) {
+      auto made = sensing(as);
+      if (!made.ok()) {
+        return Status::Error("agent " + std::to_string(as.id()) + ": " + made.status().message());
+      }
+      agent_sensing = std::move(made.value());
+    } else {
+      agent_sensing = std::make_unique<FeatureSensing>(&run->simulator_.landmarks());
+    }
     Agent a{as.id(),
             VisualInertialSlam(agent_options, as.camera()),
+            std::move(agent_sensing),
             InsPropagator(agent_options.ins),
             x0,
             ImuSample(),
@@ -66,17 +78,15 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
       a.have_imu = true;
       continue;
     }
-    // Feature-level sensing: the simulator's index is the true landmark id (DESIGN.md §3).
-    for (StereoObservation& obs : ev.frame.observations) obs.landmark_id = obs.index;
     const auto t0 = std::chrono::steady_clock::now();
-    if (Status s = a.slam.processFrame(ev.frame, &report); !s.ok()) {
+    if (Status s = a.sensing->processFrame(ev, a.slam, &report); !s.ok()) {
       return Status::Error("agent " + std::to_string(a.id) +
                            " at t = " + std::to_string(static_cast<double>(ev.t_us) * 1e-6) +
                            " s: " + s.message());
     }
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    SimulatedFrame f{a.id, ev.t_us, &ev.truth, &a.slam, &report, &a.x_ins, ms};
+    SimulatedFrame f{a.id, ev.t_us, &ev.truth, &a.slam, &report, &a.x_ins, ms, a.sensing.get()};
     if (on_frame) {
       if (Status s = on_frame(f); !s.ok()) return s;
     }

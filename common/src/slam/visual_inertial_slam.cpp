@@ -100,6 +100,7 @@ Status VisualInertialSlam::addImu(const ImuSample& sample) {
 }
 
 Status VisualInertialSlam::propagateTo(int64_t t_us) {
+  if (!initialized_) return Status::Error("propagateTo before initialize");
   if (t_us < t_us_) return Status::Error("frame time goes backwards");
   if (imu_buffer_.empty() || t_us == t_us_) return Status::Ok();
   // Samples after the frame stay buffered; the frame time gets an interpolated sample.
@@ -134,6 +135,12 @@ Status VisualInertialSlam::propagateTo(int64_t t_us) {
   imu_buffer_.insert(imu_buffer_.end(), rest.begin(), rest.end());
   t_us_ = t_us;
   return Status::Ok();
+}
+
+const std::vector<uint8_t>* VisualInertialSlam::descriptorOf(int64_t landmark_id) const {
+  if (auto it = info_.find(landmark_id); it != info_.end()) return &it->second.descriptor;
+  if (const ArchivedLandmark* a = archive_.find(landmark_id)) return &a->descriptor;
+  return nullptr;
 }
 
 int64_t VisualInertialSlam::landmarkIdOf(const StereoObservation& obs) const {

@@ -11,6 +11,8 @@
 
 #include "cvslam/camera/stereo_camera.h"
 #include "cvslam/core/status.h"
+#include "cvslam/render/stereo_renderer.h"
+#include "cvslam/render/world.h"
 #include "cvslam/sim/imu_simulator.h"
 #include "cvslam/sim/observation_simulator.h"
 #include "cvslam/sim/trajectory_spec.h"
@@ -51,6 +53,11 @@ struct Scenario {
   uint64_t seed = 1;       ///< master seed: world and every agent stream derive from it
   double duration = 60.0;  ///< simulated time [s]
   WorldOptions world;
+  /// Section `render:` — the textured world and renderer options for image sensing
+  /// (`cvslam_run --sensing images`): `render: {world: {kind: aerial, ...}, options: {...}}`
+  /// (cvslam/render/world.h, stereo_renderer.h). Defaults: the `aerial` world, seed 1.
+  ::cvslam::WorldOptions render_world;
+  ::cvslam::RenderOptions render;
   std::vector<AgentSpec> agents;
 
   /// Loads and validates a scenario file (also checks that open trajectories last long enough).

@@ -13,6 +13,7 @@
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/sim/simulator.h"
+#include "cvslam/slam/frame_sensing.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
 namespace cvslam {
@@ -25,17 +26,23 @@ struct SimulatedFrame {
   const VisualInertialSlam* slam = nullptr;  ///< the agent's filter after the frame
   const FrameReport* report = nullptr;       ///< what the frame did
   const Eigen::VectorXd* x_ins = nullptr;    ///< INS-only state at the frame
-  double time_ms = 0.0;                      ///< wall time of processFrame [ms]
+  double time_ms = 0.0;                      ///< wall time of the frame's sensing [ms]
+  const FrameSensing* sensing = nullptr;     ///< the agent's sensing (stats, truth)
 };
 
 class SimulatedTeamRun {
  public:
   using FrameCallback = std::function<Status(const SimulatedFrame&)>;
+  /// Makes an agent's sensing (frame_sensing.h); null in create(): FeatureSensing.
+  using SensingFactory =
+      std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>;
 
   /// Builds the simulator and one filter per agent, started at the scenario's initial
   /// estimate. The filter is told each IMU's datasheet noise (as from a sensor.yaml).
+  /// `sensing` makes each agent's sensing; empty: feature-level (true landmark ids).
   static Expected<std::unique_ptr<SimulatedTeamRun>> create(
-      const sim::Scenario& scenario, const VisualInertialSlamOptions& options);
+      const sim::Scenario& scenario, const VisualInertialSlamOptions& options,
+      const SensingFactory& sensing = {});
 
   /// Runs to the end of the scenario, calling `on_frame` after every frame (a non-ok Status
   /// from it stops the run and is returned).
@@ -43,6 +50,7 @@ class SimulatedTeamRun {
 
   std::size_t agentCount() const { return agents_.size(); }
   const VisualInertialSlam& slam(std::size_t i) const { return agents_[i].slam; }
+  const FrameSensing& sensing(std::size_t i) const { return *agents_[i].sensing; }
   int agentId(std::size_t i) const { return agents_[i].id; }
   const sim::Simulator& simulator() const { return simulator_; }
 
@@ -50,6 +58,7 @@ class SimulatedTeamRun {
   struct Agent {
     int id = 0;
     VisualInertialSlam slam;
+    std::unique_ptr<FrameSensing> sensing;
     InsPropagator dead_reckoning;
     Eigen::VectorXd x_ins;
     ImuSample last_imu;

@@ -128,6 +128,12 @@ class VisualInertialSlam {
   Status addImu(const ImuSample& sample);
   /// Propagates to the frame time and runs the recipe above.
   Status processFrame(const StereoFrameObservations& frame, FrameReport* report = nullptr);
+  /// Propagates the vehicle through the buffered IMU samples to t_us (step 1 of the recipe;
+  /// processFrame at the same time then does not propagate again). Used to predict the map's
+  /// observations for association before the frame is processed (map_prediction.h).
+  Status propagateTo(int64_t t_us);
+  /// Stored descriptor of a landmark in the state or the archive; nullptr if none.
+  const std::vector<uint8_t>* descriptorOf(int64_t landmark_id) const;
 
   int64_t time() const { return t_us_; }
   /// Vehicle state and its covariance block.
@@ -142,7 +148,6 @@ class VisualInertialSlam {
   const StereoCamera& camera() const { return camera_; }
 
  private:
-  Status propagateTo(int64_t t_us);
   int64_t landmarkIdOf(const StereoObservation& obs) const;
   void manageMap(const StereoFrameObservations& frame, FrameReport* report);
   /// Which observations an update pass uses.

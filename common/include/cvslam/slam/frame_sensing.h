@@ -1,0 +1,43 @@
+#pragma once
+// How a simulated agent's camera epoch reaches its filter (DESIGN.md §6, `--sensing`):
+// FrameSensing turns one frame event of the simulator into a VisualInertialSlam update.
+// FeatureSensing is the feature-level simulation (the observations carry the true landmark
+// ids, DESIGN.md §3); RenderedSensing (rendered_sensing.h) renders the images and runs the
+// real front end. Each also knows the true position of the landmarks its filter created.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+
+#include "cvslam/core/status.h"
+#include "cvslam/sim/simulator.h"
+#include "cvslam/slam/visual_inertial_slam.h"
+
+namespace cvslam {
+
+class FrameSensing {
+ public:
+  virtual ~FrameSensing() = default;
+  /// Processes the frame event `event` (type kFrame) with `slam`.
+  virtual Status processFrame(const sim::SimEvent& event, VisualInertialSlam& slam,
+                              FrameReport* report) = 0;
+  /// True position of a landmark of the filter's map; false when unknown.
+  virtual bool landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const = 0;
+};
+
+/// Feature-level sensing: the simulator's index is the true landmark id.
+class FeatureSensing : public FrameSensing {
+ public:
+  /// `landmarks`: the simulated world's landmarks (id = index), kept alive by the caller.
+  explicit FeatureSensing(const std::vector<sim::Landmark>* landmarks) : landmarks_(landmarks) {}
+  Status processFrame(const sim::SimEvent& event, VisualInertialSlam& slam,
+                      FrameReport* report) override;
+  bool landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const override;
+
+ private:
+  const std::vector<sim::Landmark>* landmarks_;
+  StereoFrameObservations frame_;  // reused
+};
+
+}  // namespace cvslam

@@ -1,0 +1,113 @@
+#pragma once
+// One agent's image path into its VSLAM filter (DESIGN.md §2, §5; thesis §5.10): a rectified
+// stereo pair goes through the visual front end (chapter 4: detection, stereo matching under
+// the disparity window), the map predicts its landmarks' observations (map_prediction.h), the
+// observations are associated to them by descriptor and Mahalanobis gate (§5.5, §6.3.2: type 1
+// re-observed / type 3 new), and the frame is processed by VisualInertialSlam. No transport,
+// no simulation: cvslam_run feeds it rendered images, the agent process will feed it images
+// received over LCM.
+//
+// New landmarks are confirmed frame to frame first: a stereo match that is not a map landmark
+// is offered to the filter for initialisation only when the previous frame had a stereo match
+// with a close descriptor whose triangulated point, carried by the filter's motion estimate,
+// projects within `confirm_gate_px` of it in both images (so its disparity agrees too). A
+// wrong stereo match — whose triangulated depth is wrong, and which the filter's nearest-first
+// initialisation would otherwise favour when its disparity is too large — is rarely confirmed.
+//
+// Landmark ids: an associated observation carries its landmark's id; a confirmed new one gets
+// a fresh id from this pipeline, so that the caller learns which observations the filter
+// initialised as landmarks (VisualFrameResult::initialised) — e.g. to attach ground truth.
+// Unconfirmed observations (landmark_id −1) are not given to the filter.
+//
+// YAML (agent.yaml section `frontend:`): the StereoFrontEndOptions keys (`detector`,
+// `stereo`, `max_observations`, see config/front_end.yaml) plus `association:`
+// (MapAssociationOptions), `prediction:` (MapPredictionOptions), `max_hamming_distance`,
+// `vocabulary`. The stereo focal length and baseline always come from the camera.
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cvslam/core/status.h"
+#include "cvslam/slam/map_prediction.h"
+#include "cvslam/slam/visual_inertial_slam.h"
+#include "cvslam/vision/map_association.h"
+#include "cvslam/vision/stereo_front_end.h"
+#include "cvslam/vision/vocabulary.h"
+
+namespace cvslam {
+
+class ConfigNode;
+
+struct VisualFrontEndOptions {
+  vision::StereoFrontEndOptions front_end;    ///< detector, stereo, max_observations
+  vision::MapAssociationOptions association;  ///< `association:` (descriptor type follows the
+                                              ///< detector)
+  MapPredictionOptions prediction;            ///< `prediction:`
+  /// Association's absolute descriptor gate for ORB (Hamming bits); SIFT uses
+  /// association.max_descriptor_distance.
+  double max_hamming_distance = 50.0;
+  bool confirm_new = true;       ///< frame-to-frame confirmation of new landmarks (above)
+  double confirm_gate_px = 6.0;  ///< max |z − ẑ| per coordinate for a confirmation [px]
+  /// Vocabulary file for the feature index (§6.6.3), relative to the config file; empty: none
+  /// (index 0). Must match the detector's descriptor type.
+  std::string vocabulary;
+
+  Status load(const ConfigNode& node);
+};
+
+/// What one stereo pair did.
+struct VisualFrameResult {
+  StereoFrameObservations frame;  ///< observations as given to the filter (ids set)
+  FrameReport report;
+  int predictions = 0;                   ///< landmarks predicted in view
+  int confirmed = 0;                     ///< new observations confirmed frame to frame
+  vision::AssociationStats association;  ///< gate candidates and type-1 observations
+  std::vector<std::pair<std::size_t, int64_t>> initialised;  ///< (observation, new landmark)
+  double front_end_ms = 0.0;    ///< detection, description, stereo matching [ms]
+  double association_ms = 0.0;  ///< prediction and association [ms]
+  double filter_ms = 0.0;       ///< VisualInertialSlam::processFrame [ms]
+};
+
+class VisualSlamPipeline {
+ public:
+  /// `vocabulary` may be null (feature index 0).
+  static Expected<VisualSlamPipeline> create(const VisualFrontEndOptions& options,
+                                             const StereoCamera& camera,
+                                             std::shared_ptr<const vision::Vocabulary> vocabulary);
+
+  /// Runs front end → prediction → association → filter for the pair taken at t_us.
+  Status process(int64_t t_us, const cv::Mat& left, const cv::Mat& right, VisualInertialSlam& slam,
+                 VisualFrameResult* result);
+
+  const vision::StereoFrontEnd& frontEnd() const { return front_end_; }
+  const VisualFrontEndOptions& options() const { return o_; }
+
+ private:
+  VisualSlamPipeline(VisualFrontEndOptions o, vision::StereoFrontEnd fe)
+      : o_(std::move(o)), front_end_(std::move(fe)) {}
+
+  /// Marks the unassociated observations confirmed by the previous frame (fresh ids).
+  void confirmNew(const VisualInertialSlam& slam, std::vector<StereoObservation>* observations,
+                  int* confirmed);
+  /// Keeps this frame's unmapped stereo matches, triangulated, for the next confirmation.
+  void rememberUnmapped(const VisualInertialSlam& slam, const VisualFrameResult& result);
+
+  struct PreviousPoint {
+    Eigen::Vector3d p_LinN;
+    const std::vector<uint8_t>* descriptor;  // into previous_observations_
+  };
+
+  VisualFrontEndOptions o_;
+  std::vector<StereoObservation> previous_observations_;
+  std::vector<PreviousPoint> previous_;
+  StereoFrameObservations filter_frame_;   // what the filter gets (reused)
+  std::vector<std::size_t> filter_index_;  // filter_frame_ observation -> result observation
+  vision::StereoFrontEnd front_end_;
+  std::vector<PredictedObservation> predicted_;    // reused every frame
+  std::vector<vision::LandmarkPrediction> gated_;  // reused every frame
+  int64_t next_landmark_id_ = 0;
+};
+
+}  // namespace cvslam

@@ -1,0 +1,204 @@
+#include "cvslam/slam/visual_slam_pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+#include "cvslam/io/config_node.h"
+
+namespace cvslam {
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+Status VisualFrontEndOptions::load(const ConfigNode& node) {
+  front_end.load(node);
+  association.load(node.child("association"));
+  prediction.load(node.child("prediction"));
+  node.get("max_hamming_distance", max_hamming_distance);
+  node.get("vocabulary", vocabulary);
+  node.get("confirm_new", confirm_new);
+  node.get("confirm_gate_px", confirm_gate_px);
+  node.check(confirm_gate_px > 0.0, "confirm_gate_px", "must be > 0");
+  node.check(max_hamming_distance > 0.0, "max_hamming_distance", "must be > 0");
+  return node.status();
+}
+
+Expected<VisualSlamPipeline> VisualSlamPipeline::create(
+    const VisualFrontEndOptions& options, const StereoCamera& camera,
+    std::shared_ptr<const vision::Vocabulary> vocabulary) {
+  VisualFrontEndOptions o = options;
+  const StereoCameraOptions& c = camera.options();
+  o.front_end.stereo.focal_px = c.fx;
+  o.front_end.stereo.baseline_m = c.baseline;
+  const bool orb = o.front_end.detector.type == vision::DetectorType::kOrb;
+  o.association.descriptor_type =
+      orb ? vision::DescriptorType::kOrb : vision::DescriptorType::kSift;
+  if (orb) o.association.max_descriptor_distance = o.max_hamming_distance;
+  auto fe = vision::StereoFrontEnd::create(o.front_end, std::move(vocabulary));
+  if (!fe.ok()) return fe.status();
+  return VisualSlamPipeline(std::move(o), std::move(fe.value()));
+}
+
+Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::Mat& right,
+                                   VisualInertialSlam& slam, VisualFrameResult* result) {
+  VisualFrameResult& r = *result;
+  r = VisualFrameResult();
+  r.frame.t_us = t_us;
+  if (left.empty() || right.empty()) return Status::Error("pipeline: empty image");
+  if (left.type() != CV_8UC1 || right.type() != CV_8UC1) {
+    return Status::Error("pipeline: images must be 8-bit grey (CV_8UC1)");
+  }
+  const StereoCameraOptions& c = slam.camera().options();
+  if (left.cols != c.width || left.rows != c.height) {
+    return Status::Error("pipeline: image size " + std::to_string(left.cols) + "×" +
+                         std::to_string(left.rows) + " differs from the camera's " +
+                         std::to_string(c.width) + "×" + std::to_string(c.height));
+  }
+
+  // 1. Front end: features of both images, stereo matches → observations (type 3).
+  auto t0 = std::chrono::steady_clock::now();
+  if (Status s = front_end_.process(left, right, &r.frame.observations); !s.ok()) return s;
+  r.front_end_ms = msSince(t0);
+
+  // 2. Predicted observations of the map at t_us (propagates the filter to t_us).
+  t0 = std::chrono::steady_clock::now();
+  if (Status s = predictMapObservations(slam, t_us, o_.prediction, &predicted_); !s.ok()) {
+    return s;
+  }
+  gated_.clear();
+  for (const PredictedObservation& p : predicted_) {
+    if (p.descriptor == nullptr || p.descriptor->empty()) continue;
+    gated_.push_back({p.landmark_id, p.z, p.S, *p.descriptor});
+  }
+  r.predictions = static_cast<int>(gated_.size());
+
+  // 3. Association by descriptor and Mahalanobis gate (type 1), fresh ids for the rest.
+  if (Status s =
+          vision::associateToMap(gated_, o_.association, &r.frame.observations, &r.association);
+      !s.ok()) {
+    return s;
+  }
+  if (o_.confirm_new) {
+    confirmNew(slam, &r.frame.observations, &r.confirmed);
+  } else {
+    for (StereoObservation& obs : r.frame.observations) {
+      if (obs.landmark_id < 0) obs.landmark_id = next_landmark_id_++;
+    }
+  }
+  filter_frame_.t_us = t_us;
+  filter_frame_.observations.clear();
+  filter_index_.clear();
+  for (std::size_t i = 0; i < r.frame.observations.size(); ++i) {
+    if (r.frame.observations[i].landmark_id < 0) continue;
+    filter_frame_.observations.push_back(r.frame.observations[i]);
+    filter_index_.push_back(i);
+  }
+  r.association_ms = msSince(t0);
+
+  // 4. The filter; a fresh id that is now in the state was initialised by this frame.
+  t0 = std::chrono::steady_clock::now();
+  if (Status s = slam.processFrame(filter_frame_, &r.report); !s.ok()) return s;
+  r.filter_ms = msSince(t0);
+  for (std::size_t k = 0; k < filter_frame_.observations.size(); ++k) {
+    const StereoObservation& obs = filter_frame_.observations[k];
+    if (obs.type != ObservationType::kNew) continue;
+    if (slam.state().has(VariableKey::landmark(static_cast<uint64_t>(obs.landmark_id)))) {
+      r.initialised.emplace_back(filter_index_[k], obs.landmark_id);
+    }
+  }
+  if (o_.confirm_new) rememberUnmapped(slam, r);
+  return Status::Ok();
+}
+
+void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
+                                    std::vector<StereoObservation>* observations, int* confirmed) {
+  const StereoCamera& camera = slam.camera();
+  const StereoCamera::Vector9d x = slam.vehicleState().head<9>();
+  // Where the previous frame's unmapped points are expected now (the filter's motion).
+  std::vector<Eigen::Vector4d> expected(previous_.size());
+  std::vector<bool> ahead(previous_.size(), false);
+  for (std::size_t j = 0; j < previous_.size(); ++j) {
+    const Eigen::Vector3d p_C =
+        camera.landmarkInCamera(x.head<3>(), x.segment<3>(vehicle::kAttitude), previous_[j].p_LinN);
+    if (p_C.z() <= camera.options().min_depth) continue;
+    expected[j] = camera.project(p_C);
+    ahead[j] = true;
+  }
+  const vision::MapAssociationOptions& a = o_.association;
+  const int bytes = vision::descriptorBytes(a.descriptor_type);
+  const vision::MatchNorm norm =
+      a.descriptor_type == vision::DescriptorType::kOrb
+          ? vision::MatchNorm::kHamming
+          : (a.norm == vision::MatchNorm::kHamming ? vision::MatchNorm::kL2 : a.norm);
+  std::vector<bool> taken(previous_.size(), false);
+  struct Confirmed {
+    double residual;
+    std::size_t obs;
+  };
+  std::vector<Confirmed> found;
+  for (std::size_t i = 0; i < observations->size(); ++i) {
+    const StereoObservation& obs = (*observations)[i];
+    if (obs.landmark_id >= 0) continue;
+    if (static_cast<int>(obs.descriptor.size()) != bytes) continue;
+    double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
+    std::size_t best = previous_.size();
+    for (std::size_t j = 0; j < previous_.size(); ++j) {
+      if (!ahead[j] || taken[j]) continue;
+      if (((obs.z - expected[j]).cwiseAbs().array() > o_.confirm_gate_px).any()) continue;
+      const double d = vision::descriptorDistance(norm, obs.descriptor.data(),
+                                                  previous_[j].descriptor->data(), bytes);
+      if (d < d1) {
+        d2 = d1;
+        d1 = d;
+        best = j;
+      } else if (d < d2) {
+        d2 = d;
+      }
+    }
+    if (best == previous_.size() || d1 > a.max_descriptor_distance) continue;
+    if (d2 < std::numeric_limits<double>::infinity() && !(d1 < a.dist_ratio * d2)) continue;
+    taken[best] = true;
+    found.push_back({(obs.z - expected[best]).cwiseAbs().maxCoeff(), i});
+  }
+  // Offer the filter only as many as it initialises, best confirmed first: its own choice,
+  // nearest first, would favour the matches whose disparity error is positive (too near).
+  const auto n_offer = std::min(
+      found.size(), static_cast<std::size_t>(slam.options().slam.max_new_landmarks_per_frame));
+  std::partial_sort(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(n_offer),
+                    found.end(), [](const Confirmed& p, const Confirmed& q) {
+                      return p.residual < q.residual || (p.residual == q.residual && p.obs < q.obs);
+                    });
+  for (std::size_t k = 0; k < n_offer; ++k) {
+    (*observations)[found[k].obs].landmark_id = next_landmark_id_++;
+  }
+  *confirmed = static_cast<int>(found.size());
+}
+
+void VisualSlamPipeline::rememberUnmapped(const VisualInertialSlam& slam,
+                                          const VisualFrameResult& result) {
+  const StereoCamera::Vector9d x = slam.vehicleState().head<9>();
+  previous_observations_.clear();
+  for (const StereoObservation& obs : result.frame.observations) {
+    if (obs.type == ObservationType::kReobserved) continue;
+    if (obs.landmark_id >= 0 &&
+        slam.state().has(VariableKey::landmark(static_cast<uint64_t>(obs.landmark_id)))) {
+      continue;  // initialised now: the map predicts it from here on
+    }
+    previous_observations_.push_back(obs);
+  }
+  previous_.clear();
+  previous_.reserve(previous_observations_.size());
+  for (const StereoObservation& obs : previous_observations_) {
+    Eigen::Vector3d p_LinN;
+    if (!slam.camera().triangulate(obs.z, x, &p_LinN).ok()) continue;
+    previous_.push_back({p_LinN, &obs.descriptor});
+  }
+}
+
+}  // namespace cvslam
