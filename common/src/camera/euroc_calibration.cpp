@@ -40,6 +40,26 @@ Expected<EurocCameraCalibration> loadEurocCameraCalibration(const std::string& s
 
   EurocCameraCalibration c;
   c.source = sensor_yaml;
+  if (!node.has("T_BS")) {
+    node.check(false, "T_BS", "required key is missing");
+  } else {
+    const ConfigNode t = node.child("T_BS");
+    int rows = 0, cols = 0;
+    t.require("rows", rows);
+    t.require("cols", cols);
+    t.check(rows == 4 && cols == 4, "rows", "T_BS must be 4×4");
+    Eigen::Matrix4d T = Eigen::Matrix4d::Zero();
+    t.require("data", T);  // row-major, as the file lists it
+    if (t.status().ok()) {
+      const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+      t.check(T.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1)), "data",
+              "last row must be [0, 0, 0, 1]");
+      t.check((R * R.transpose()).isIdentity(1e-5) && R.determinant() > 0, "data",
+              "rotation part is not a rotation matrix");
+      c.T_CtoB = T;
+    }
+  }
+  node.get("comment", c.comment);
   std::string sensor_type = "camera", camera_model;
   node.get("sensor_type", sensor_type);
   node.check(sensor_type == "camera", "sensor_type",
@@ -67,25 +87,6 @@ Expected<EurocCameraCalibration> loadEurocCameraCalibration(const std::string& s
   node.require("rate_hz", c.rate_hz);
   node.check(c.rate_hz > 0, "rate_hz", "must be > 0");
 
-  if (!node.has("T_BS")) {
-    node.check(false, "T_BS", "required key is missing");
-  } else {
-    const ConfigNode t = node.child("T_BS");
-    int rows = 0, cols = 0;
-    t.require("rows", rows);
-    t.require("cols", cols);
-    t.check(rows == 4 && cols == 4, "rows", "T_BS must be 4×4");
-    Eigen::Matrix4d T = Eigen::Matrix4d::Zero();
-    t.require("data", T);  // row-major, as the file lists it
-    if (node.status().ok()) {
-      const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
-      t.check(T.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1)), "data",
-              "last row must be [0, 0, 0, 1]");
-      t.check((R * R.transpose()).isIdentity(1e-5) && R.determinant() > 0, "data",
-              "rotation part is not a rotation matrix");
-      c.T_CtoB = T;
-    }
-  }
   if (Status s = node.status(); !s.ok()) return s;
   return c;
 }

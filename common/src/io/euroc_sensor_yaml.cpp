@@ -1,5 +1,7 @@
 #include "cvslam/io/euroc_sensor_yaml.h"
 
+#include "cvslam/camera/euroc_calibration.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <cstdio>
@@ -65,31 +67,18 @@ std::string tbsBlock(const Eigen::Matrix4d& T) {
 }  // namespace
 
 Expected<EurocCameraInfo> readEurocCameraYaml(const std::string& path) {
-  auto root = loadOpenCvStyleYaml(path);
-  if (!root.ok()) return root.status();
+  // One parser and one set of checks for camera sensor.yaml files: the calibration loader's.
+  auto calib = loadEurocCameraCalibration(path);
+  if (!calib.ok()) return calib.status();
   EurocCameraInfo info;
-  try {
-    const YAML::Node& r = *root;
-    if (r["comment"]) info.comment = r["comment"].as<std::string>();
-    Status s = readTbs(r, path, info.T_BS);
-    if (!s.ok()) return s;
-    if (r["rate_hz"]) info.rate_hz = r["rate_hz"].as<double>();
-    const YAML::Node res = r["resolution"];
-    if (!res || !res.IsSequence() || res.size() != 2)
-      return Status::Error(path + ": resolution: expected [width, height]");
-    info.width = res[0].as<int>();
-    info.height = res[1].as<int>();
-    if (r["camera_model"]) info.camera_model = r["camera_model"].as<std::string>();
-    const YAML::Node k = r["intrinsics"];
-    if (!k || !k.IsSequence() || k.size() != 4)
-      return Status::Error(path + ": intrinsics: expected [fu, fv, cu, cv]");
-    for (std::size_t i = 0; i < 4; ++i) info.intrinsics(static_cast<int>(i)) = k[i].as<double>();
-    if (r["distortion_model"]) info.distortion_model = r["distortion_model"].as<std::string>();
-    if (r["distortion_coefficients"])
-      info.distortion = r["distortion_coefficients"].as<std::vector<double>>();
-  } catch (const YAML::Exception& e) {
-    return Status::Error(path + ": bad value: " + e.what());
-  }
+  if (!calib->comment.empty()) info.comment = calib->comment;
+  info.T_BS = calib->T_CtoB;
+  info.rate_hz = calib->rate_hz;
+  info.width = calib->width;
+  info.height = calib->height;
+  info.intrinsics = calib->intrinsics;
+  info.distortion_model = calib->distortion_model;
+  info.distortion.assign(calib->distortion.data(), calib->distortion.data() + 4);
   return info;
 }
 

@@ -143,10 +143,6 @@ const std::vector<uint8_t>* VisualInertialSlam::descriptorOf(int64_t landmark_id
   return nullptr;
 }
 
-int64_t VisualInertialSlam::landmarkIdOf(const StereoObservation& obs) const {
-  return obs.landmark_id;
-}
-
 Eigen::Matrix<double, 9, 1> VisualInertialSlam::pose9() const {
   return state_.value(*state_.find(vehicle_)).head<9>();
 }
@@ -178,7 +174,7 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
         {id, state_.value(v), std::binary_search(observed.begin(), observed.end(), id)});
   }
   for (const StereoObservation& obs : frame.observations) {
-    const int64_t id = landmarkIdOf(obs);
+    const int64_t id = obs.landmark_id;
     if (id < 0) continue;
     const ArchivedLandmark* a = archive_.find(id);
     if (a != nullptr &&
@@ -294,7 +290,7 @@ Status VisualInertialSlam::updatePass(const StereoFrameObservations& frame, int 
   StereoCamera::Matrix4x9d dz_dxv;
   StereoCamera::Matrix4x3d dz_dpL;
   for (const StereoObservation& obs : frame.observations) {
-    const int64_t id = landmarkIdOf(obs);
+    const int64_t id = obs.landmark_id;
     if (id < 0) continue;
     if (selection != Selection::kAll) {
       const bool loop = std::binary_search(loop_ids_.begin(), loop_ids_.end(), id);

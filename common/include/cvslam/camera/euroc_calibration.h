@@ -17,6 +17,7 @@ namespace cvslam {
 
 struct EurocCameraCalibration {
   std::string source;                                    ///< file it was read from
+  std::string comment;                                   ///< the file's free-text comment
   Eigen::Vector4d intrinsics = Eigen::Vector4d::Zero();  ///< [fu fv cu cv] [px]
   std::string distortion_model = "radial-tangential";
   Eigen::Vector4d distortion = Eigen::Vector4d::Zero();  ///< [k1 k2 p1 p2]

@@ -148,7 +148,6 @@ class VisualInertialSlam {
   const StereoCamera& camera() const { return camera_; }
 
  private:
-  int64_t landmarkIdOf(const StereoObservation& obs) const;
   void manageMap(const StereoFrameObservations& frame, FrameReport* report);
   /// Which observations an update pass uses.
   enum class Selection { kAll, kOnlyLoop, kAllButLoop };
