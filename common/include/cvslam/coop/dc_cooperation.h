@@ -62,7 +62,11 @@ struct DcCooperationOptions {
   double max_position_m = 1.0e5;            ///< |p| above this is absurd [m]
   double max_landmark_variance_m2 = 1.0e4;  ///< covariance eigenvalues above this are absurd [m²]
   double min_landmark_variance_m2 = 1.0e-12;  ///< ... below this (not PD) too [m²]
-  int max_queued_messages = 1000;             ///< inbound queue bound (oldest dropped beyond)
+  /// Smallest weight of either estimate: ω1 → 0 would scale the local prior by 1/ω1 → ∞.
+  double min_omega = 0.05;
+  int max_queued_messages = 1000;
+  /// Indices are true landmark ids (feature-level simulation); set by the runner, not YAML.
+  bool true_ids = false;  ///< inbound queue bound (oldest dropped beyond)
   Status load(const ConfigNode& node);
 };
 
