@@ -86,7 +86,8 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
     }
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    SimulatedFrame f{a.id, ev.t_us, &ev.truth, &a.slam, &report, &a.x_ins, ms, a.sensing.get()};
+    SimulatedFrame f{a.id,     ev.t_us, &ev.truth,       &a.slam, &report,
+                     &a.x_ins, ms,      a.sensing.get(), &a.slam};
     if (on_frame) {
       if (Status s = on_frame(f); !s.ok()) return s;
     }
