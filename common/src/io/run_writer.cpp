@@ -137,6 +137,12 @@ Status writeRunStats(const std::string& path, int agent_id, const RunStats& stat
   root.set("duration_s", Json::number(stats.duration_s));
   root.set("bytes_sent", Json::number(static_cast<double>(stats.bytes_sent)));
   root.set("bytes_received", Json::number(static_cast<double>(stats.bytes_received)));
+  if (!stats.bytes_sent_per_stream.empty()) {
+    Json streams = Json::object();
+    for (const auto& [stream, bytes] : stats.bytes_sent_per_stream)
+      streams.set(stream, Json::number(static_cast<double>(bytes)));
+    root.set("bytes_sent_per_stream", std::move(streams));
+  }
   root.set("frames", std::move(frames));
   std::ofstream out(path, std::ios::trunc);
   if (!out) return Status::Error(path + ": cannot write");

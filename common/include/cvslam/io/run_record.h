@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -57,6 +58,8 @@ struct RunStats {
   double duration_s = 0.0;  ///< dataset time covered by the run [s]
   int64_t bytes_sent = 0;   ///< payload bytes this agent published (all channels)
   int64_t bytes_received = 0;
+  /// Payload bytes per stream ("SUMMARY", "INDEX", ...), when the driver counts them.
+  std::map<std::string, int64_t> bytes_sent_per_stream;
   std::vector<FrameStats> frames;
 };
 
