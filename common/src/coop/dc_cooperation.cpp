@@ -30,6 +30,12 @@ bool validHeader(const CoopHeader& h) {
   return h.agent_id >= 1 && h.seq >= 0 && h.t_us >= 0;
 }
 
+VariableKey vehicleKeyOf(const VisualInertialSlam& slam) {
+  for (const StateVariable& v : slam.state().variables())
+    if (v.key.kind == VariableKey::Kind::kVehicle) return v.key;
+  return VariableKey::vehicle(0);
+}
+
 double vehiclePositionTrace(const VisualInertialSlam& slam) {
   return slam.vehicleCovariance().topLeftCorner<3, 3>().trace();
 }
@@ -89,6 +95,7 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.get("max_landmark_variance_m2", max_landmark_variance_m2);
   node.get("min_landmark_variance_m2", min_landmark_variance_m2);
   node.get("min_omega", min_omega);
+  node.get("require_vehicle_gain", require_vehicle_gain);
   node.get("max_queued_messages", max_queued_messages);
   node.check(coop_sigma > 0.0, "coop_sigma", "must be > 0");
   node.check(min_semi_axis_m > 0.0, "min_semi_axis_m", "must be > 0");
@@ -105,7 +112,7 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.check(min_landmark_variance_m2 > 0.0 && max_landmark_variance_m2 > min_landmark_variance_m2,
              "max_landmark_variance_m2",
              "need 0 < min_landmark_variance_m2 < max_landmark_variance_m2");
-  node.check(min_omega > 0.0 && min_omega < 0.5, "min_omega", "must be in (0, 0.5)");
+  node.check(min_omega > 0.0 && min_omega < 1.0, "min_omega", "must be in (0, 1)");
   node.check(max_queued_messages >= 1, "max_queued_messages", "must be ≥ 1");
   return node.status();
 }
@@ -356,13 +363,21 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
       R.block<3, 3>(3 * k, 3 * k) = static_cast<double>(n) * pr.peer->covariance;
       peer_trace += pr.peer->covariance.trace();
     }
-    Expected<Eigen::MatrixXd> P1 = CovarianceHelper::marginalCovariance(slam.state(), keys);
-    if (!P1.ok()) {
+    // Joint prior covariance of [vehicle; confirmed landmarks]: P1 is the landmarks' block,
+    // the vehicle position blocks serve optimal_vehicle and the gain check.
+    std::vector<VariableKey> joint_keys{vehicleKeyOf(slam)};
+    joint_keys.insert(joint_keys.end(), keys.begin(), keys.end());
+    Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), joint_keys);
+    if (!J.ok()) {
       ++stats_.fusion_failures;
       return;
     }
-    const double own_trace = P1.value().trace();
-    const double own_vehicle = vehiclePositionTrace(slam);
+    const Eigen::Index nv = J.value().rows() - 3 * n;
+    const Eigen::MatrixXd P1 = J.value().bottomRightCorner(3 * n, 3 * n);
+    const Eigen::MatrixXd P_pp = J.value().topLeftCorner(3, 3);
+    const Eigen::MatrixXd P_pL = J.value().block(0, nv, 3, 3 * n);
+    const double own_trace = P1.trace();
+    const double own_vehicle = P_pp.trace();
     double w = 1.0;
     const double nn = static_cast<double>(n);
     switch (o_.ci_method) {
@@ -375,11 +390,24 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
         break;
       case CiMethod::kOptimalTrace:
       case CiMethod::kOptimalDeterminant:
-        w = optimalCiOmega(P1.value(), R, o_.ci_method == CiMethod::kOptimalDeterminant);
+        w = optimalCiOmega(P1, R, o_.ci_method == CiMethod::kOptimalDeterminant);
+        break;
+      case CiMethod::kOptimalVehicle:
+        w = optimalVehicleCiOmega(P_pp, P_pL, P1, R, o_.min_omega);
         break;
     }
-    w = std::clamp(w, o_.min_omega, 1.0 - o_.min_omega);
+    w = std::clamp(w, o_.min_omega, 1.0);
     e.omega1 = w;
+    // CI on the joint state inflates everything by 1/ω1; when the peer's landmarks would not
+    // even shrink the bound on the vehicle position, fusing only loses information (not
+    // fusing is always consistent), so skip it.
+    const bool gain = w < 1.0 && jointCiVehiclePositionTrace(P_pp, P_pL, P1, R, w) < own_vehicle;
+    if (o_.require_vehicle_gain && !gain) {
+      ++stats_.skipped_no_gain;
+      e.count = static_cast<int>(m.landmarks.size());
+      events_.push_back(e);
+      return;
+    }
     // both_ways: return the local (pre-fusion) estimates of the confirmed landmarks.
     if (o_.both_ways && answers_request) {
       SharedLandmarks back;

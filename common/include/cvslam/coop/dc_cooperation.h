@@ -49,9 +49,9 @@ struct DcCooperationOptions {
   double peer_timeout_s = 5.0;     ///< a silent peer is forgotten after this [s]
   double request_timeout_s = 2.0;  ///< an unanswered request is abandoned after this [s]
   double max_message_age_s = 2.0;  ///< older messages (dataset time) are dropped as stale [s]
-  CiMethod ci_method =
-      CiMethod::kAdaptive;  ///< adaptive | fast | optimal_trace | optimal_determinant
-  bool both_ways = false;   ///< the receiver also returns its estimates to the sender
+  CiMethod ci_method = CiMethod::kAdaptive;  ///< adaptive | fast | optimal_trace |
+                                             ///< optimal_determinant | optimal_vehicle
+  bool both_ways = false;  ///< the receiver also returns its estimates to the sender
   int max_landmarks_per_message =
       50;  ///< landmarks per request / SharedLandmarks (sent and accepted)
   int max_indices_per_message = 2000;  ///< indices per FeatureIndexList (sent and accepted)
@@ -62,8 +62,11 @@ struct DcCooperationOptions {
   double max_position_m = 1.0e5;            ///< |p| above this is absurd [m]
   double max_landmark_variance_m2 = 1.0e4;  ///< covariance eigenvalues above this are absurd [m²]
   double min_landmark_variance_m2 = 1.0e-12;  ///< ... below this (not PD) too [m²]
-  /// Smallest weight of either estimate: ω1 → 0 would scale the local prior by 1/ω1 → ∞.
+  /// Smallest weight of the own estimate: ω1 → 0 would scale the local prior by 1/ω1 → ∞.
   double min_omega = 0.05;
+  /// Fuse only when the CI update shrinks the trace of the vehicle position covariance
+  /// (otherwise it only inflates the local state; not fusing is always consistent).
+  bool require_vehicle_gain = true;
   int max_queued_messages = 1000;
   /// Indices are true landmark ids (feature-level simulation); set by the runner, not YAML.
   bool true_ids = false;  ///< inbound queue bound (oldest dropped beyond)
@@ -88,6 +91,7 @@ struct DcCooperationStatistics {
   int64_t rejected_descriptor = 0;    ///< shared landmarks failing the descriptor check
   int64_t shared_not_in_state = 0;    ///< shared landmarks no longer in the local state
   int64_t fusion_failures = 0;        ///< CI updates the filter refused
+  int64_t skipped_no_gain = 0;        ///< confirmed sets not fused (require_vehicle_gain)
   int64_t request_timeouts = 0;
   int64_t peer_restarts = 0;
   int64_t peer_timeouts = 0;
