@@ -96,6 +96,7 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.get("min_landmark_variance_m2", min_landmark_variance_m2);
   node.get("min_omega", min_omega);
   node.get("require_vehicle_gain", require_vehicle_gain);
+  node.get("include_vehicle_uncertainty", include_vehicle_uncertainty);
   node.get("max_queued_messages", max_queued_messages);
   node.check(coop_sigma > 0.0, "coop_sigma", "must be > 0");
   node.check(min_semi_axis_m > 0.0, "min_semi_axis_m", "must be > 0");
@@ -485,6 +486,7 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
   for (const StateLandmark& l : now_seen) points.push_back(l.p_LinN);
   const FeatureEllipsoid mine = ellipsoidOf(points);
   const int n_self = mine.count;
+  const double own_vehicle_trace = vehiclePositionTrace(slam);
 
   if (last_summary_us_ < 0 || seconds(now - last_summary_us_) >= o_.summary_period_s) {
     CoopSummary s;
@@ -493,7 +495,7 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
     s.mean = mine.mean;
     s.std = mine.std;
     s.num_features = n_self;
-    s.vehicle_cov_trace = vehiclePositionTrace(slam);
+    s.vehicle_cov_trace = own_vehicle_trace;
     out->summary = s;
     last_summary_us_ = now;
     ++stats_.summaries_sent;
@@ -511,7 +513,13 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
     theirs.mean = p.summary.mean;
     theirs.std = p.summary.std;
     theirs.count = p.summary.num_features;
-    if (!ellipsoidsIntersect(mine, theirs, o_.coop_sigma, o_.min_semi_axis_m)) continue;
+    FeatureEllipsoid own = mine;
+    if (o_.include_vehicle_uncertainty) {
+      // Where the features are is uncertain by the vehicle position too (trace/3 per axis).
+      own.std = (own.std.array().square() + own_vehicle_trace / 3.0).sqrt();
+      theirs.std = (theirs.std.array().square() + p.summary.vehicle_cov_trace / 3.0).sqrt();
+    }
+    if (!ellipsoidsIntersect(own, theirs, o_.coop_sigma, o_.min_semi_axis_m)) continue;
     const int n_peer = p.summary.num_features;
     if (n_self < n_peer || (n_self == n_peer && self_ < j)) send = true;
   }
