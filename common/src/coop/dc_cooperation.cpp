@@ -333,6 +333,7 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
     }
     if (!any_index) {
       ++stats_.shared_not_in_state;
+      ++e.not_in_state;
     } else if (!any_descriptor) {
       ++stats_.rejected_descriptor;
       ++e.rejected_descriptor;
@@ -399,16 +400,6 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
     }
     w = std::clamp(w, o_.min_omega, 1.0);
     e.omega1 = w;
-    // CI on the joint state inflates everything by 1/ω1; when the peer's landmarks would not
-    // even shrink the bound on the vehicle position, fusing only loses information (not
-    // fusing is always consistent), so skip it.
-    const bool gain = w < 1.0 && jointCiVehiclePositionTrace(P_pp, P_pL, P1, R, w) < own_vehicle;
-    if (o_.require_vehicle_gain && !gain) {
-      ++stats_.skipped_no_gain;
-      e.count = static_cast<int>(m.landmarks.size());
-      events_.push_back(e);
-      return;
-    }
     // both_ways: return the local (pre-fusion) estimates of the confirmed landmarks.
     if (o_.both_ways && answers_request) {
       SharedLandmarks back;
@@ -423,6 +414,17 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
       events_.push_back({now_us, CoopEventKind::kSharedSent, j,
                          static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
       out->shared.push_back(std::move(back));
+    }
+    // CI on the joint state inflates everything by 1/ω1; when the peer's landmarks would not
+    // even shrink the bound on the vehicle position, fusing only loses information (not
+    // fusing is always consistent), so skip it.
+    const bool gain = w < 1.0 && jointCiVehiclePositionTrace(P_pp, P_pL, P1, R, w) < own_vehicle;
+    if (o_.require_vehicle_gain && !gain) {
+      ++stats_.skipped_no_gain;
+      e.no_gain = true;
+      e.count = static_cast<int>(m.landmarks.size());
+      events_.push_back(e);
+      return;
     }
     if (Status s = slam.fuseCovarianceIntersection(ids, y, R, w); !s.ok()) {
       ++stats_.fusion_failures;

@@ -125,6 +125,8 @@ struct CoopEvent {
   int rejected_gate = 0;        ///< kFused
   int rejected_descriptor = 0;  ///< kFused
   double omega1 = 1.0;          ///< kFused: weight of the own estimate
+  int not_in_state = 0;         ///< kFused: landmarks no longer in the local state
+  bool no_gain = false;         ///< kFused: not fused (require_vehicle_gain)
 };
 
 class DcCooperation {
