@@ -223,6 +223,33 @@ TEST(DcCooperation, MalformedMessagesAreRejectedAndCounted) {
   EXPECT_EQ(c.statistics().rejected_invalid, 10);
 }
 
+// A flood of summaries from forged agent ids is bounded by max_peers; real peers keep working.
+TEST(DcCooperation, ForgedPeerFloodIsBounded) {
+  auto sc = sim::Scenario::fromString(cooptest::twoUavScenario(1.0, kSeed), "pair.yaml");
+  ASSERT_TRUE(sc.ok());
+  auto run = SimulatedTeamRun::create(*sc, VisualInertialSlamOptions{});
+  ASSERT_TRUE(run.ok());
+  coop::DcCooperationOptions o;
+  o.max_peers = 4;
+  coop::DcCooperation c(1, o, 7);
+  Status s = (*run)->run([&](const SimulatedFrame& f) {
+    if (f.agent_id != 1) return Status::Ok();
+    for (int id = 2; id < 200; ++id) {
+      coop::CoopSummary m;
+      m.header = {id, f.t_us / 100000, f.t_us};
+      m.boot_id = id;
+      c.onSummary(m);
+    }
+    StereoFrameObservations frame;
+    frame.t_us = f.t_us;
+    coop::CoopOutbox box;
+    return c.afterFrame(frame, *f.mutable_slam, &box);
+  });
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(c.peers().size(), 4u);
+  EXPECT_GT(c.statistics().rejected_too_many_peers, 1000);
+}
+
 TEST(DcCooperation, OptionsLoadAndValidate) {
   auto node = ConfigNode::fromString("ci_method: optimal_trace\nboth_ways: true\ncoop_sigma: 3\n",
                                      "coop.yaml");

@@ -148,6 +148,10 @@ void DcCooperation::handleSummary(const CoopSummary& m, int64_t now_us) {
   }
   const int j = m.header.agent_id;
   auto it = peers_.find(j);
+  if (it == peers_.end() && static_cast<int>(peers_.size()) >= o_.max_peers) {
+    ++stats_.rejected_too_many_peers;
+    return;
+  }
   if (it == peers_.end() || it->second.boot_id != m.boot_id) {
     const bool restart = it != peers_.end();
     PeerState fresh;

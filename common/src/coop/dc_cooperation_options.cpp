@@ -56,6 +56,8 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.get("require_vehicle_gain", require_vehicle_gain);
   node.get("include_vehicle_uncertainty", include_vehicle_uncertainty);
   node.get("max_queued_messages", max_queued_messages);
+  node.get("max_peers", max_peers);
+  node.check(max_peers >= 1, "max_peers", "must be ≥ 1");
   node.check(coop_sigma > 0.0, "coop_sigma", "must be > 0");
   node.check(min_semi_axis_m > 0.0, "min_semi_axis_m", "must be > 0");
   node.check(summary_period_s > 0.0 && exchange_period_s > 0.0, "summary_period_s",

@@ -73,6 +73,9 @@ struct DcCooperationOptions {
   /// (otherwise it only inflates the local state; not fusing is always consistent).
   bool require_vehicle_gain = true;
   int max_queued_messages = 1000;
+  /// Peers tracked at most; summaries of further agents are dropped (rejected_too_many_peers),
+  /// so that a flood of forged agent ids cannot grow the state without bound.
+  int max_peers = 64;
   /// Indices are true landmark ids (feature-level simulation); set by the runner, not YAML.
   bool true_ids = false;  ///< inbound queue bound (oldest dropped beyond)
   Status load(const ConfigNode& node);
@@ -91,6 +94,7 @@ struct DcCooperationStatistics {
   int64_t rejected_duplicate = 0;
   int64_t rejected_reordered = 0;
   int64_t rejected_queue_full = 0;
+  int64_t rejected_too_many_peers = 0;
   int64_t rejected_unknown_peer = 0;  ///< index/request/shared from a peer with no summary yet
   int64_t rejected_gate = 0;          ///< shared landmarks failing the χ² gate
   int64_t rejected_descriptor = 0;    ///< shared landmarks failing the descriptor check
