@@ -231,8 +231,13 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
   ++stats_.shared_received;
   const int j = m.header.agent_id;
   PeerState& p = peers_[j];
-  const bool answers_request = p.request_pending;
-  p.request_pending = false;
+  // The answer to the pending request holds only requested indices; anything else is a
+  // both_ways return of an exchange the peer started (fused, never returned again).
+  bool answers_request = p.request_pending;
+  for (const SharedLandmark& l : m.landmarks)
+    answers_request =
+        answers_request && std::binary_search(p.requested.begin(), p.requested.end(), l.index);
+  if (answers_request) p.request_pending = false;
 
   const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
   const std::vector<StateLandmark> local = slam.stateLandmarks();
