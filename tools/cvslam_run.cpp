@@ -241,21 +241,10 @@ int main(int argc, char** argv) {
   cvslam::SimulatedTeamRun::SensingFactory sensing;
   if (args.sensing == "images") {
     // The feature index needs a vocabulary of the detector's descriptor type (§6.6.3).
-    std::shared_ptr<const cvslam::vision::Vocabulary> vocabulary;
-    if (!frontend.vocabulary.empty()) {
-      std::filesystem::path file = frontend.vocabulary;
-      if (file.is_relative()) file = std::filesystem::path(config_path).parent_path() / file;
-      auto v = cvslam::vision::Vocabulary::load(file.string());
-      if (!v.ok()) return fail(v.status().message());
-      const bool orb = frontend.front_end.detector.type == cvslam::vision::DetectorType::kOrb;
-      if ((v->type() == cvslam::vision::DescriptorType::kOrb) == orb) {
-        vocabulary = std::make_shared<const cvslam::vision::Vocabulary>(std::move(v.value()));
-      } else if (!args.quiet) {
-        std::fprintf(stderr, "cvslam_run: %s does not fit the detector: feature index 0\n",
-                     file.string().c_str());
-      }
-    }
-    auto factory = cvslam::makeRenderedSensingFactory(*scenario, frontend, vocabulary);
+    auto vocabulary = cvslam::loadFeatureIndexVocabulary(
+        frontend, std::filesystem::path(config_path).parent_path().string());
+    if (!vocabulary.ok()) return fail(vocabulary.status().message());
+    auto factory = cvslam::makeRenderedSensingFactory(*scenario, frontend, *vocabulary);
     if (!factory.ok()) return fail(factory.status().message());
     sensing = *factory;
   }

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "cvslam/io/config_node.h"
 #include "cvslam/sim/scenario.h"
@@ -301,6 +302,34 @@ TEST(ImageSlam, ShippedFrontendConfigLoads) {
   auto bad = ConfigNode::fromString("confirm_gate_px: -1\n", "bad.yaml");
   ASSERT_TRUE(bad.ok());
   EXPECT_FALSE(o.load(*bad).ok());
+}
+
+// Each detector gets the vocabulary of its own descriptor type from the shipped config; a
+// vocabulary of the other type is an error, not a silent feature index 0.
+TEST(ImageSlam, ShippedVocabulariesFitTheirDetectors) {
+  const std::string config_dir = std::string(CVSLAM_SOURCE_DIR) + "/config";
+  auto cfg = ConfigNode::loadFile(config_dir + "/agent.yaml");
+  ASSERT_TRUE(cfg.ok());
+  VisualFrontEndOptions o;
+  ASSERT_TRUE(o.load(cfg->child("frontend")).ok());
+  for (auto type : {vision::DetectorType::kAdaptiveSift, vision::DetectorType::kOrb}) {
+    o.front_end.detector.type = type;
+    auto v = loadFeatureIndexVocabulary(o, config_dir);
+    ASSERT_TRUE(v.ok()) << v.status().message();
+    ASSERT_TRUE(*v);
+    EXPECT_EQ((*v)->type(), type == vision::DetectorType::kOrb ? vision::DescriptorType::kOrb
+                                                               : vision::DescriptorType::kSift);
+  }
+  std::swap(o.vocabulary, o.vocabulary_orb);  // ORB detector, SIFT vocabulary
+  auto wrong = loadFeatureIndexVocabulary(o, config_dir);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.status().message().find("does not fit"), std::string::npos);
+  o.vocabulary_orb = "missing.cvoc";
+  EXPECT_FALSE(loadFeatureIndexVocabulary(o, config_dir).ok());
+  o.vocabulary_orb.clear();
+  auto none = loadFeatureIndexVocabulary(o, config_dir);
+  ASSERT_TRUE(none.ok());
+  EXPECT_FALSE(*none);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <limits>
 
 #include "cvslam/io/config_node.h"
@@ -22,11 +23,32 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
   prediction.load(node.child("prediction"));
   node.get("max_hamming_distance", max_hamming_distance);
   node.get("vocabulary", vocabulary);
+  node.get("vocabulary_orb", vocabulary_orb);
   node.get("confirm_new", confirm_new);
   node.get("confirm_gate_px", confirm_gate_px);
   node.check(confirm_gate_px > 0.0, "confirm_gate_px", "must be > 0");
   node.check(max_hamming_distance > 0.0, "max_hamming_distance", "must be > 0");
   return node.status();
+}
+
+Expected<std::shared_ptr<const vision::Vocabulary>> loadFeatureIndexVocabulary(
+    const VisualFrontEndOptions& options, const std::string& config_dir) {
+  const bool orb = options.front_end.detector.type == vision::DetectorType::kOrb;
+  const std::string& name = orb ? options.vocabulary_orb : options.vocabulary;
+  if (name.empty()) return std::shared_ptr<const vision::Vocabulary>();
+  std::filesystem::path file = name;
+  if (file.is_relative()) file = std::filesystem::path(config_dir) / file;
+  auto v = vision::Vocabulary::load(file.string());
+  if (!v.ok()) return v.status();
+  const vision::DescriptorType wanted =
+      orb ? vision::DescriptorType::kOrb : vision::DescriptorType::kSift;
+  if (v->type() != wanted) {
+    return Status::Error(file.string() + ": vocabulary of " +
+                         (v->type() == vision::DescriptorType::kOrb ? "ORB" : "SIFT") +
+                         " descriptors does not fit the " + (orb ? "ORB" : "SIFT") +
+                         " detector (frontend." + (orb ? "vocabulary_orb" : "vocabulary") + ")");
+  }
+  return std::make_shared<const vision::Vocabulary>(std::move(v.value()));
 }
 
 Expected<VisualSlamPipeline> VisualSlamPipeline::create(

@@ -50,9 +50,11 @@ struct VisualFrontEndOptions {
   double max_hamming_distance = 50.0;
   bool confirm_new = true;       ///< frame-to-frame confirmation of new landmarks (above)
   double confirm_gate_px = 6.0;  ///< max |z − ẑ| per coordinate for a confirmation [px]
-  /// Vocabulary file for the feature index (§6.6.3), relative to the config file; empty: none
-  /// (index 0). Must match the detector's descriptor type.
+  /// Vocabulary files for the feature index (§6.6.3), relative to the config file; empty: none
+  /// (index 0). `vocabulary` serves the SIFT detectors (adaptive_sift, sift), `vocabulary_orb`
+  /// the ORB detector; each must hold descriptors of its detector's type.
   std::string vocabulary;
+  std::string vocabulary_orb;
 
   Status load(const ConfigNode& node);
 };
@@ -69,6 +71,13 @@ struct VisualFrameResult {
   double association_ms = 0.0;  ///< prediction and association [ms]
   double filter_ms = 0.0;       ///< VisualInertialSlam::processFrame [ms]
 };
+
+/// Loads the feature-index vocabulary of the configured detector (`vocabulary` or
+/// `vocabulary_orb`; relative paths are taken from `config_dir`). Null when that key is empty;
+/// an error when the file is missing, malformed or of the other descriptor type — agents must
+/// never silently fall back to index 0, or they would not find shared landmarks.
+Expected<std::shared_ptr<const vision::Vocabulary>> loadFeatureIndexVocabulary(
+    const VisualFrontEndOptions& options, const std::string& config_dir);
 
 class VisualSlamPipeline {
  public:
