@@ -4,10 +4,11 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "cvslam/core/golden_section.h"
+
 namespace cvslam::coop {
 
 namespace {
-constexpr double kGolden = 0.6180339887498949;
 
 /// Fused covariance for weight w (ω1); I1, I2 are the information matrices.
 Eigen::MatrixXd fusedCovariance(const Eigen::MatrixXd& I1, const Eigen::MatrixXd& I2, double w) {
@@ -68,25 +69,7 @@ double optimalCiOmega(const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2, bool
     }
     return fusedCovariance(I1, I2, w).trace();
   };
-  double lo = 0.0, hi = 1.0;
-  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
-  double f1 = cost(x1), f2 = cost(x2);
-  while (hi - lo > tolerance) {
-    if (f1 < f2) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - kGolden * (hi - lo);
-      f1 = cost(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + kGolden * (hi - lo);
-      f2 = cost(x2);
-    }
-  }
-  const double w = 0.5 * (lo + hi);
+  const double w = minimizeGoldenSection(cost, 0.0, 1.0, tolerance).x;
   // The minimum may sit on the boundary (one estimate dominates).
   const double f0 = cost(0.0), f_one = cost(1.0), fw = cost(w);
   if (f0 <= fw && f0 <= f_one) return 0.0;
@@ -124,25 +107,7 @@ double optimalVehicleCiOmega(const Eigen::MatrixXd& P_pp, const Eigen::MatrixXd&
                              const Eigen::MatrixXd& P_LL, const Eigen::MatrixXd& R,
                              double omega_min, double tolerance) {
   auto cost = [&](double w) { return jointCiVehiclePositionTrace(P_pp, P_pL, P_LL, R, w); };
-  double lo = omega_min, hi = 1.0;
-  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
-  double f1 = cost(x1), f2 = cost(x2);
-  while (hi - lo > tolerance) {
-    if (f1 < f2) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - kGolden * (hi - lo);
-      f1 = cost(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + kGolden * (hi - lo);
-      f2 = cost(x2);
-    }
-  }
-  const double w = 0.5 * (lo + hi);
+  const double w = minimizeGoldenSection(cost, omega_min, 1.0, tolerance).x;
   if (cost(1.0) <= cost(w)) return 1.0;
   if (cost(omega_min) <= cost(w)) return omega_min;
   return w;

@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cvslam/core/golden_section.h"
+
 namespace cvslam::coop {
 
 namespace {
 // Golden-section search on a convex function of s ∈ (0, 1): 1e-12 in s is far below what
 // changes the sign of K for ellipsoids of metres.
-constexpr double kGolden = 0.6180339887498949;
 constexpr double kSearchTolerance = 1e-12;
 constexpr int kMaxIterations = 200;
 }  // namespace
@@ -36,25 +37,7 @@ double minOverlapMeasure(const Eigen::Vector3d& mu1, const Eigen::Vector3d& a1,
     for (int k = 0; k < 3; ++k) q += d2(k) / (s1(k) / (1.0 - s) + s2(k) / s);
     return 1.0 - q;
   };
-  double lo = 0.0, hi = 1.0;
-  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
-  double f1 = K(x1), f2 = K(x2);
-  for (int i = 0; i < kMaxIterations && hi - lo > kSearchTolerance; ++i) {
-    if (f1 < f2) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - kGolden * (hi - lo);
-      f1 = K(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + kGolden * (hi - lo);
-      f2 = K(x2);
-    }
-  }
-  return std::min(f1, f2);
+  return minimizeGoldenSection(K, 0.0, 1.0, kSearchTolerance, kMaxIterations).value;
 }
 
 bool ellipsoidsIntersect(const FeatureEllipsoid& e1, const FeatureEllipsoid& e2, double sigma,
