@@ -75,6 +75,7 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
   node.get("confirm_new", confirm_new);
   node.get("confirm_gate_px", confirm_gate_px);
   node.get("tracked_landmarks", tracked_landmarks);
+  node.get("drop_duplicate_points", drop_duplicate_points);
   node.check(confirm_gate_px > 0.0, "confirm_gate_px", "must be > 0");
   node.check(tracked_landmarks >= 0, "tracked_landmarks", "must be ≥ 0");
   node.check(max_hamming_distance > 0.0, "max_hamming_distance", "must be > 0");
@@ -145,7 +146,7 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
     detectLoop(t_us, slam, &r);
   }
   ++frames_;
-  r.duplicates = removeDuplicatePoints(&r.frame.observations);
+  if (o_.drop_duplicate_points) r.duplicates = removeDuplicatePoints(&r.frame.observations);
   if (o_.confirm_new) {
     confirmNew(slam, &r.frame.observations, &r.confirmed);
   } else {

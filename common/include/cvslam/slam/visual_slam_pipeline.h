@@ -64,6 +64,10 @@ struct VisualFrontEndOptions {
   /// it is tracked: initialising new ones beyond what the k-nearest map keeps would push
   /// still-visible landmarks into the archive after two or three frames (docs/image_sensing.md).
   int tracked_landmarks = 0;
+  /// Keep one observation per left pixel (SIFT gives one keypoint per dominant orientation,
+  /// i.e. the same point twice with different descriptors). Off by default: on thesis_loop it
+  /// changed the drift by several metres either way (docs/image_sensing.md).
+  bool drop_duplicate_points = false;
   /// Vocabulary file for the feature index (§6.6.3), relative to the config file; empty: none
   /// (index 0). Must match the detector's descriptor type.
   std::string vocabulary;
