@@ -234,6 +234,9 @@ int main(int argc, char** argv) {
     if (!cfg->status().ok()) return fail(cfg->status().message());
   }
   if (args.passes > 0) options.slam.observation_passes = args.passes;
+  if (args.sensing == "images" && frontend.first_estimate_jacobians) {
+    options.slam.first_estimate_jacobians = *frontend.first_estimate_jacobians;
+  }
   if (auto p = options.filter.policy(); !p.ok()) return fail(p.status().message());
 
   cvslam::SimulatedTeamRun::SensingFactory sensing;
