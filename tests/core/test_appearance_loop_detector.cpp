@@ -80,7 +80,7 @@ struct LoopScene {
     LoopQuery q;
     q.t_us = kNow;
     q.x_v = x_estimate;
-    q.position_sigma_m = 1.0;  // search radius 10 m (default scale 10)
+    q.position_sigma_m = 2.0;  // search radius 20 m, corrections up to 7 m (3.5 σ)
     return q;
   }
 };
@@ -107,7 +107,8 @@ TEST(AppearanceLoopDetector, FindsTheLoopAndTheDriftOfTheVehicle) {
     extra.descriptor = randomDescriptor(rng);
     observations.push_back(extra);
   }
-  observations[0].landmark_id = 7;  // already associated: not a loop candidate
+  observations[0].landmark_id = 7;     // associated to a landmark not in the archive: skipped
+  observations[1].landmark_id = 1001;  // gated association to its loop landmark: verified too
 
   AppearanceLoopDetector detector;
   const LoopDetection d =
@@ -115,7 +116,7 @@ TEST(AppearanceLoopDetector, FindsTheLoopAndTheDriftOfTheVehicle) {
   ASSERT_TRUE(d.detected) << d.candidates << " candidates, " << d.inliers << " inliers";
   EXPECT_EQ(d.matches.size(), scene.points.size() - 1);
   for (const auto& [i, id] : d.matches) {
-    EXPECT_NE(i, 0u);
+    EXPECT_NE(i, 0u);  // (observation 1 stays: gated to the right landmark)
     EXPECT_EQ(id, static_cast<int64_t>(1000 + i));  // every match is the right landmark
   }
   // The alignment undoes the drift: it carries the drifted vehicle onto the true one.
@@ -174,10 +175,16 @@ TEST(AppearanceLoopDetector, ALookAlikePlaceBeyondTheSearchRadiusIsNoLoop) {
     elsewhere.store(id, moved);
   }
   AppearanceLoopDetector detector;
-  LoopQuery confident = scene.query(scene.x_true);  // σ 1 m: searched within 10 m
+  LoopQuery confident = scene.query(scene.x_true);  // σ 2 m: searched within 20 m
   EXPECT_EQ(detector.detect(scene.observations, scene.camera, elsewhere, confident).candidates, 0);
-  LoopQuery lost = confident;  // σ 4 m: within 40 m, and the look-alike is taken
-  lost.position_sigma_m = 4.0;
+  LoopQuery unsure = confident;  // σ 4 m: searched within 40 m, but 30 m is 7.5 σ
+  unsure.position_sigma_m = 4.0;
+  const LoopDetection rejected =
+      detector.detect(scene.observations, scene.camera, elsewhere, unsure);
+  EXPECT_GE(rejected.inliers, 25);
+  EXPECT_FALSE(rejected.detected);
+  LoopQuery lost = confident;  // σ 10 m: 30 m is within 3.5 σ, and the look-alike is taken
+  lost.position_sigma_m = 10.0;
   const LoopDetection d = detector.detect(scene.observations, scene.camera, elsewhere, lost);
   ASSERT_TRUE(d.detected);
   EXPECT_NEAR(d.alignment.translation.x(), 30.0, 0.1);

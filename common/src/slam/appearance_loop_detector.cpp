@@ -18,6 +18,7 @@ Status LoopDetectionOptions::load(const ConfigNode& node) {
   node.get("search_sigma_scale", search_sigma_scale);
   node.get("min_search_radius_m", min_search_radius_m);
   node.get("max_offset_m", max_offset_m);
+  node.get("max_correction_sigmas", max_correction_sigmas);
   node.get("ransac_iterations", ransac_iterations);
   node.get("inlier_distance_m", inlier_distance_m);
   node.get("min_inliers", min_inliers);
@@ -31,6 +32,7 @@ Status LoopDetectionOptions::load(const ConfigNode& node) {
   node.check(search_sigma_scale > 0.0, "search_sigma_scale", "must be > 0");
   node.check(min_search_radius_m > 0.0, "min_search_radius_m", "must be > 0");
   node.check(max_offset_m >= min_search_radius_m, "max_offset_m", "must be ≥ min_search_radius_m");
+  node.check(max_correction_sigmas > 0.0, "max_correction_sigmas", "must be > 0");
   node.check(ransac_iterations >= 1, "ransac_iterations", "must be ≥ 1");
   node.check(inlier_distance_m > 0.0, "inlier_distance_m", "must be > 0");
   node.check(min_inliers >= 3, "min_inliers", "must be ≥ 3 (2 points always fit)");
@@ -81,9 +83,23 @@ LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation
 
   // 1. Appearance candidates: the closest archived descriptor of the same word.
   std::vector<Candidate> candidates;
+  auto loopAge = [&](const ArchivedLandmark& a) {
+    return query.t_us - a.last_seen_us >= min_seen_us &&
+           query.t_us - a.archived_us >= min_archived_us;
+  };
   for (std::size_t i = 0; i < observations.size(); ++i) {
     const StereoObservation& obs = observations[i];
-    if (obs.landmark_id >= 0 || obs.descriptor.empty()) continue;
+    if (obs.landmark_id >= 0) {
+      // Associated by the projection gate to a loop landmark: a candidate to verify too.
+      const ArchivedLandmark* a = archive.find(obs.landmark_id);
+      Eigen::Vector3d p_observed;
+      if (a != nullptr && loopAge(*a) && camera.triangulate(obs.z, query.x_v, &p_observed).ok() &&
+          (a->p_LinN - p_observed).squaredNorm() <= max_offset2) {
+        candidates.push_back({i, obs.landmark_id, 0.0, {p_observed, a->p_LinN}});
+      }
+      continue;
+    }
+    if (obs.descriptor.empty()) continue;
     const std::vector<int64_t>& bucket = archive.withIndex(obs.index);
     if (bucket.empty() || static_cast<int>(bucket.size()) > o_.max_word_landmarks) continue;
     Eigen::Vector3d p_observed;
@@ -95,10 +111,7 @@ LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation
     for (int64_t id : bucket) {
       const ArchivedLandmark* a = archive.find(id);
       if (a == nullptr || static_cast<int>(a->descriptor.size()) != bytes) continue;
-      if (query.t_us - a->last_seen_us < min_seen_us ||
-          query.t_us - a->archived_us < min_archived_us) {
-        continue;
-      }
+      if (!loopAge(*a)) continue;
       if ((a->p_LinN - p_observed).squaredNorm() > max_offset2) continue;
       const double d = vision::descriptorDistance(query.norm, obs.descriptor.data(),
                                                   a->descriptor.data(), bytes);
@@ -176,6 +189,11 @@ LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation
       std::abs(out.alignment.yaw) > o_.max_yaw_deg * kDegToRad) {
     return out;
   }
+  // The correction of the vehicle (the pivot) must be plausible under its uncertainty: a
+  // look-alike place farther away is rejected even when the search radius reached it.
+  const double max_correction =
+      std::max(o_.min_search_radius_m, o_.max_correction_sigmas * query.position_sigma_m);
+  if (out.alignment.translation.head<2>().norm() > max_correction) return out;
   out.detected = true;
   for (std::size_t i : best_set) {
     out.matches.emplace_back(candidates[i].obs, candidates[i].landmark_id);

@@ -195,14 +195,6 @@ void VisualSlamPipeline::detectLoop(int64_t t_us, const VisualInertialSlam& slam
   const SlamOptions& s = slam.options().slam;
   const auto min_seen_us = static_cast<int64_t>(s.loop_closure_min_age_s * 1e6);
   std::vector<StereoObservation>& observations = result->frame.observations;
-  // The gated association may have found the loop itself: then there is nothing to add.
-  int loop_associated = 0;
-  for (const StereoObservation& obs : observations) {
-    if (obs.landmark_id < 0) continue;
-    const ArchivedLandmark* a = slam.archive().find(obs.landmark_id);
-    if (a != nullptr && t_us - a->last_seen_us >= min_seen_us) ++loop_associated;
-  }
-  if (loop_associated >= o_.loop_detection.min_inliers) return;
   LoopQuery query;
   query.t_us = t_us;
   query.x_v = slam.vehicleState().head<9>();
@@ -213,10 +205,24 @@ void VisualSlamPipeline::detectLoop(int64_t t_us, const VisualInertialSlam& slam
   query.min_archived_age_s = s.reactivation_min_age_s;
   query.norm = descriptorNorm();
   result->loop = loop_detector_.detect(observations, slam.camera(), slam.archive(), query);
-  if (!result->loop.detected) return;
-  for (const auto& [i, id] : result->loop.matches) {
-    observations[i].landmark_id = id;
-    observations[i].type = ObservationType::kReobserved;
+  std::vector<bool> verified(observations.size(), false);
+  if (result->loop.detected) {
+    for (const auto& [i, id] : result->loop.matches) {
+      observations[i].landmark_id = id;
+      observations[i].type = ObservationType::kReobserved;
+      verified[i] = true;
+    }
+  }
+  // Gated associations to loop landmarks that the verification did not keep are undone: a
+  // loop is closed only on verified matches.
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    StereoObservation& obs = observations[i];
+    if (verified[i] || obs.landmark_id < 0) continue;
+    const ArchivedLandmark* a = slam.archive().find(obs.landmark_id);
+    if (a != nullptr && t_us - a->last_seen_us >= min_seen_us) {
+      obs.landmark_id = -1;
+      obs.type = ObservationType::kNew;
+    }
   }
 }
 

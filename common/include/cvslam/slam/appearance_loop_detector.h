@@ -15,7 +15,10 @@
 //      translation (loop_alignment.h) that moves the points as the cameras triangulate them
 //      now (current estimate) onto the archived positions; the largest consensus set within
 //      inlier_distance_m is refitted and accepted when it has ≥ min_inliers members, its RMS
-//      residual is ≤ max_rms_m and |yaw| ≤ max_yaw_deg.
+//      residual is ≤ max_rms_m, |yaw| ≤ max_yaw_deg and the vehicle's correction is within
+//      max_correction_sigmas σ. Observations that the projection gate already associated to
+//      loop landmarks are candidates too (they pass the same verification: a look-alike
+//      place inside a wide archived-landmark gate is not a loop).
 // The search radius comes from the filter's own uncertainty, generously scaled (the filter is
 // over-confident after a long excursion): search_sigma_scale × the largest horizontal
 // position σ, at least min_search_radius_m and at most max_offset_m. Appearance and rigid
@@ -57,7 +60,10 @@ struct LoopDetectionOptions {
   /// max_offset_m] [m].
   double search_sigma_scale = 10.0;
   double min_search_radius_m = 5.0;
-  double max_offset_m = 60.0;      ///< the largest drift a loop closure may correct [m]
+  double max_offset_m = 60.0;  ///< the largest drift a loop closure may correct [m]
+  /// The fitted horizontal correction of the vehicle may be at most this many times its
+  /// largest horizontal position σ (or min_search_radius_m, if larger).
+  double max_correction_sigmas = 3.5;
   int ransac_iterations = 200;     ///< random candidate pairs tried (all pairs if fewer)
   double inlier_distance_m = 0.3;  ///< residual of an inlier after the rigid fit [m]
   int min_inliers = 6;             ///< verified matches needed to report a loop
@@ -97,8 +103,9 @@ class AppearanceLoopDetector {
   /// Search radius for a vehicle with this horizontal position σ [m].
   double searchRadius(double position_sigma_m) const;
 
-  /// Matches the observations with landmark_id < 0 against the archive and verifies the
-  /// matches geometrically (above). Observations are not modified. Deterministic.
+  /// Matches the observations with landmark_id < 0 against the archive, adds those already
+  /// associated to loop landmarks, and verifies them geometrically (above). Observations
+  /// are not modified. Deterministic.
   LoopDetection detect(const std::vector<StereoObservation>& observations,
                        const StereoCamera& camera, const LandmarkArchive& archive,
                        const LoopQuery& query) const;
