@@ -14,12 +14,14 @@
 // wrong stereo match — whose triangulated depth is wrong, and which the filter's nearest-first
 // initialisation would otherwise favour when its disparity is too large — is rarely confirmed.
 //
-// Loop detection by appearance (appearance_loop_detector.h, thesis §5.5.2): when the
-// gated association has not re-observed enough loop landmarks (archived, unseen for
-// slam.loop_closure_min_age_s), the unassociated observations are matched against the
-// archive by feature index and descriptor and verified by a robust rigid fit; the verified
-// ones become re-observations (type 1) of the archived landmarks, and the filter's
-// loop-closing path closes the loop. Needs a vocabulary (the feature index).
+// Loop detection by appearance (appearance_loop_detector.h, thesis §5.5.2): every frame the
+// unassociated observations are matched against the archive by feature index and
+// descriptor; together with the observations the projection gate associated to loop
+// landmarks (archived, unseen for slam.loop_closure_min_age_s) they are verified by a robust
+// rigid fit and a bound on the vehicle's correction. The verified ones are re-observations
+// (type 1) of the archived landmarks, and the filter's loop-closing path closes the loop;
+// gated loop associations that fail the verification are undone (type 3). Needs a
+// vocabulary (the feature index).
 //
 // Landmark ids: an associated observation carries its landmark's id; a confirmed new one gets
 // a fresh id from this pipeline, so that the caller learns which observations the filter
