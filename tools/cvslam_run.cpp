@@ -3,6 +3,7 @@
 //
 //   cvslam_run --scenario config/scenarios/thesis_loop.yaml --mode single --out runs/loop
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -58,13 +60,14 @@ options:
                           non_gaussian_centred | non_centred (thesis §5.9)
   --seed N                overrides the scenario's seed
   --duration S            simulate only the first S seconds
+  --agents ID[,ID...]     run only these UAVs of the scenario (their seeds unchanged)
   --quiet                 no progress output
   -h, --help              this text
 )";
 
 struct Args {
   std::string scenario, out, config, mode = "single", sensing = "features", filter, map;
-  std::string pixel_noise, world, detector, ci;
+  std::string pixel_noise, world, detector, ci, agents;
   bool both_ways = false;
   int passes = 0;
   long long seed = -1;
@@ -116,6 +119,8 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
       if (!value(&a->ci)) return false;
     } else if (arg == "--both-ways") {
       a->both_ways = true;
+    } else if (arg == "--agents") {
+      if (!value(&a->agents)) return false;
     } else if (arg == "--quiet") {
       a->quiet = true;
     } else if (arg == "--passes" || arg == "--seed" || arg == "--duration") {
@@ -185,6 +190,22 @@ int main(int argc, char** argv) {
   if (!scenario.ok()) return fail(scenario.status().message());
   if (args.seed >= 0) scenario->seed = static_cast<uint64_t>(args.seed);
   if (args.duration > 0) scenario->duration = std::min(scenario->duration, args.duration);
+  if (!args.agents.empty()) {
+    // A subset of the team (faster experiments); each agent keeps its own RNG streams.
+    std::vector<cvslam::sim::AgentSpec> chosen;
+    std::stringstream list(args.agents);
+    for (std::string item; std::getline(list, item, ',');) {
+      char* end = nullptr;
+      const long id = std::strtol(item.c_str(), &end, 10);
+      auto it = std::find_if(scenario->agents.begin(), scenario->agents.end(),
+                             [&](const cvslam::sim::AgentSpec& a) { return a.id == id; });
+      if (item.empty() || *end != '\0' || it == scenario->agents.end()) {
+        return fail("--agents: no agent '" + item + "' in the scenario");
+      }
+      chosen.push_back(*it);
+    }
+    scenario->agents = chosen;
+  }
   if (!args.pixel_noise.empty()) {
     auto cfg = cvslam::ConfigNode::fromString("kind: " + args.pixel_noise, "--pixel-noise");
     for (cvslam::sim::AgentSpec& agent : scenario->agents) agent.pixel_noise.load(*cfg);
@@ -236,6 +257,9 @@ int main(int argc, char** argv) {
   }
   if (args.both_ways) coop_options.both_ways = true;
   coop_options.true_ids = args.sensing == "features";
+  if (args.sensing == "images" && frontend.first_estimate_jacobians) {
+    options.slam.first_estimate_jacobians = *frontend.first_estimate_jacobians;
+  }
   if (auto p = options.filter.policy(); !p.ok()) return fail(p.status().message());
 
   cvslam::SimulatedTeamRun::SensingFactory sensing;
@@ -269,7 +293,7 @@ int main(int argc, char** argv) {
       o.frontend.open(cvslam::agentDir(args.out, id) + "/frontend.csv");
       if (!o.frontend) return fail("cannot write frontend.csv of agent " + std::to_string(id));
       o.frontend << "t,observations,predictions,gated_pairs,associated,initialised,front_end_ms,"
-                    "association_ms,filter_ms\n";
+                    "association_ms,filter_ms,loop_candidates,loop_inliers\n";
     }
   }
 
@@ -299,7 +323,7 @@ int main(int argc, char** argv) {
       o.frontend << t << ',' << r.frame.observations.size() << ',' << r.predictions << ','
                  << r.association.candidates_gated << ',' << r.association.associated << ','
                  << r.initialised.size() << ',' << r.front_end_ms << ',' << r.association_ms << ','
-                 << r.filter_ms << '\n';
+                 << r.filter_ms << ',' << r.loop.candidates << ',' << r.loop.inliers << '\n';
     }
     o.cpu_ms += frame_ms;
     ++o.frames;
@@ -385,11 +409,11 @@ int main(int argc, char** argv) {
           "association %.2f ms, filter %.2f ms; stereo precision %.4f (%ld checked), map "
           "association precision %.4f (%ld of %ld type-1 checked); disparity error of right "
           "matches "
-          "mean %.3f px, RMS %.3f px\n",
+          "mean %.3f px, RMS %.3f px; re-observed left pixel error RMS %.3f px\n",
           static_cast<double>(s.observations) / n, s.render_ms / n, s.front_end_ms / n,
           s.association_ms / n, s.filter_ms / n, s.stereoPrecision(), s.stereo_checked,
           s.associationPrecision(), s.associated_checked, s.associated, s.disparityBias(),
-          s.disparityRms());
+          s.disparityRms(), s.reobservationRms());
     }
   }
   if (dc) dc->printSummary(stdout, duration);

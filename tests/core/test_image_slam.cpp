@@ -299,9 +299,17 @@ TEST(ImageSlam, ShippedFrontendConfigLoads) {
   VisualFrontEndOptions o;
   EXPECT_TRUE(o.load(cfg->child("frontend")).ok()) << cfg->status().message();
   EXPECT_EQ(o.front_end.detector.type, vision::DetectorType::kAdaptiveSift);
-  auto bad = ConfigNode::fromString("confirm_gate_px: -1\n", "bad.yaml");
-  ASSERT_TRUE(bad.ok());
-  EXPECT_FALSE(o.load(*bad).ok());
+  EXPECT_TRUE(o.loop_detection.enabled);
+  EXPECT_EQ(o.loop_detection.min_inliers, 6);
+  EXPECT_EQ(o.tracked_landmarks, 0);
+  for (const char* text : {"confirm_gate_px: -1\n", "tracked_landmarks: -2\n",
+                           "loop_detection: {min_inliers: 1}\n", "loop_detection: {typo: 1}\n"}) {
+    auto bad = ConfigNode::fromString(text, "bad.yaml");
+    ASSERT_TRUE(bad.ok());
+    VisualFrontEndOptions b;
+    b.load(*bad);
+    EXPECT_FALSE(bad->finish().ok()) << text;
+  }
 }
 
 // Each detector gets the vocabulary of its own descriptor type from the shipped config; a

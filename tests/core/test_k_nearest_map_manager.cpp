@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "cvslam/camera/stereo_camera.h"
 #include "cvslam/io/config_node.h"
 #include "cvslam/slam/landmark_archive.h"
@@ -21,6 +23,18 @@ TEST(KNearestMapManager, KeepsTheKNearestToVirtualPoint) {
   KNearestMapManager mm(o);
   auto ids = mm.select(lineOfCandidates(10), Eigen::Vector3d(6.2, 0, 0));
   EXPECT_EQ(ids, (std::vector<int64_t>{105, 106, 107}));
+}
+
+TEST(KNearestMapManager, ReobservedArchivedLandmarksComeFirst) {
+  // More observed candidates than k: a re-observed archived landmark far from m* (a loop
+  // landmark after a drift) still gets its place, ahead of nearer observed ones.
+  MapManagerOptions o;
+  o.k = 3;
+  std::vector<MapCandidate> c = lineOfCandidates(6);
+  for (MapCandidate& m : c) m.observed = true;
+  c.push_back({900, Eigen::Vector3d(40, 0, 0), true, true});
+  auto ids = KNearestMapManager(o).select(c, Eigen::Vector3d::Zero());
+  EXPECT_EQ(ids, (std::vector<int64_t>{100, 101, 900}));
 }
 
 TEST(KNearestMapManager, FewerCandidatesThanKKeepsAll) {
@@ -82,6 +96,28 @@ TEST(LandmarkArchive, StoreTakeRoundTrip) {
   EXPECT_EQ(back->p_LinN, lm.p_LinN);
   EXPECT_FALSE(archive.contains(42));
   EXPECT_FALSE(archive.take(42).has_value());
+}
+
+TEST(LandmarkArchive, IndexesLandmarksByFeatureIndex) {
+  LandmarkArchive archive;
+  ArchivedLandmark lm;
+  lm.index = 7;
+  archive.store(1, lm);
+  archive.store(2, lm);
+  lm.index = 9;
+  archive.store(3, lm);
+  auto sorted = [](std::vector<int64_t> v) {
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  EXPECT_EQ(sorted(archive.withIndex(7)), (std::vector<int64_t>{1, 2}));
+  EXPECT_EQ(archive.withIndex(9), (std::vector<int64_t>{3}));
+  EXPECT_TRUE(archive.withIndex(8).empty());
+  archive.store(1, lm);  // replaced with index 9: moves bucket
+  EXPECT_EQ(archive.withIndex(7), (std::vector<int64_t>{2}));
+  EXPECT_EQ(sorted(archive.withIndex(9)), (std::vector<int64_t>{1, 3}));
+  ASSERT_TRUE(archive.take(2).has_value());  // re-activated: leaves the index
+  EXPECT_TRUE(archive.withIndex(7).empty());
 }
 
 }  // namespace

@@ -39,11 +39,13 @@ double KNearestMapManager::sceneDepth(const std::vector<double>& observed_depths
 
 std::vector<int64_t> KNearestMapManager::select(const std::vector<MapCandidate>& candidates,
                                                 const Eigen::Vector3d& m_star) const {
-  // (unobserved?, squared distance, id): observed candidates sort first.
-  std::vector<std::tuple<bool, double, int64_t>> ranked;
+  // (group, squared distance, id): re-observed archived, observed, unobserved.
+  std::vector<std::tuple<int, double, int64_t>> ranked;
   ranked.reserve(candidates.size());
-  for (const auto& c : candidates)
-    ranked.emplace_back(!c.observed, (c.p_LinN - m_star).squaredNorm(), c.landmark_id);
+  for (const auto& c : candidates) {
+    const int group = c.observed ? (c.reactivating ? 0 : 1) : 2;
+    ranked.emplace_back(group, (c.p_LinN - m_star).squaredNorm(), c.landmark_id);
+  }
   std::size_t keep = ranked.size();
   if (o_.kind == MapKind::kKNearest) keep = std::min(keep, static_cast<std::size_t>(o_.k));
   std::partial_sort(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(keep),

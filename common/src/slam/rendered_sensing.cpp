@@ -37,6 +37,12 @@ double RenderedSensingStats::disparityBias() const {
                             : std::numeric_limits<double>::quiet_NaN();
 }
 
+double RenderedSensingStats::reobservationRms() const {
+  return associated_correct > 0 ? std::sqrt(reobservation_error_sq_sum /
+                                            (2.0 * static_cast<double>(associated_correct)))
+                                : std::numeric_limits<double>::quiet_NaN();
+}
+
 double RenderedSensingStats::disparityRms() const {
   return stereo_correct > 0
              ? std::sqrt(disparity_error_sq_sum / static_cast<double>(stereo_correct))
@@ -97,6 +103,7 @@ void RenderedSensing::checkFrame() {
     const std::optional<Eigen::Vector2d> left = projectInto(rendering_.left, it->second);
     if (left && (*left - o.z.head<2>()).norm() <= o_.association_tolerance_px) {
       ++stats_.associated_correct;
+      stats_.reobservation_error_sq_sum += (*left - o.z.head<2>()).squaredNorm();
     }
   }
   // Ground truth of the landmarks this frame created: the surface at their left pixel.

@@ -179,7 +179,7 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
     const ArchivedLandmark* a = archive_.find(id);
     if (a != nullptr &&
         static_cast<double>(t_us_ - a->archived_us) * 1e-6 >= o_.slam.reactivation_min_age_s) {
-      candidates.push_back({id, a->p_LinN, true});
+      candidates.push_back({id, a->p_LinN, true, true});
     }
   }
   const std::vector<int64_t> keep = map_manager_.select(candidates, m_star);

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <limits>
+
+#include <Eigen/Eigenvalues>
 
 #include "cvslam/io/config_node.h"
 
@@ -15,6 +18,52 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// SIFT gives one keypoint per dominant orientation, so one image point can come as several
+/// observations with different descriptors. The filter must see each point once (twice would
+/// count its information twice and make the estimate over-confident): of the observations
+/// sharing a left pixel, the one associated to the oldest landmark stays, else the first.
+/// Returns how many were removed.
+int removeDuplicatePoints(std::vector<StereoObservation>* observations) {
+  std::vector<StereoObservation>& obs = *observations;
+  std::vector<std::size_t> order(obs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto pixel_less = [&](std::size_t a, std::size_t b) {
+    return obs[a].z(0) < obs[b].z(0) || (obs[a].z(0) == obs[b].z(0) && obs[a].z(1) < obs[b].z(1));
+  };
+  std::stable_sort(order.begin(), order.end(), pixel_less);
+  std::vector<bool> drop(obs.size(), false);
+  int removed = 0;
+  for (std::size_t g = 0; g < order.size();) {
+    std::size_t end = g + 1;
+    while (end < order.size() && !pixel_less(order[g], order[end])) ++end;
+    std::size_t keep = order[g];
+    for (std::size_t k = g; k < end; ++k) {
+      const StereoObservation& o = obs[order[k]];
+      const StereoObservation& best = obs[keep];
+      if (o.landmark_id >= 0 && (best.landmark_id < 0 || o.landmark_id < best.landmark_id)) {
+        keep = order[k];
+      } else if (o.landmark_id < 0 && best.landmark_id < 0 && order[k] < keep) {
+        keep = order[k];
+      }
+    }
+    for (std::size_t k = g; k < end; ++k) {
+      if (order[k] != keep) {
+        drop[order[k]] = true;
+        ++removed;
+      }
+    }
+    g = end;
+  }
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    if (drop[i]) continue;
+    if (out != i) obs[out] = std::move(obs[i]);
+    ++out;
+  }
+  obs.resize(out);
+  return removed;
+}
+
 }  // namespace
 
 Status VisualFrontEndOptions::load(const ConfigNode& node) {
@@ -24,9 +73,18 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
   node.get("max_hamming_distance", max_hamming_distance);
   node.get("vocabulary", vocabulary);
   node.get("vocabulary_orb", vocabulary_orb);
+  loop_detection.load(node.child("loop_detection"));
   node.get("confirm_new", confirm_new);
   node.get("confirm_gate_px", confirm_gate_px);
+  node.get("tracked_landmarks", tracked_landmarks);
+  node.get("drop_duplicate_points", drop_duplicate_points);
+  if (node.has("first_estimate_jacobians")) {
+    bool fej = true;
+    node.get("first_estimate_jacobians", fej);
+    first_estimate_jacobians = fej;
+  }
   node.check(confirm_gate_px > 0.0, "confirm_gate_px", "must be > 0");
+  node.check(tracked_landmarks >= 0, "tracked_landmarks", "must be ≥ 0");
   node.check(max_hamming_distance > 0.0, "max_hamming_distance", "must be > 0");
   return node.status();
 }
@@ -61,10 +119,14 @@ Expected<VisualSlamPipeline> VisualSlamPipeline::create(
   const bool orb = o.front_end.detector.type == vision::DetectorType::kOrb;
   o.association.descriptor_type =
       orb ? vision::DescriptorType::kOrb : vision::DescriptorType::kSift;
-  if (orb) o.association.max_descriptor_distance = o.max_hamming_distance;
+  if (orb) {
+    o.association.max_descriptor_distance = o.max_hamming_distance;
+    o.loop_detection.max_descriptor_distance = o.max_hamming_distance;
+  }
+  const bool feature_index = vocabulary != nullptr;
   auto fe = vision::StereoFrontEnd::create(o.front_end, std::move(vocabulary));
   if (!fe.ok()) return fe.status();
-  return VisualSlamPipeline(std::move(o), std::move(fe.value()));
+  return VisualSlamPipeline(std::move(o), std::move(fe.value()), feature_index);
 }
 
 Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::Mat& right,
@@ -106,6 +168,12 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
       !s.ok()) {
     return s;
   }
+  if (o_.loop_detection.enabled && feature_index_ &&
+      frames_ % o_.loop_detection.every_n_frames == 0) {
+    detectLoop(t_us, slam, &r);
+  }
+  ++frames_;
+  if (o_.drop_duplicate_points) r.duplicates = removeDuplicatePoints(&r.frame.observations);
   if (o_.confirm_new) {
     confirmNew(slam, &r.frame.observations, &r.confirmed);
   } else {
@@ -138,6 +206,48 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
   return Status::Ok();
 }
 
+vision::MatchNorm VisualSlamPipeline::descriptorNorm() const {
+  const vision::MapAssociationOptions& a = o_.association;
+  if (a.descriptor_type == vision::DescriptorType::kOrb) return vision::MatchNorm::kHamming;
+  return a.norm == vision::MatchNorm::kHamming ? vision::MatchNorm::kL2 : a.norm;
+}
+
+void VisualSlamPipeline::detectLoop(int64_t t_us, const VisualInertialSlam& slam,
+                                    VisualFrameResult* result) {
+  const SlamOptions& s = slam.options().slam;
+  const auto min_seen_us = static_cast<int64_t>(s.loop_closure_min_age_s * 1e6);
+  std::vector<StereoObservation>& observations = result->frame.observations;
+  LoopQuery query;
+  query.t_us = t_us;
+  query.x_v = slam.vehicleState().head<9>();
+  const Eigen::Matrix2d P_horizontal = slam.vehicleCovariance().topLeftCorner<2, 2>();
+  query.position_sigma_m = std::sqrt(std::max(
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(P_horizontal).eigenvalues().maxCoeff(), 0.0));
+  query.min_last_seen_age_s = s.loop_closure_min_age_s;
+  query.min_archived_age_s = s.reactivation_min_age_s;
+  query.norm = descriptorNorm();
+  result->loop = loop_detector_.detect(observations, slam.camera(), slam.archive(), query);
+  std::vector<bool> verified(observations.size(), false);
+  if (result->loop.detected) {
+    for (const auto& [i, id] : result->loop.matches) {
+      observations[i].landmark_id = id;
+      observations[i].type = ObservationType::kReobserved;
+      verified[i] = true;
+    }
+  }
+  // Gated associations to loop landmarks that the verification did not keep are undone: a
+  // loop is closed only on verified matches.
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    StereoObservation& obs = observations[i];
+    if (verified[i] || obs.landmark_id < 0) continue;
+    const ArchivedLandmark* a = slam.archive().find(obs.landmark_id);
+    if (a != nullptr && t_us - a->last_seen_us >= min_seen_us) {
+      obs.landmark_id = -1;
+      obs.type = ObservationType::kNew;
+    }
+  }
+}
+
 void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
                                     std::vector<StereoObservation>* observations, int* confirmed) {
   const StereoCamera& camera = slam.camera();
@@ -154,10 +264,7 @@ void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
   }
   const vision::MapAssociationOptions& a = o_.association;
   const int bytes = vision::descriptorBytes(a.descriptor_type);
-  const vision::MatchNorm norm =
-      a.descriptor_type == vision::DescriptorType::kOrb
-          ? vision::MatchNorm::kHamming
-          : (a.norm == vision::MatchNorm::kHamming ? vision::MatchNorm::kL2 : a.norm);
+  const vision::MatchNorm norm = descriptorNorm();
   std::vector<bool> taken(previous_.size(), false);
   struct Confirmed {
     double residual;
@@ -190,8 +297,17 @@ void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
   }
   // Offer the filter only as many as it initialises, best confirmed first: its own choice,
   // nearest first, would favour the matches whose disparity error is positive (too near).
-  const auto n_offer = std::min(
-      found.size(), static_cast<std::size_t>(slam.options().slam.max_new_landmarks_per_frame));
+  // And only as many as the map has room for besides the landmarks it tracks now.
+  const int target = o_.tracked_landmarks > 0 ? o_.tracked_landmarks : slam.options().map.k;
+  int tracked = 0;
+  for (const StereoObservation& obs : *observations) {
+    if (obs.landmark_id >= 0 &&
+        slam.state().has(VariableKey::landmark(static_cast<uint64_t>(obs.landmark_id)))) {
+      ++tracked;
+    }
+  }
+  const int room = std::clamp(target - tracked, 0, slam.options().slam.max_new_landmarks_per_frame);
+  const auto n_offer = std::min(found.size(), static_cast<std::size_t>(room));
   std::partial_sort(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(n_offer),
                     found.end(), [](const Confirmed& p, const Confirmed& q) {
                       return p.residual < q.residual || (p.residual == q.residual && p.obs < q.obs);

@@ -37,6 +37,9 @@ struct MapCandidate {
   int64_t landmark_id = -1;
   Eigen::Vector3d p_LinN = Eigen::Vector3d::Zero();
   bool observed = false;  ///< observed in the current frame
+  /// An archived landmark observed again (loop closing, §5.5.2): ranked before the other
+  /// observed candidates, whose places it takes when more than k are observed.
+  bool reactivating = false;
 };
 
 class KNearestMapManager {
@@ -54,7 +57,8 @@ class KNearestMapManager {
   double sceneDepth(const std::vector<double>& observed_depths) const;
 
   /// Ids of the candidates that may stay in (or enter) the state: all of them for the full
-  /// map, otherwise k of them: observed candidates first, each group by distance to m*.
+  /// map, otherwise k of them: re-observed archived candidates first, then the other observed
+  /// ones, then the rest, each group by distance to m*.
   /// (Departure from §5.8, which ranks by distance alone: after a long drift, m* is placed
   /// from the drifted pose and re-observed old landmarks sit metres away from it, so pure
   /// distance would keep them out of the state exactly when they could close the loop.)

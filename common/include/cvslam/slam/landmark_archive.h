@@ -4,6 +4,8 @@
 // in building a large map and to make the loop closing detection possible."
 // An archived landmark that is re-observed is re-activated into the state (loop closing,
 // §5.5.2) with the mean and marginal covariance it had when it was archived.
+// The archive keeps an inverted index feature index (visual word) → landmarks, so that a
+// frame can be matched against it by appearance (appearance_loop_detector.h; DESIGN.md §3).
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -33,9 +35,15 @@ class LandmarkArchive {
   bool contains(int64_t landmark_id) const { return landmarks_.count(landmark_id) > 0; }
   std::size_t size() const { return landmarks_.size(); }
   const std::unordered_map<int64_t, ArchivedLandmark>& all() const { return landmarks_; }
+  /// Ids of the archived landmarks with this feature index (empty if none), in no
+  /// particular (but deterministic) order.
+  const std::vector<int64_t>& withIndex(uint32_t index) const;
 
  private:
+  void unindex(int64_t landmark_id, uint32_t index);
+
   std::unordered_map<int64_t, ArchivedLandmark> landmarks_;
+  std::unordered_map<uint32_t, std::vector<int64_t>> by_index_;
 };
 
 }  // namespace cvslam

@@ -40,6 +40,9 @@ struct RenderedSensingStats {
   long associated = 0;          ///< type-1 observations
   long associated_checked = 0;  ///< … whose landmark has a known true position
   long associated_correct = 0;
+  /// Σ |z_L − true projection|² over correct associations [px²]: how well a keypoint is
+  /// found again in another view (the filter's pixel σ should match this, per coordinate).
+  double reobservation_error_sq_sum = 0.0;
   double render_ms = 0.0;
   double front_end_ms = 0.0;
   double association_ms = 0.0;
@@ -49,6 +52,8 @@ struct RenderedSensingStats {
   double associationPrecision() const;  ///< associated_correct / associated_checked
   double disparityBias() const;         ///< mean disparity error of correct matches [px]
   double disparityRms() const;          ///< RMS disparity error of correct matches [px]
+  /// RMS per pixel coordinate of the left pixel of correct associations [px].
+  double reobservationRms() const;
 };
 
 class RenderedSensing : public FrameSensing {

@@ -14,6 +14,15 @@
 // wrong stereo match — whose triangulated depth is wrong, and which the filter's nearest-first
 // initialisation would otherwise favour when its disparity is too large — is rarely confirmed.
 //
+// Loop detection by appearance (appearance_loop_detector.h, thesis §5.5.2): every frame the
+// unassociated observations are matched against the archive by feature index and
+// descriptor; together with the observations the projection gate associated to loop
+// landmarks (archived, unseen for slam.loop_closure_min_age_s) they are verified by a robust
+// rigid fit and a bound on the vehicle's correction. The verified ones are re-observations
+// (type 1) of the archived landmarks, and the filter's loop-closing path closes the loop;
+// gated loop associations that fail the verification are undone (type 3). Needs a
+// vocabulary (the feature index).
+//
 // Landmark ids: an associated observation carries its landmark's id; a confirmed new one gets
 // a fresh id from this pipeline, so that the caller learns which observations the filter
 // initialised as landmarks (VisualFrameResult::initialised) — e.g. to attach ground truth.
@@ -22,14 +31,17 @@
 // YAML (agent.yaml section `frontend:`): the StereoFrontEndOptions keys (`detector`,
 // `stereo`, `max_observations`, see config/front_end.yaml) plus `association:`
 // (MapAssociationOptions), `prediction:` (MapPredictionOptions), `max_hamming_distance`,
-// `vocabulary`. The stereo focal length and baseline always come from the camera.
+// `vocabulary`, `loop_detection:` (LoopDetectionOptions). The stereo focal length and baseline
+// always come from the camera.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "cvslam/core/status.h"
+#include "cvslam/slam/appearance_loop_detector.h"
 #include "cvslam/slam/map_prediction.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 #include "cvslam/vision/map_association.h"
@@ -55,6 +67,22 @@ struct VisualFrontEndOptions {
   /// the ORB detector; each must hold descriptors of its detector's type.
   std::string vocabulary;
   std::string vocabulary_orb;
+  /// New landmarks are offered only to fill the map up to this many landmarks of the state
+  /// re-observed in the frame (0: the map's k, thesis §5.8). A landmark is worth most while
+  /// it is tracked: initialising new ones beyond what the k-nearest map keeps would push
+  /// still-visible landmarks into the archive after two or three frames (docs/image_sensing.md).
+  int tracked_landmarks = 0;
+  /// Keep one observation per left pixel (SIFT gives one keypoint per dominant orientation,
+  /// i.e. the same point twice with different descriptors). Off by default: on thesis_loop it
+  /// changed the drift by several metres either way (docs/image_sensing.md).
+  bool drop_duplicate_points = false;
+  LoopDetectionOptions loop_detection;  ///< `loop_detection:` (appearance_loop_detector.h)
+  /// Overrides slam.first_estimate_jacobians when this front end feeds the filter (absent:
+  /// the slam setting). The landmark-only first-estimate Jacobians help at feature level
+  /// but, with real keypoints, let the filter gain spurious yaw information (UAV2 of
+  /// thesis_loop, 60 s: yaw error 0.9° and ATE 1.22 m with them, 0.17° and 0.25 m without;
+  /// docs/image_sensing.md).
+  std::optional<bool> first_estimate_jacobians;
 
   Status load(const ConfigNode& node);
 };
@@ -63,9 +91,11 @@ struct VisualFrontEndOptions {
 struct VisualFrameResult {
   StereoFrameObservations frame;  ///< observations as given to the filter (ids set)
   FrameReport report;
-  int predictions = 0;                   ///< landmarks predicted in view
-  int confirmed = 0;                     ///< new observations confirmed frame to frame
+  int predictions = 0;  ///< landmarks predicted in view
+  int confirmed = 0;    ///< new observations confirmed frame to frame
+  int duplicates = 0;   ///< observations dropped as a second keypoint of the same point
   vision::AssociationStats association;  ///< gate candidates and type-1 observations
+  LoopDetection loop;                    ///< the archive query, if one ran
   std::vector<std::pair<std::size_t, int64_t>> initialised;  ///< (observation, new landmark)
   double front_end_ms = 0.0;    ///< detection, description, stereo matching [ms]
   double association_ms = 0.0;  ///< prediction and association [ms]
@@ -94,8 +124,16 @@ class VisualSlamPipeline {
   const VisualFrontEndOptions& options() const { return o_; }
 
  private:
-  VisualSlamPipeline(VisualFrontEndOptions o, vision::StereoFrontEnd fe)
-      : o_(std::move(o)), front_end_(std::move(fe)) {}
+  VisualSlamPipeline(VisualFrontEndOptions o, vision::StereoFrontEnd fe, bool feature_index)
+      : o_(std::move(o)),
+        front_end_(std::move(fe)),
+        loop_detector_(o_.loop_detection),
+        feature_index_(feature_index) {}
+
+  /// Queries the archive by appearance and marks the verified loop observations (type 1).
+  void detectLoop(int64_t t_us, const VisualInertialSlam& slam, VisualFrameResult* result);
+  /// Distance used to compare descriptors (Hamming for ORB).
+  vision::MatchNorm descriptorNorm() const;
 
   /// Marks the unassociated observations confirmed by the previous frame (fresh ids).
   void confirmNew(const VisualInertialSlam& slam, std::vector<StereoObservation>* observations,
@@ -116,6 +154,9 @@ class VisualSlamPipeline {
   vision::StereoFrontEnd front_end_;
   std::vector<PredictedObservation> predicted_;    // reused every frame
   std::vector<vision::LandmarkPrediction> gated_;  // reused every frame
+  AppearanceLoopDetector loop_detector_;
+  bool feature_index_ = false;  // observations carry visual words (a vocabulary is loaded)
+  int64_t frames_ = 0;
   int64_t next_landmark_id_ = 0;
 };
 
