@@ -19,6 +19,7 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.get("reactivation_min_age_s", reactivation_min_age_s);
   node.check(reactivation_min_age_s >= 0.0, "reactivation_min_age_s", "must be ≥ 0");
   node.get("first_estimate_jacobians", first_estimate_jacobians);
+  node.get("observability_constrained", observability_constrained);
   node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
   node.get("loop_closure_max_residual_m", loop_closure_max_residual_m);
   node.get("loop_closure_passes", loop_closure_passes);
@@ -75,6 +76,7 @@ Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,
   if (Status s = CovarianceHelper::addVariable(state_, vehicle_, x_v, P_v); !s.ok()) return s;
   t_us_ = t_us;
   imu_buffer_.clear();
+  yaw_direction_ = vehicleYawDirection(x_v.head<3>(), n);
   initialized_ = true;
   return Status::Ok();
 }
@@ -129,6 +131,7 @@ Status VisualInertialSlam::propagateTo(int64_t t_us) {
         !s.ok()) {
       return s;
     }
+    yaw_direction_ = tr.Phi * yaw_direction_;  // Φ u_v: the transition's own image of u_v
   }
   imu_buffer_.clear();
   imu_buffer_.push_back(segment.back());
@@ -200,6 +203,7 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
       a.first_seen_us = it->second.first_seen_us;
       a.last_seen_us = it->second.last_seen_us;
       a.descriptor = std::move(it->second.descriptor);
+      a.yaw_direction = it->second.yaw_direction;
       info_.erase(it);
     }
     a.archived_us = t_us_;
@@ -216,7 +220,13 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
     if (!a) continue;
     CovarianceHelper::addVariable(state_, key, a->p_LinN, a->covariance);
     ++report->reactivated;
-    info_[id] = {a->index, a->first_seen_us, a->last_seen_us, std::move(a->descriptor), a->p_LinN};
+    info_[id] = {a->index,
+                 a->first_seen_us,
+                 a->last_seen_us,
+                 std::move(a->descriptor),
+                 a->p_LinN,
+                 a->yaw_direction,
+                 false};
   }
 }
 
@@ -263,6 +273,9 @@ int VisualInertialSlam::alignLoop(const StereoFrameObservations& frame) {
   xv.head<3>() = fit->apply(xv.head<3>());
   xv(vehicle::kAttitude + 2) = wrapAngle(xv(vehicle::kAttitude + 2) + fit->yaw);
   state_.setValue(*veh, xv);
+  // The alignment moves the estimate along the unobservable directions; their tracked
+  // directions move with it.
+  yaw_direction_.head<3>() = moveYawDirection(yaw_direction_.head<3>(), *fit);
   const auto min_age_us = static_cast<int64_t>(o_.slam.loop_closure_min_age_s * 1e6);
   for (const StateVariable& v : state_.variables()) {
     if (v.key.kind != VariableKey::Kind::kLandmark) continue;
@@ -274,6 +287,7 @@ int VisualInertialSlam::alignLoop(const StereoFrameObservations& frame) {
     if (info == info_.end() || t_us_ - info->second.last_seen_us >= min_age_us) continue;
     state_.setValue(v, fit->apply(state_.value(v)));
     info->second.first_estimate = fit->apply(info->second.first_estimate);
+    info->second.yaw_direction = moveYawDirection(info->second.yaw_direction, *fit);
   }
   return static_cast<int>(loop_ids_.size());
 }
@@ -305,12 +319,15 @@ Status VisualInertialSlam::updatePass(const StereoFrameObservations& frame, int 
       continue;
     }
     Eigen::Vector4d z_hat;
-    auto info = o_.slam.first_estimate_jacobians ? info_.find(id) : info_.end();
-    if (info != info_.end()) {
+    auto info = info_.find(id);
+    if (o_.slam.first_estimate_jacobians && info != info_.end()) {
       z_hat = camera_.project(x, p_LinN);
       camera_.project(x, info->second.first_estimate, &dz_dxv, &dz_dpL);
     } else {
       z_hat = camera_.project(x, p_LinN, &dz_dxv, &dz_dpL);
+    }
+    if (o_.slam.observability_constrained && info != info_.end() && info->second.constrained) {
+      constrainStereoJacobian(yaw_direction_, info->second.yaw_direction, &dz_dxv, &dz_dpL);
     }
     const int g = batch_.addObservation(obs.z - z_hat, R);
     if (g < 0) break;
@@ -368,7 +385,9 @@ Status VisualInertialSlam::initialiseNew(const StereoFrameObservations& frame,
         !s.ok()) {
       return s;
     }
-    info_[id] = {obs.index, t_us_, t_us_, obs.descriptor, p_LinN};
+    // u_L = ∂p_L/∂x_v u_v: the landmark inherits the vehicle's tracked yaw direction.
+    const Eigen::Vector3d u_L = dpL_dvehicle * yaw_direction_;
+    info_[id] = {obs.index, t_us_, t_us_, obs.descriptor, p_LinN, u_L, true};
     ++report->initialised;
   }
   return Status::Ok();

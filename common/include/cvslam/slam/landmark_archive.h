@@ -16,13 +16,14 @@
 namespace cvslam {
 
 struct ArchivedLandmark {
-  uint32_t index = 0;                                    ///< feature index (word id / true id)
-  Eigen::Vector3d p_LinN = Eigen::Vector3d::Zero();      ///< mean [m], NED
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  ///< marginal covariance [m²]
-  int64_t first_seen_us = 0;                             ///< time it was initialised
-  int64_t last_seen_us = 0;                              ///< time it was last observed
-  int64_t archived_us = 0;                               ///< time it left the state
-  std::vector<uint8_t> descriptor;                       ///< for appearance checks
+  uint32_t index = 0;                                       ///< feature index (word id / true id)
+  Eigen::Vector3d p_LinN = Eigen::Vector3d::Zero();         ///< mean [m], NED
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();     ///< marginal covariance [m²]
+  Eigen::Vector3d yaw_direction = Eigen::Vector3d::Zero();  ///< u_L (observability_constraint.h)
+  int64_t first_seen_us = 0;                                ///< time it was initialised
+  int64_t last_seen_us = 0;                                 ///< time it was last observed
+  int64_t archived_us = 0;                                  ///< time it left the state
+  std::vector<uint8_t> descriptor;                          ///< for appearance checks
 };
 
 class LandmarkArchive {

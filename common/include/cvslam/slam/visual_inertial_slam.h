@@ -32,6 +32,7 @@
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/slam/k_nearest_map_manager.h"
 #include "cvslam/slam/landmark_archive.h"
+#include "cvslam/slam/observability_constraint.h"
 
 namespace cvslam {
 
@@ -62,6 +63,11 @@ struct SlamOptions {
   /// successive updates cannot fabricate information about the unobservable yaw and
   /// translation — the main cause of EKF-SLAM over-confidence (cf. thesis §5.7.3, Rco < 1).
   bool first_estimate_jacobians = true;
+  /// Observability-constrained updates (observability_constraint.h): every observation
+  /// Jacobian is projected so that it cannot inform the global translation and yaw, along
+  /// directions carried through the filter's own transitions. Without it, the changing
+  /// linearisation points make the yaw look observable and the filter over-confident.
+  bool observability_constrained = true;
   /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
   /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
   /// this many are observed in one frame and a rigid yaw + translation aligns where the
@@ -189,12 +195,18 @@ class VisualInertialSlam {
   LandmarkArchive archive_;
   MeasurementBatch batch_;             // reused every pass
   std::vector<ImuSample> imu_buffer_;  // front() is at the state time
+  Eigen::VectorXd yaw_direction_;      // vehicle's u_v, carried by the transitions (OC-EKF)
   struct LandmarkInfo {
     uint32_t index = 0;
     int64_t first_seen_us = 0;
     int64_t last_seen_us = 0;
     std::vector<uint8_t> descriptor;
     Eigen::Vector3d first_estimate = Eigen::Vector3d::Zero();  ///< p_LinN when (re)entering
+    Eigen::Vector3d yaw_direction = Eigen::Vector3d::Zero();   ///< u_L (OC-EKF)
+    /// OC-EKF applies: the landmark entered by augmentation, correlated with the vehicle. A
+    /// re-activated landmark re-enters without correlation, as an independent prior on its
+    /// absolute position, so the joint null space no longer contains it.
+    bool constrained = false;
   };
   std::unordered_map<int64_t, LandmarkInfo> info_;  // landmarks in the state
   // Landmarks seen again after a long absence, not yet used to close a loop -> since when.
