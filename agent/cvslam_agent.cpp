@@ -20,6 +20,7 @@
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/agent_node.h"
+#include "cvslam/lcm/dc_link.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/slam/agent_calibration.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
@@ -172,14 +173,14 @@ int main(int argc, char** argv) {
   cvslam::VisualInertialSlamOptions options;
   cvslam::VisualFrontEndOptions frontend;
   cvslam::transport::AgentNodeOptions node;
-  std::optional<cvslam::ConfigNode> coop_config;
+  cvslam::coop::DcCooperationOptions coop_options;
   if (!config_path.empty()) {
     auto cfg = cvslam::ConfigNode::loadFile(config_path);
     if (!cfg.ok()) return fail(cfg.status().message());
     options.load(*cfg);
     frontend.load(cfg->child("frontend"));
     node.load(cfg->child("agent"));
-    coop_config = cfg->child("coop");
+    coop_options.load(cfg->child("coop"));
     cfg->child("lcm");
     if (Status s = cfg->finish(); !s.ok()) return fail(s.message());
   }
@@ -239,7 +240,8 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<cvslam::transport::CooperationLink> coop;
   if (args.mode == "dc") {
-    return fail("--mode dc: the cooperation core is not in this build yet");
+    coop = std::make_unique<cvslam::transport::DcLink>(args.id, coop_options, node.boot_id,
+                                                       args.out);
   }
 
   if (!args.out.empty()) {

@@ -21,6 +21,7 @@
 #include "cvslam/slam/rendered_sensing.h"
 #include "cvslam/slam/simulated_team_run.h"
 #include "cvslam/slam/visual_inertial_slam.h"
+#include "dc_team_link.h"
 
 namespace {
 
@@ -38,7 +39,12 @@ options:
   --out DIR               output folder (created)                               [required]
   --config FILE           agent configuration (default: config/agent.yaml of the
                           source tree, else built-in defaults)
-  --mode single           single: every UAV alone (dc and cc come with later work)
+  --mode single|dc        single: every UAV alone; dc: decentralised cooperation
+                          (thesis §6.6; LCM-encoded messages through an in-process
+                          mailbox, configuration section `coop:`, docs/cooperation.md)
+  --ci METHOD             dc: overrides coop.ci_method (adaptive | fast |
+                          optimal_trace | optimal_determinant)
+  --both-ways             dc: overrides coop.both_ways to true
   --sensing KIND          features: feature-level simulation with true landmark ids;
                           images: stereo pairs rendered at the true pose (the scenario's
                           `render:` world, default aerial) through the real front end and
@@ -58,7 +64,8 @@ options:
 
 struct Args {
   std::string scenario, out, config, mode = "single", sensing = "features", filter, map;
-  std::string pixel_noise, world, detector;
+  std::string pixel_noise, world, detector, ci;
+  bool both_ways = false;
   int passes = 0;
   long long seed = -1;
   double duration = -1.0;
@@ -105,6 +112,10 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
       if (!value(&a->detector)) return false;
     } else if (arg == "--pixel-noise") {
       if (!value(&a->pixel_noise)) return false;
+    } else if (arg == "--ci") {
+      if (!value(&a->ci)) return false;
+    } else if (arg == "--both-ways") {
+      a->both_ways = true;
     } else if (arg == "--quiet") {
       a->quiet = true;
     } else if (arg == "--passes" || arg == "--seed" || arg == "--duration") {
@@ -132,8 +143,11 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
   }
   if (a->scenario.empty()) return (*error = "--scenario is required (try --help)"), false;
   if (a->out.empty()) return (*error = "--out is required (try --help)"), false;
-  if (a->mode != "single") {
-    return (*error = "--mode " + a->mode + " is not available yet (only: single)"), false;
+  if (a->mode != "single" && a->mode != "dc") {
+    return (*error = "--mode " + a->mode + " is not available (single or dc)"), false;
+  }
+  if (a->mode != "dc" && (!a->ci.empty() || a->both_ways)) {
+    return (*error = "--ci and --both-ways need --mode dc"), false;
   }
   if (a->sensing != "features" && a->sensing != "images") {
     return (*error = "--sensing must be features or images, not '" + a->sensing + "'"), false;
@@ -184,12 +198,14 @@ int main(int argc, char** argv) {
   }
   cvslam::VisualInertialSlamOptions options;
   cvslam::VisualFrontEndOptions frontend;
+  cvslam::coop::DcCooperationOptions coop_options;
   if (!config_path.empty()) {
     auto cfg = cvslam::ConfigNode::loadFile(config_path);
     if (!cfg.ok()) return fail(cfg.status().message());
     options.load(*cfg);
     frontend.load(cfg->child("frontend"));
-    for (const char* section : {"agent", "lcm", "coop"}) cfg->child(section);
+    coop_options.load(cfg->child("coop"));
+    for (const char* section : {"agent", "lcm"}) cfg->child(section);
     if (Status s = cfg->finish(); !s.ok()) return fail(s.message());
   }
   if (!args.world.empty()) {
@@ -213,6 +229,13 @@ int main(int argc, char** argv) {
     if (!cfg->status().ok()) return fail(cfg->status().message());
   }
   if (args.passes > 0) options.slam.observation_passes = args.passes;
+  if (!args.ci.empty()) {
+    auto method = cvslam::coop::parseCiMethod(args.ci);
+    if (!method.ok()) return fail(method.status().message());
+    coop_options.ci_method = *method;
+  }
+  if (args.both_ways) coop_options.both_ways = true;
+  coop_options.true_ids = args.sensing == "features";
   if (auto p = options.filter.policy(); !p.ok()) return fail(p.status().message());
 
   cvslam::SimulatedTeamRun::SensingFactory sensing;
@@ -261,11 +284,22 @@ int main(int argc, char** argv) {
     }
   }
 
+  std::unique_ptr<cvslam::DcTeamLink> dc;
+  if (args.mode == "dc") {
+    std::vector<int> ids;
+    for (std::size_t i = 0; i < run.agentCount(); ++i) ids.push_back(run.agentId(i));
+    dc = std::make_unique<cvslam::DcTeamLink>(coop_options, ids);
+    if (Status s = dc->open(args.out); !s.ok()) return fail(s.message());
+  }
+
   const double duration = scenario->duration;
   int next_progress = 10;
   const auto wall_start = std::chrono::steady_clock::now();
   Status run_status = run.run([&](const cvslam::SimulatedFrame& f) -> Status {
     AgentOutput& o = outputs[f.agent_id];
+    if (dc) {
+      if (Status s = dc->afterFrame(f, o.writer.get()); !s.ok()) return s;
+    }
     const cvslam::FrameReport& report = *f.report;
     const double t = static_cast<double>(f.t_us) * 1e-6;
     double frame_ms = f.time_ms;
@@ -369,6 +403,7 @@ int main(int argc, char** argv) {
           s.disparityRms());
     }
   }
+  if (dc) dc->printSummary(stdout, duration);
   std::printf("  outputs in %s (evaluate with: cvslam_eval --run %s --summary-json F)\n",
               args.out.c_str(), args.out.c_str());
   return 0;

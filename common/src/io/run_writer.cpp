@@ -145,15 +145,15 @@ Status writeRunStats(const std::string& path, int agent_id, const RunStats& stat
   root.set("duration_s", Json::number(stats.duration_s));
   root.set("bytes_sent", Json::number(static_cast<double>(stats.bytes_sent)));
   root.set("bytes_received", Json::number(static_cast<double>(stats.bytes_received)));
-  if (!stats.bytes_sent_by_stream.empty()) {
+  if (!stats.bytes_sent_per_stream.empty()) {
     Json bytes = Json::object(), rates = Json::object();
-    for (const auto& [stream, n] : stats.bytes_sent_by_stream) {
+    for (const auto& [stream, n] : stats.bytes_sent_per_stream) {
       bytes.set(stream, Json::number(static_cast<double>(n)));
       rates.set(stream, Json::number(stats.duration_s > 0.0
                                          ? static_cast<double>(n) / stats.duration_s
                                          : std::numeric_limits<double>::quiet_NaN()));
     }
-    root.set("bytes_sent_by_stream", std::move(bytes));
+    root.set("bytes_sent_per_stream", std::move(bytes));
     root.set("bytes_sent_per_s", std::move(rates));
   }
   root.set("frames", std::move(frames));

@@ -52,8 +52,8 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
       return s;
     }
     const AgentFrame& last = p.lastFrame();
-    SimulatedFrame f{a.id,         ev.t_us,         &ev.truth,      &p.slam(),
-                     &last.report, &p.insState(), last.time_ms, a.sensing.get()};
+    SimulatedFrame f{a.id,         ev.t_us,       &ev.truth,    &p.slam(),       &last.report,
+                     &p.insState(), last.time_ms, a.sensing.get(), &p.slam()};
     if (on_frame) {
       if (Status s = on_frame(f); !s.ok()) return s;
     }

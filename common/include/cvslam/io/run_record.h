@@ -61,9 +61,9 @@ struct RunStats {
   double duration_s = 0.0;  ///< dataset time covered by the run [s]
   int64_t bytes_sent = 0;   ///< payload bytes this agent published (all channels)
   int64_t bytes_received = 0;
-  /// Payload bytes published per stream (e.g. "SUMMARY", "INDEX"; cvslam_agent), written
-  /// with their rates as bytes_sent_by_stream and bytes_sent_per_s; empty: not recorded.
-  std::map<std::string, int64_t> bytes_sent_by_stream;
+  /// Payload bytes published per stream ("SUMMARY", "INDEX", ...), when the driver counts
+  /// them; stats.json: bytes_sent_per_stream and their rates bytes_sent_per_s.
+  std::map<std::string, int64_t> bytes_sent_per_stream;
   std::vector<FrameStats> frames;
 };
 

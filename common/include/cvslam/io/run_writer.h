@@ -43,10 +43,15 @@ class AgentRunWriter {
   Status addInsState(double t, const Vector9d& x_ins);
   void addFrame(const FrameStats& frame) { stats_.frames.push_back(frame); }
   void addBytesSent(int64_t bytes) { stats_.bytes_sent += bytes; }
+  /// Counts `bytes` in the total and in the stream's own count (stats.json).
+  void addBytesSent(const std::string& stream, int64_t bytes) {
+    stats_.bytes_sent += bytes;
+    stats_.bytes_sent_per_stream[stream] += bytes;
+  }
   void addBytesReceived(int64_t bytes) { stats_.bytes_received += bytes; }
   /// Bytes published on one stream so far (replaces the stream's count; cvslam_agent).
   void setBytesSent(const std::string& stream, int64_t bytes) {
-    stats_.bytes_sent_by_stream[stream] = bytes;
+    stats_.bytes_sent_per_stream[stream] = bytes;
   }
   void setBytesSentTotal(int64_t bytes) { stats_.bytes_sent = bytes; }
 

@@ -28,6 +28,9 @@ struct SimulatedFrame {
   const Eigen::VectorXd* x_ins = nullptr;    ///< INS-only state at the frame
   double time_ms = 0.0;                      ///< wall time of the frame's sensing [ms]
   const FrameSensing* sensing = nullptr;     ///< the agent's sensing (stats, truth)
+  /// The same filter, writable: cooperation (cvslam_run --mode dc) fuses peer estimates
+  /// into it right after the frame (coop/dc_cooperation.h).
+  VisualInertialSlam* mutable_slam = nullptr;
 };
 
 class SimulatedTeamRun {

@@ -115,6 +115,16 @@ struct MapLandmark {
   bool in_state = false;
 };
 
+/// A landmark in the filter state, with what cooperation needs (thesis §6.6.5).
+struct StateLandmark {
+  int64_t id = -1;
+  uint32_t index = 0;  ///< feature index (visual word, or true id in feature-level simulation)
+  Eigen::Vector3d p_LinN = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  ///< marginal P_LL
+  std::vector<uint8_t> descriptor;                       ///< empty: none
+  int64_t last_seen_us = 0;                              ///< time of the last observation
+};
+
 class VisualInertialSlam {
  public:
   VisualInertialSlam(const VisualInertialSlamOptions& options, const StereoCamera& camera);
@@ -140,6 +150,15 @@ class VisualInertialSlam {
   Eigen::VectorXd vehicleState() const;
   Eigen::MatrixXd vehicleCovariance() const;
   const SlamState& state() const { return state_; }
+  /// Landmarks in the state, sorted by id.
+  std::vector<StateLandmark> stateLandmarks() const;
+  /// Covariance-intersection update with a peer's estimates y (3 per landmark, stacked in the
+  /// order of `ids`, all in the state) whose covariance is bounded by R (DESIGN §3, thesis
+  /// eq. 6.2 on the joint state): P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H, i.e. the prior is scaled by 1/ω1
+  /// and y enters as a measurement with covariance R/ω2, ω2 = 1 − ω1, so the vehicle and the
+  /// other landmarks are corrected through their correlations. omega1 ∈ (0, 1]; 1 = no-op.
+  Status fuseCovarianceIntersection(const std::vector<int64_t>& ids, const Eigen::VectorXd& y,
+                                    const Eigen::MatrixXd& R, double omega1);
   const LandmarkArchive& archive() const { return archive_; }
   /// Landmarks in the state and in the archive, sorted by id.
   std::vector<MapLandmark> map() const;

@@ -69,8 +69,6 @@ class CooperationLink {
                             const std::function<void(cvslam::agent_summary_t&)>& fill_counters) = 0;
   /// One line for the final report.
   virtual std::string report() const = 0;
-  /// Streams it publishes on (for bytes per stream), e.g. {"SUMMARY", "TEAM/SUMMARY"}.
-  virtual std::vector<std::pair<std::string, std::string>> publishedStreams() const = 0;
 };
 
 using LandmarkTruthFn = AgentRunRecorder::LandmarkTruth;

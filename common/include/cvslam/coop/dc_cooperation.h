@@ -1,0 +1,180 @@
+#pragma once
+// Decentralised cooperative VSLAM (DC-VSLAM, thesis §6.6.5; DESIGN.md §3): one DcCooperation per
+// agent runs the exchange protocol with every peer it hears, without transport. Per peer j:
+//   1. summaries (TEAM/SUMMARY) carry j's cooperation ellipsoid and feature count; a new
+//      boot_id means j restarted (its state here is reset); j is forgotten after
+//      peer_timeout_s of dataset time without a message;
+//   2. Coop(i, j) = the ellipsoids (mean ± coop_sigma·std of the landmarks observed now)
+//      intersect (feature_ellipsoid.h); the agent observing FEWER features (tie: lower id)
+//      broadcasts its feature indices (UAV<i>/INDEX) at most every exchange_period_s;
+//   3. the receiver looks the indices up among its in-state landmarks and asks for the
+//      candidates (SharedRequest on UAV<j>/SHARED_REQ);
+//   4. the sender answers with positions, covariances, descriptors and its vehicle-covariance
+//      trace (SharedLandmarks on UAV<i>/SHARED);
+//   5. the receiver confirms each by descriptor distance (when both have descriptors) and a
+//      χ² Mahalanobis gate on the two estimates, then fuses all confirmed landmarks by
+//      covariance intersection as ONE CI-consistent filter update
+//      (VisualInertialSlam::fuseCovarianceIntersection); with both_ways it also returns its
+//      own (pre-fusion) estimates of the confirmed landmarks, which the sender fuses.
+// Inbound messages are validated when they arrive and queued; afterFrame applies those older
+// than the frame (epoch semantics, docs/cooperation.md). Stale, duplicated and reordered
+// messages are dropped and counted. Everything is deterministic in the message order.
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "cvslam/camera/stereo_observation.h"
+#include "cvslam/coop/coop_messages.h"
+#include "cvslam/coop/covariance_intersection.h"
+#include "cvslam/coop/feature_ellipsoid.h"
+#include "cvslam/core/status.h"
+
+namespace cvslam {
+class ConfigNode;
+class VisualInertialSlam;
+}  // namespace cvslam
+
+namespace cvslam::coop {
+
+/// Config section `coop:` of agent.yaml.
+struct DcCooperationOptions {
+  double coop_sigma = 2.0;         ///< ellipsoid semi-axes = coop_sigma · std (§6.6.2)
+  double min_semi_axis_m = 1.0;    ///< floor of the semi-axes (one feature, planar sets) [m]
+  double summary_period_s = 0.5;   ///< summary/heartbeat period [s]
+  double exchange_period_s = 1.0;  ///< at most one index broadcast per period [s]
+  double peer_timeout_s = 5.0;     ///< a silent peer is forgotten after this [s]
+  double request_timeout_s = 2.0;  ///< an unanswered request is abandoned after this [s]
+  double max_message_age_s = 2.0;  ///< older messages (dataset time) are dropped as stale [s]
+  CiMethod ci_method =
+      CiMethod::kAdaptive;  ///< adaptive | fast | optimal_trace | optimal_determinant
+  bool both_ways = false;   ///< the receiver also returns its estimates to the sender
+  int max_landmarks_per_message =
+      50;  ///< landmarks per request / SharedLandmarks (sent and accepted)
+  int max_indices_per_message = 2000;  ///< indices per FeatureIndexList (sent and accepted)
+  double gate_probability = 0.999;     ///< χ²(3) gate on p_own − p_peer with P_own + P_peer
+  /// Descriptor distance (L2 over the bytes) above which a shared candidate is rejected;
+  /// only used when both estimates carry a descriptor of the same length.
+  double max_descriptor_distance = 250.0;
+  double max_position_m = 1.0e5;            ///< |p| above this is absurd [m]
+  double max_landmark_variance_m2 = 1.0e4;  ///< covariance eigenvalues above this are absurd [m²]
+  double min_landmark_variance_m2 = 1.0e-12;  ///< ... below this (not PD) too [m²]
+  /// Smallest weight of either estimate: ω1 → 0 would scale the local prior by 1/ω1 → ∞.
+  double min_omega = 0.05;
+  int max_queued_messages = 1000;
+  /// Indices are true landmark ids (feature-level simulation); set by the runner, not YAML.
+  bool true_ids = false;  ///< inbound queue bound (oldest dropped beyond)
+  Status load(const ConfigNode& node);
+};
+
+struct DcCooperationStatistics {
+  int64_t summaries_sent = 0, summaries_received = 0;
+  int64_t indices_sent = 0, indices_received = 0;
+  int64_t requests_sent = 0, requests_received = 0;
+  int64_t shared_sent = 0, shared_received = 0;
+  int64_t exchanges_completed = 0;  ///< SharedLandmarks fused (≥ 1 landmark)
+  int64_t landmarks_fused = 0;
+  int64_t rejected_invalid = 0;     ///< failed validation (non-finite, absurd, too large)
+  int64_t rejected_not_for_me = 0;  ///< directed to another agent, or from self
+  int64_t rejected_stale = 0;
+  int64_t rejected_duplicate = 0;
+  int64_t rejected_reordered = 0;
+  int64_t rejected_queue_full = 0;
+  int64_t rejected_unknown_peer = 0;  ///< index/request/shared from a peer with no summary yet
+  int64_t rejected_gate = 0;          ///< shared landmarks failing the χ² gate
+  int64_t rejected_descriptor = 0;    ///< shared landmarks failing the descriptor check
+  int64_t shared_not_in_state = 0;    ///< shared landmarks no longer in the local state
+  int64_t fusion_failures = 0;        ///< CI updates the filter refused
+  int64_t request_timeouts = 0;
+  int64_t peer_restarts = 0;
+  int64_t peer_timeouts = 0;
+  int peers_known = 0;
+};
+
+enum class CoopEventKind {
+  kPeerJoined,
+  kPeerRestarted,
+  kPeerLost,
+  kIndexSent,
+  kRequestSent,
+  kSharedSent,
+  kFused,
+  kRequestTimeout,
+};
+std::string coopEventName(CoopEventKind kind);
+
+/// One cooperation event for events/coop.csv.
+struct CoopEvent {
+  int64_t t_us = 0;  ///< frame time at which it happened [µs]
+  CoopEventKind kind = CoopEventKind::kFused;
+  int peer = 0;
+  int count = 0;                ///< indices / requested / sent / received landmarks
+  int fused = 0;                ///< kFused: landmarks fused
+  int rejected_gate = 0;        ///< kFused
+  int rejected_descriptor = 0;  ///< kFused
+  double omega1 = 1.0;          ///< kFused: weight of the own estimate
+};
+
+class DcCooperation {
+ public:
+  DcCooperation(int self_id, const DcCooperationOptions& options, int64_t boot_id);
+
+  // Inbound: validated (finite, sane sizes and magnitudes, not from self), then QUEUED; nothing
+  // is applied until afterFrame. Return false (and count) when rejected.
+  bool onSummary(const CoopSummary& message);
+  bool onIndex(const FeatureIndexList& message);
+  bool onRequest(const SharedRequest& message);   ///< ignored unless to_agent == self
+  bool onShared(const SharedLandmarks& message);  ///< ignored unless to_agent == self
+
+  /// Called right after slam.processFrame(frame). Handles the queued inbound messages with
+  /// header.t_us < frame.t_us, forgets timed-out peers, answers requests, fuses received
+  /// shared landmarks into `slam`, then emits this frame's messages into *out (cleared first).
+  Status afterFrame(const StereoFrameObservations& frame, VisualInertialSlam& slam,
+                    CoopOutbox* out);
+
+  const DcCooperationStatistics& statistics() const { return stats_; }
+  std::vector<CoopEvent> takeEvents();
+  std::vector<int> peers() const;  ///< currently known (not timed out), ascending
+  int selfId() const { return self_; }
+  const DcCooperationOptions& options() const { return o_; }
+
+ private:
+  struct PeerState {
+    int64_t boot_id = 0;
+    CoopSummary summary;              ///< latest
+    int64_t last_heard_us = 0;        ///< header time of the latest accepted message
+    std::map<int, int64_t> last_seq;  ///< stream -> highest accepted seq
+    bool request_pending = false;
+    int64_t request_sent_us = 0;
+    std::vector<uint32_t> requested;  ///< indices of the pending request (ascending)
+  };
+  using Inbound = std::variant<CoopSummary, FeatureIndexList, SharedRequest, SharedLandmarks>;
+
+  bool enqueue(Inbound message);
+  /// Stale / duplicate / reordered / unknown-peer checks; updates last_seq and last_heard.
+  bool admit(int stream, const CoopHeader& header, int64_t now_us);
+  void handleSummary(const CoopSummary& m, int64_t now_us);
+  void handleIndex(const FeatureIndexList& m, const VisualInertialSlam& slam, int64_t now_us,
+                   CoopOutbox* out);
+  void handleRequest(const SharedRequest& m, const VisualInertialSlam& slam, int64_t now_us,
+                     CoopOutbox* out);
+  void handleShared(const SharedLandmarks& m, VisualInertialSlam& slam, int64_t now_us,
+                    CoopOutbox* out);
+  CoopHeader nextHeader(int stream, int64_t t_us);
+
+  int self_;
+  DcCooperationOptions o_;
+  int64_t boot_id_;
+  std::deque<Inbound> inbox_;
+  std::map<int, PeerState> peers_;
+  std::map<int, int64_t> next_seq_;  ///< stream -> next seq to send
+  int64_t last_summary_us_ = -1;
+  int64_t last_index_us_ = -1;
+  DcCooperationStatistics stats_;
+  std::vector<CoopEvent> events_;
+};
+
+}  // namespace cvslam::coop

@@ -1,0 +1,129 @@
+#include "cvslam/coop/covariance_intersection.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <cmath>
+
+namespace cvslam::coop {
+
+namespace {
+constexpr double kGolden = 0.6180339887498949;
+
+/// Fused covariance for weight w (ω1); I1, I2 are the information matrices.
+Eigen::MatrixXd fusedCovariance(const Eigen::MatrixXd& I1, const Eigen::MatrixXd& I2, double w) {
+  const Eigen::MatrixXd I = w * I1 + (1.0 - w) * I2;
+  return I.ldlt().solve(Eigen::MatrixXd::Identity(I.rows(), I.cols()));
+}
+
+double ratio(double a, double b) {
+  return a + b > 0.0 ? a / (a + b) : 0.5;
+}
+}  // namespace
+
+Expected<CiMethod> parseCiMethod(const std::string& name) {
+  if (name == "adaptive") return CiMethod::kAdaptive;
+  if (name == "fast") return CiMethod::kFast;
+  if (name == "optimal_trace") return CiMethod::kOptimalTrace;
+  if (name == "optimal_determinant") return CiMethod::kOptimalDeterminant;
+  return Status::Error("unknown ci_method '" + name +
+                       "' (adaptive, fast, optimal_trace or optimal_determinant)");
+}
+
+std::string ciMethodName(CiMethod method) {
+  switch (method) {
+    case CiMethod::kAdaptive:
+      return "adaptive";
+    case CiMethod::kFast:
+      return "fast";
+    case CiMethod::kOptimalTrace:
+      return "optimal_trace";
+    case CiMethod::kOptimalDeterminant:
+      return "optimal_determinant";
+  }
+  return "adaptive";
+}
+
+double fastCiOmega(const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2) {
+  return ratio(P2.trace(), P1.trace());  // eq. 6.4
+}
+
+double adaptiveCiOmega(const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2, double vehicle_trace1,
+                       double vehicle_trace2) {
+  return ratio(P2.trace() + vehicle_trace2, P1.trace() + vehicle_trace1);  // eq. 6.5
+}
+
+double optimalCiOmega(const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2, bool determinant,
+                      double tolerance) {
+  const Eigen::MatrixXd I1 = P1.ldlt().solve(Eigen::MatrixXd::Identity(P1.rows(), P1.cols()));
+  const Eigen::MatrixXd I2 = P2.ldlt().solve(Eigen::MatrixXd::Identity(P2.rows(), P2.cols()));
+  // Both criteria are convex in ω (trace of the inverse of an affine PD family; −log det of
+  // an affine PD family), so golden-section search finds the global minimum on [0, 1].
+  auto cost = [&](double w) {
+    if (determinant) {
+      const Eigen::MatrixXd I = w * I1 + (1.0 - w) * I2;
+      return -std::log(I.determinant());
+    }
+    return fusedCovariance(I1, I2, w).trace();
+  };
+  double lo = 0.0, hi = 1.0;
+  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
+  double f1 = cost(x1), f2 = cost(x2);
+  while (hi - lo > tolerance) {
+    if (f1 < f2) {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - kGolden * (hi - lo);
+      f1 = cost(x1);
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + kGolden * (hi - lo);
+      f2 = cost(x2);
+    }
+  }
+  const double w = 0.5 * (lo + hi);
+  // The minimum may sit on the boundary (one estimate dominates).
+  const double f0 = cost(0.0), f_one = cost(1.0), fw = cost(w);
+  if (f0 <= fw && f0 <= f_one) return 0.0;
+  if (f_one <= fw) return 1.0;
+  return w;
+}
+
+double ciOmega(CiMethod method, const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2,
+               double vehicle_trace1, double vehicle_trace2) {
+  switch (method) {
+    case CiMethod::kAdaptive:
+      return adaptiveCiOmega(P1, P2, vehicle_trace1, vehicle_trace2);
+    case CiMethod::kFast:
+      return fastCiOmega(P1, P2);
+    case CiMethod::kOptimalTrace:
+      return optimalCiOmega(P1, P2, false);
+    case CiMethod::kOptimalDeterminant:
+      return optimalCiOmega(P1, P2, true);
+  }
+  return 0.5;
+}
+
+Expected<CiFusion> fuseCovarianceIntersection(const Eigen::VectorXd& x1, const Eigen::MatrixXd& P1,
+                                              const Eigen::VectorXd& x2, const Eigen::MatrixXd& P2,
+                                              double omega1) {
+  const auto n = x1.size();
+  if (x2.size() != n || P1.rows() != n || P1.cols() != n || P2.rows() != n || P2.cols() != n)
+    return Status::Error("covariance intersection: size mismatch");
+  if (!(omega1 >= 0.0 && omega1 <= 1.0))
+    return Status::Error("covariance intersection: omega1 must be in [0, 1]");
+  const Eigen::LLT<Eigen::MatrixXd> l1(P1), l2(P2);
+  if (l1.info() != Eigen::Success || l2.info() != Eigen::Success)
+    return Status::Error("covariance intersection: covariance not positive definite");
+  const Eigen::MatrixXd Id = Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd I1 = l1.solve(Id), I2 = l2.solve(Id);
+  CiFusion f;
+  f.P = fusedCovariance(I1, I2, omega1);  // eq. 6.2
+  f.P = 0.5 * (f.P + f.P.transpose());
+  f.x = f.P * (omega1 * I1 * x1 + (1.0 - omega1) * I2 * x2);
+  return f;
+}
+
+}  // namespace cvslam::coop

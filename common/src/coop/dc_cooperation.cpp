@@ -1,0 +1,507 @@
+#include "cvslam/coop/dc_cooperation.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "cvslam/filter/chi_square.h"
+#include "cvslam/filter/covariance_helper.h"
+#include "cvslam/io/config_node.h"
+#include "cvslam/slam/visual_inertial_slam.h"
+#include "cvslam/vision/descriptor_distance.h"
+
+namespace cvslam::coop {
+
+namespace {
+enum Stream : int { kSummaryStream = 0, kIndexStream = 1, kRequestStream = 2, kSharedStream = 3 };
+constexpr double kUsPerS = 1e6;
+constexpr int kLandmarkDof = 3;
+/// Descriptors longer than this are not descriptors (SIFT: 128 bytes) [bytes].
+constexpr std::size_t kMaxDescriptorBytes = 1024;
+/// Relative asymmetry tolerated in a received covariance (rounding of the sender's algebra).
+constexpr double kSymmetryTolerance = 1e-6;
+
+double seconds(int64_t dt_us) {
+  return static_cast<double>(dt_us) / kUsPerS;
+}
+
+bool validHeader(const CoopHeader& h) {
+  return h.agent_id >= 1 && h.seq >= 0 && h.t_us >= 0;
+}
+
+double vehiclePositionTrace(const VisualInertialSlam& slam) {
+  return slam.vehicleCovariance().topLeftCorner<3, 3>().trace();
+}
+
+/// In-state landmarks observed in the current frame (the features the agent observes now).
+std::vector<StateLandmark> observedNow(const std::vector<StateLandmark>& in_state, int64_t t_us) {
+  std::vector<StateLandmark> out;
+  for (const StateLandmark& l : in_state)
+    if (l.last_seen_us == t_us) out.push_back(l);
+  return out;
+}
+}  // namespace
+
+std::string coopEventName(CoopEventKind kind) {
+  switch (kind) {
+    case CoopEventKind::kPeerJoined:
+      return "peer_joined";
+    case CoopEventKind::kPeerRestarted:
+      return "peer_restarted";
+    case CoopEventKind::kPeerLost:
+      return "peer_lost";
+    case CoopEventKind::kIndexSent:
+      return "index_sent";
+    case CoopEventKind::kRequestSent:
+      return "request_sent";
+    case CoopEventKind::kSharedSent:
+      return "shared_sent";
+    case CoopEventKind::kFused:
+      return "fused";
+    case CoopEventKind::kRequestTimeout:
+      return "request_timeout";
+  }
+  return "unknown";
+}
+
+Status DcCooperationOptions::load(const ConfigNode& node) {
+  node.get("coop_sigma", coop_sigma);
+  node.get("min_semi_axis_m", min_semi_axis_m);
+  node.get("summary_period_s", summary_period_s);
+  node.get("exchange_period_s", exchange_period_s);
+  node.get("peer_timeout_s", peer_timeout_s);
+  node.get("request_timeout_s", request_timeout_s);
+  node.get("max_message_age_s", max_message_age_s);
+  std::string method = ciMethodName(ci_method);
+  node.get("ci_method", method);
+  if (Expected<CiMethod> m = parseCiMethod(method); m.ok()) {
+    ci_method = m.value();
+  } else {
+    node.check(false, "ci_method", m.status().message());
+  }
+  node.get("both_ways", both_ways);
+  node.get("max_landmarks_per_message", max_landmarks_per_message);
+  node.get("max_indices_per_message", max_indices_per_message);
+  node.get("gate_probability", gate_probability);
+  node.get("max_descriptor_distance", max_descriptor_distance);
+  node.get("max_position_m", max_position_m);
+  node.get("max_landmark_variance_m2", max_landmark_variance_m2);
+  node.get("min_landmark_variance_m2", min_landmark_variance_m2);
+  node.get("min_omega", min_omega);
+  node.get("max_queued_messages", max_queued_messages);
+  node.check(coop_sigma > 0.0, "coop_sigma", "must be > 0");
+  node.check(min_semi_axis_m > 0.0, "min_semi_axis_m", "must be > 0");
+  node.check(summary_period_s > 0.0 && exchange_period_s > 0.0, "summary_period_s",
+             "summary_period_s and exchange_period_s must be > 0");
+  node.check(peer_timeout_s > 0.0 && request_timeout_s > 0.0 && max_message_age_s > 0.0,
+             "peer_timeout_s", "peer_timeout_s, request_timeout_s, max_message_age_s must be > 0");
+  node.check(max_landmarks_per_message >= 1, "max_landmarks_per_message", "must be ≥ 1");
+  node.check(max_indices_per_message >= 1, "max_indices_per_message", "must be ≥ 1");
+  node.check(gate_probability > 0.0 && gate_probability < 1.0, "gate_probability",
+             "must be in (0, 1)");
+  node.check(max_descriptor_distance >= 0.0, "max_descriptor_distance", "must be ≥ 0");
+  node.check(max_position_m > 0.0, "max_position_m", "must be > 0");
+  node.check(min_landmark_variance_m2 > 0.0 && max_landmark_variance_m2 > min_landmark_variance_m2,
+             "max_landmark_variance_m2",
+             "need 0 < min_landmark_variance_m2 < max_landmark_variance_m2");
+  node.check(min_omega > 0.0 && min_omega < 0.5, "min_omega", "must be in (0, 0.5)");
+  node.check(max_queued_messages >= 1, "max_queued_messages", "must be ≥ 1");
+  return node.status();
+}
+
+DcCooperation::DcCooperation(int self_id, const DcCooperationOptions& options, int64_t boot_id)
+    : self_(self_id), o_(options), boot_id_(boot_id) {}
+
+std::vector<CoopEvent> DcCooperation::takeEvents() {
+  std::vector<CoopEvent> out;
+  out.swap(events_);
+  return out;
+}
+
+std::vector<int> DcCooperation::peers() const {
+  std::vector<int> out;
+  for (const auto& [id, p] : peers_) out.push_back(id);
+  return out;
+}
+
+bool DcCooperation::enqueue(Inbound message) {
+  if (static_cast<int>(inbox_.size()) >= o_.max_queued_messages) {
+    inbox_.pop_front();
+    ++stats_.rejected_queue_full;
+  }
+  inbox_.push_back(std::move(message));
+  return true;
+}
+
+bool DcCooperation::onSummary(const CoopSummary& m) {
+  if (m.header.agent_id == self_) return ++stats_.rejected_not_for_me, false;
+  const bool ok = validHeader(m.header) && m.mean.allFinite() && m.std.allFinite() &&
+                  m.mean.norm() <= o_.max_position_m && (m.std.array() >= 0.0).all() &&
+                  m.std.maxCoeff() <= o_.max_position_m && m.num_features >= 0 &&
+                  std::isfinite(m.vehicle_cov_trace) && m.vehicle_cov_trace >= 0.0;
+  if (!ok) return ++stats_.rejected_invalid, false;
+  return enqueue(m);
+}
+
+bool DcCooperation::onIndex(const FeatureIndexList& m) {
+  if (m.header.agent_id == self_) return ++stats_.rejected_not_for_me, false;
+  if (!validHeader(m.header) || static_cast<int>(m.indices.size()) > o_.max_indices_per_message)
+    return ++stats_.rejected_invalid, false;
+  return enqueue(m);
+}
+
+bool DcCooperation::onRequest(const SharedRequest& m) {
+  if (m.header.agent_id == self_ || m.to_agent != self_) return ++stats_.rejected_not_for_me, false;
+  if (!validHeader(m.header) || static_cast<int>(m.indices.size()) > o_.max_landmarks_per_message)
+    return ++stats_.rejected_invalid, false;
+  return enqueue(m);
+}
+
+bool DcCooperation::onShared(const SharedLandmarks& m) {
+  if (m.header.agent_id == self_ || m.to_agent != self_) return ++stats_.rejected_not_for_me, false;
+  bool ok = validHeader(m.header) &&
+            static_cast<int>(m.landmarks.size()) <= o_.max_landmarks_per_message &&
+            std::isfinite(m.vehicle_cov_trace) && m.vehicle_cov_trace >= 0.0;
+  for (const SharedLandmark& l : m.landmarks) {
+    if (!ok) break;
+    ok = l.p_LinN.allFinite() && l.p_LinN.norm() <= o_.max_position_m && l.covariance.allFinite() &&
+         l.descriptor.size() <= kMaxDescriptorBytes;
+    if (!ok) break;
+    const double scale = l.covariance.cwiseAbs().maxCoeff();
+    ok = (l.covariance - l.covariance.transpose()).cwiseAbs().maxCoeff() <=
+         kSymmetryTolerance * scale;
+    if (!ok) break;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(l.covariance, Eigen::EigenvaluesOnly);
+    ok = eig.eigenvalues().minCoeff() >= o_.min_landmark_variance_m2 &&
+         eig.eigenvalues().maxCoeff() <= o_.max_landmark_variance_m2;
+  }
+  if (!ok) return ++stats_.rejected_invalid, false;
+  return enqueue(m);
+}
+
+bool DcCooperation::admit(int stream, const CoopHeader& h, int64_t now_us) {
+  if (seconds(now_us - h.t_us) > o_.max_message_age_s) return ++stats_.rejected_stale, false;
+  auto it = peers_.find(h.agent_id);
+  if (it == peers_.end()) return ++stats_.rejected_unknown_peer, false;
+  PeerState& p = it->second;
+  auto last = p.last_seq.find(stream);
+  if (last != p.last_seq.end()) {
+    if (h.seq == last->second) return ++stats_.rejected_duplicate, false;
+    if (h.seq < last->second) return ++stats_.rejected_reordered, false;
+  }
+  p.last_seq[stream] = h.seq;
+  p.last_heard_us = std::max(p.last_heard_us, h.t_us);
+  return true;
+}
+
+CoopHeader DcCooperation::nextHeader(int stream, int64_t t_us) {
+  CoopHeader h;
+  h.agent_id = self_;
+  h.t_us = t_us;
+  h.seq = next_seq_[stream]++;
+  return h;
+}
+
+void DcCooperation::handleSummary(const CoopSummary& m, int64_t now_us) {
+  if (seconds(now_us - m.header.t_us) > o_.max_message_age_s) {
+    ++stats_.rejected_stale;
+    return;
+  }
+  const int j = m.header.agent_id;
+  auto it = peers_.find(j);
+  if (it == peers_.end() || it->second.boot_id != m.boot_id) {
+    const bool restart = it != peers_.end();
+    PeerState fresh;
+    fresh.boot_id = m.boot_id;
+    fresh.last_heard_us = m.header.t_us;
+    peers_[j] = fresh;
+    if (restart) ++stats_.peer_restarts;
+    CoopEvent e;
+    e.t_us = now_us;
+    e.kind = restart ? CoopEventKind::kPeerRestarted : CoopEventKind::kPeerJoined;
+    e.peer = j;
+    events_.push_back(e);
+  }
+  if (!admit(kSummaryStream, m.header, now_us)) return;
+  ++stats_.summaries_received;
+  peers_[j].summary = m;
+}
+
+void DcCooperation::handleIndex(const FeatureIndexList& m, const VisualInertialSlam& slam,
+                                int64_t now_us, CoopOutbox* out) {
+  if (!admit(kIndexStream, m.header, now_us)) return;
+  ++stats_.indices_received;
+  PeerState& p = peers_[m.header.agent_id];
+  if (p.request_pending) return;  // one exchange at a time per peer
+  std::vector<uint32_t> sorted = m.indices;
+  std::sort(sorted.begin(), sorted.end());
+  // Candidates: in-state landmarks with an index the peer observes, most recently seen first.
+  std::vector<StateLandmark> cand;
+  for (const StateLandmark& l : slam.stateLandmarks())
+    if (std::binary_search(sorted.begin(), sorted.end(), l.index)) cand.push_back(l);
+  if (cand.empty()) return;
+  std::stable_sort(cand.begin(), cand.end(), [](const StateLandmark& a, const StateLandmark& b) {
+    return a.last_seen_us > b.last_seen_us;
+  });
+  SharedRequest r;
+  r.header = nextHeader(kRequestStream, now_us);
+  r.to_agent = m.header.agent_id;
+  for (const StateLandmark& l : cand) {
+    if (static_cast<int>(r.indices.size()) >= o_.max_landmarks_per_message) break;
+    r.indices.push_back(l.index);
+  }
+  std::sort(r.indices.begin(), r.indices.end());
+  r.indices.erase(std::unique(r.indices.begin(), r.indices.end()), r.indices.end());
+  p.request_pending = true;
+  p.request_sent_us = now_us;
+  p.requested = r.indices;
+  ++stats_.requests_sent;
+  events_.push_back({now_us, CoopEventKind::kRequestSent, r.to_agent,
+                     static_cast<int>(r.indices.size()), 0, 0, 0, 1.0});
+  out->requests.push_back(std::move(r));
+}
+
+void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSlam& slam,
+                                  int64_t now_us, CoopOutbox* out) {
+  if (!admit(kRequestStream, m.header, now_us)) return;
+  ++stats_.requests_received;
+  std::vector<uint32_t> wanted = m.indices;
+  std::sort(wanted.begin(), wanted.end());
+  SharedLandmarks s;
+  s.header = nextHeader(kSharedStream, now_us);
+  s.to_agent = m.header.agent_id;
+  s.vehicle_cov_trace = vehiclePositionTrace(slam);
+  for (const StateLandmark& l : slam.stateLandmarks()) {
+    if (static_cast<int>(s.landmarks.size()) >= o_.max_landmarks_per_message) break;
+    if (!std::binary_search(wanted.begin(), wanted.end(), l.index)) continue;
+    s.landmarks.push_back({l.index, l.p_LinN, l.covariance, l.descriptor});
+  }
+  ++stats_.shared_sent;
+  events_.push_back({now_us, CoopEventKind::kSharedSent, s.to_agent,
+                     static_cast<int>(s.landmarks.size()), 0, 0, 0, 1.0});
+  out->shared.push_back(std::move(s));
+}
+
+void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& slam, int64_t now_us,
+                                 CoopOutbox* out) {
+  if (!admit(kSharedStream, m.header, now_us)) return;
+  ++stats_.shared_received;
+  const int j = m.header.agent_id;
+  PeerState& p = peers_[j];
+  const bool answers_request = p.request_pending;
+  p.request_pending = false;
+
+  const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
+  const std::vector<StateLandmark> local = slam.stateLandmarks();
+  std::vector<bool> used(local.size(), false);
+  struct Pair {
+    std::size_t local;
+    const SharedLandmark* peer;
+  };
+  std::vector<Pair> pairs;
+  CoopEvent e;
+  e.t_us = now_us;
+  e.kind = CoopEventKind::kFused;
+  e.peer = j;
+  e.count = static_cast<int>(m.landmarks.size());
+  for (const SharedLandmark& s : m.landmarks) {
+    bool any_index = false, any_descriptor = false;
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t best_i = local.size();
+    for (std::size_t i = 0; i < local.size(); ++i) {
+      if (used[i] || local[i].index != s.index) continue;
+      any_index = true;
+      const auto& d1 = local[i].descriptor;
+      if (!d1.empty() && d1.size() == s.descriptor.size()) {
+        const double dist = std::sqrt(static_cast<double>(vision::distanceL2Squared(
+            d1.data(), s.descriptor.data(), static_cast<int>(d1.size()))));
+        if (dist > o_.max_descriptor_distance) continue;
+      }
+      any_descriptor = true;
+      const Eigen::Vector3d d = s.p_LinN - local[i].p_LinN;
+      const double d2 = d.dot((local[i].covariance + s.covariance).ldlt().solve(d));
+      if (d2 <= gate && d2 < best) best = d2, best_i = i;
+    }
+    if (!any_index) {
+      ++stats_.shared_not_in_state;
+    } else if (!any_descriptor) {
+      ++stats_.rejected_descriptor;
+      ++e.rejected_descriptor;
+    } else if (best_i == local.size()) {
+      ++stats_.rejected_gate;
+      ++e.rejected_gate;
+    } else {
+      used[best_i] = true;
+      pairs.push_back({best_i, &s});
+    }
+  }
+  const auto n = static_cast<Eigen::Index>(pairs.size());
+  if (n > 0) {
+    // Local joint covariance of the confirmed landmarks (P1), and the bound on the peer's
+    // stacked covariance: the message carries marginals P_i only, and for ANY joint
+    // covariance with those diagonal blocks, Σ ≤ blockdiag(m·P_i) (covariance intersection of
+    // the m blocks with equal weights 1/m), so blockdiag(m·P_i) is consistent whatever the
+    // correlations between the peer's landmarks (they share its vehicle error).
+    std::vector<VariableKey> keys;
+    std::vector<int64_t> ids;
+    Eigen::VectorXd y(3 * n);
+    Eigen::MatrixXd R = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+    double peer_trace = 0.0;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Pair& pr = pairs[static_cast<std::size_t>(k)];
+      ids.push_back(local[pr.local].id);
+      keys.push_back(VariableKey::landmark(static_cast<uint64_t>(local[pr.local].id)));
+      y.segment<3>(3 * k) = pr.peer->p_LinN;
+      R.block<3, 3>(3 * k, 3 * k) = static_cast<double>(n) * pr.peer->covariance;
+      peer_trace += pr.peer->covariance.trace();
+    }
+    Expected<Eigen::MatrixXd> P1 = CovarianceHelper::marginalCovariance(slam.state(), keys);
+    if (!P1.ok()) {
+      ++stats_.fusion_failures;
+      return;
+    }
+    const double own_trace = P1.value().trace();
+    const double own_vehicle = vehiclePositionTrace(slam);
+    double w = 1.0;
+    const double nn = static_cast<double>(n);
+    switch (o_.ci_method) {
+      case CiMethod::kAdaptive:  // eq. 6.5 with per-landmark mean traces
+        w = (peer_trace / nn + m.vehicle_cov_trace) /
+            (own_trace / nn + peer_trace / nn + own_vehicle + m.vehicle_cov_trace);
+        break;
+      case CiMethod::kFast:  // eq. 6.4
+        w = peer_trace / (own_trace + peer_trace);
+        break;
+      case CiMethod::kOptimalTrace:
+      case CiMethod::kOptimalDeterminant:
+        w = optimalCiOmega(P1.value(), R, o_.ci_method == CiMethod::kOptimalDeterminant);
+        break;
+    }
+    w = std::clamp(w, o_.min_omega, 1.0 - o_.min_omega);
+    e.omega1 = w;
+    // both_ways: return the local (pre-fusion) estimates of the confirmed landmarks.
+    if (o_.both_ways && answers_request) {
+      SharedLandmarks back;
+      back.header = nextHeader(kSharedStream, now_us);
+      back.to_agent = j;
+      back.vehicle_cov_trace = own_vehicle;
+      for (const Pair& pr : pairs) {
+        const StateLandmark& l = local[pr.local];
+        back.landmarks.push_back({pr.peer->index, l.p_LinN, l.covariance, l.descriptor});
+      }
+      ++stats_.shared_sent;
+      events_.push_back({now_us, CoopEventKind::kSharedSent, j,
+                         static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
+      out->shared.push_back(std::move(back));
+    }
+    if (Status s = slam.fuseCovarianceIntersection(ids, y, R, w); !s.ok()) {
+      ++stats_.fusion_failures;
+      return;
+    }
+    e.fused = static_cast<int>(n);
+    stats_.landmarks_fused += n;
+    ++stats_.exchanges_completed;
+  }
+  events_.push_back(e);
+}
+
+Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualInertialSlam& slam,
+                                 CoopOutbox* out) {
+  if (out == nullptr) return Status::Error("DcCooperation::afterFrame: null outbox");
+  out->clear();
+  const int64_t now = frame.t_us;
+  // 1. Messages of earlier epochs, in arrival order; later ones wait.
+  std::deque<Inbound> later;
+  while (!inbox_.empty()) {
+    Inbound msg = std::move(inbox_.front());
+    inbox_.pop_front();
+    const int64_t t = std::visit([](const auto& m) { return m.header.t_us; }, msg);
+    if (t >= now) {
+      later.push_back(std::move(msg));
+      continue;
+    }
+    if (auto* s = std::get_if<CoopSummary>(&msg))
+      handleSummary(*s, now);
+    else if (auto* i = std::get_if<FeatureIndexList>(&msg))
+      handleIndex(*i, slam, now, out);
+    else if (auto* r = std::get_if<SharedRequest>(&msg))
+      handleRequest(*r, slam, now, out);
+    else if (auto* l = std::get_if<SharedLandmarks>(&msg))
+      handleShared(*l, slam, now, out);
+  }
+  inbox_.swap(later);
+
+  // 2. Forget silent peers; abandon unanswered requests.
+  for (auto it = peers_.begin(); it != peers_.end();) {
+    if (seconds(now - it->second.last_heard_us) > o_.peer_timeout_s) {
+      ++stats_.peer_timeouts;
+      events_.push_back({now, CoopEventKind::kPeerLost, it->first, 0, 0, 0, 0, 1.0});
+      it = peers_.erase(it);
+      continue;
+    }
+    PeerState& p = it->second;
+    if (p.request_pending && seconds(now - p.request_sent_us) > o_.request_timeout_s) {
+      p.request_pending = false;
+      ++stats_.request_timeouts;
+      events_.push_back({now, CoopEventKind::kRequestTimeout, it->first,
+                         static_cast<int>(p.requested.size()), 0, 0, 0, 1.0});
+    }
+    ++it;
+  }
+  stats_.peers_known = static_cast<int>(peers_.size());
+
+  // 3. This frame's ellipsoid (§6.6.2) from the in-state landmarks observed now.
+  const std::vector<StateLandmark> now_seen = observedNow(slam.stateLandmarks(), now);
+  std::vector<Eigen::Vector3d> points;
+  for (const StateLandmark& l : now_seen) points.push_back(l.p_LinN);
+  const FeatureEllipsoid mine = ellipsoidOf(points);
+  const int n_self = mine.count;
+
+  if (last_summary_us_ < 0 || seconds(now - last_summary_us_) >= o_.summary_period_s) {
+    CoopSummary s;
+    s.header = nextHeader(kSummaryStream, now);
+    s.boot_id = boot_id_;
+    s.mean = mine.mean;
+    s.std = mine.std;
+    s.num_features = n_self;
+    s.vehicle_cov_trace = vehiclePositionTrace(slam);
+    out->summary = s;
+    last_summary_us_ = now;
+    ++stats_.summaries_sent;
+  }
+
+  // 4. Index broadcast when, for some cooperating peer, this agent observes fewer features.
+  if (n_self == 0) return Status::Ok();
+  if (last_index_us_ >= 0 && seconds(now - last_index_us_) < o_.exchange_period_s)
+    return Status::Ok();
+  bool send = false;
+  for (const auto& [j, p] : peers_) {
+    if (p.summary.header.agent_id != j) continue;  // no summary accepted yet
+    if (seconds(now - p.summary.header.t_us) > o_.max_message_age_s) continue;
+    FeatureEllipsoid theirs;
+    theirs.mean = p.summary.mean;
+    theirs.std = p.summary.std;
+    theirs.count = p.summary.num_features;
+    if (!ellipsoidsIntersect(mine, theirs, o_.coop_sigma, o_.min_semi_axis_m)) continue;
+    const int n_peer = p.summary.num_features;
+    if (n_self < n_peer || (n_self == n_peer && self_ < j)) send = true;
+  }
+  if (!send) return Status::Ok();
+  FeatureIndexList idx;
+  idx.header = nextHeader(kIndexStream, now);
+  idx.true_ids = o_.true_ids;
+  for (const StateLandmark& l : now_seen) idx.indices.push_back(l.index);
+  std::sort(idx.indices.begin(), idx.indices.end());
+  idx.indices.erase(std::unique(idx.indices.begin(), idx.indices.end()), idx.indices.end());
+  if (static_cast<int>(idx.indices.size()) > o_.max_indices_per_message)
+    idx.indices.resize(static_cast<std::size_t>(o_.max_indices_per_message));
+  last_index_us_ = now;
+  ++stats_.indices_sent;
+  events_.push_back(
+      {now, CoopEventKind::kIndexSent, 0, static_cast<int>(idx.indices.size()), 0, 0, 0, 1.0});
+  out->index = std::move(idx);
+  return Status::Ok();
+}
+
+}  // namespace cvslam::coop

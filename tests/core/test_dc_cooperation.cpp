@@ -1,0 +1,226 @@
+// DcCooperation (thesis §6.6.5): two feature-level UAVs with their own filters exchange the
+// protocol's messages; UAV2 starts offset and must improve through UAV1's landmarks. Lost,
+// duplicated, reordered, stale and malformed messages, both_ways, peer restart and timeout.
+
+#include "cvslam/coop/dc_cooperation.h"
+
+#include <gtest/gtest.h>
+
+#include <deque>
+
+#include "coop_team_fixture.h"
+#include "cvslam/io/config_node.h"
+
+namespace cvslam {
+namespace {
+
+using cooptest::Envelope;
+using cooptest::runTeam;
+using cooptest::TeamOptions;
+using cooptest::TeamResult;
+
+constexpr double kDuration = 12.0;
+constexpr uint64_t kSeed = 5;
+
+const TeamResult& baseline() {
+  static const TeamResult r = [] {
+    TeamOptions o;
+    o.cooperate = false;
+    return runTeam(kDuration, kSeed, o);
+  }();
+  return r;
+}
+
+const TeamResult& cooperative() {
+  static const TeamResult r = runTeam(kDuration, kSeed, TeamOptions{});
+  return r;
+}
+
+TEST(DcCooperation, FusionImprovesTheWorseAgent) {
+  const TeamResult& b = baseline();
+  const TeamResult& c = cooperative();
+  ASSERT_TRUE(b.ok && c.ok);
+  EXPECT_GT(c.stats[0].summaries_received, 10);
+  EXPECT_GT(c.stats[1].summaries_received, 10);
+  const int64_t fused = c.stats[0].landmarks_fused + c.stats[1].landmarks_fused;
+  EXPECT_GT(fused, 0);
+  // UAV2 (offset start) gains: its landmark and vehicle errors drop clearly.
+  EXPECT_LT(c.final_landmark_error[1], 0.7 * b.final_landmark_error[1])
+      << "single " << b.final_landmark_error[1] << " dc " << c.final_landmark_error[1];
+  EXPECT_LT(c.final_vehicle_error[1], 0.7 * b.final_vehicle_error[1])
+      << "single " << b.final_vehicle_error[1] << " dc " << c.final_vehicle_error[1];
+  // UAV1 does not get (much) worse.
+  EXPECT_LT(c.final_vehicle_error[0], b.final_vehicle_error[0] + 0.1);
+  EXPECT_EQ(c.stats[0].rejected_invalid + c.stats[1].rejected_invalid, 0);
+  EXPECT_EQ(c.stats[0].rejected_duplicate + c.stats[1].rejected_duplicate, 0);
+}
+
+TEST(DcCooperation, DuplicatedMessagesAreDroppedAndChangeNothing) {
+  TeamOptions o;
+  o.transport = [](int64_t, Envelope e) { return std::vector<Envelope>{e, e}; };
+  const TeamResult r = runTeam(kDuration, kSeed, o);
+  const TeamResult& c = cooperative();
+  EXPECT_GT(r.stats[0].rejected_duplicate, 10);
+  EXPECT_GT(r.stats[1].rejected_duplicate, 10);
+  EXPECT_EQ(r.stats[1].landmarks_fused, c.stats[1].landmarks_fused);
+  EXPECT_DOUBLE_EQ(r.final_vehicle_error[1], c.final_vehicle_error[1]);
+}
+
+TEST(DcCooperation, LostSharedMessagesTimeOut) {
+  TeamOptions o;
+  o.transport = [](int64_t, Envelope e) {
+    return e.shared ? std::vector<Envelope>{} : std::vector<Envelope>{e};
+  };
+  const TeamResult r = runTeam(kDuration, kSeed, o);
+  EXPECT_GT(r.stats[0].request_timeouts + r.stats[1].request_timeouts, 0);
+  EXPECT_EQ(r.stats[0].landmarks_fused + r.stats[1].landmarks_fused, 0);
+  // Every other message lost at random: the protocol still completes exchanges.
+  TeamOptions half;
+  auto counter = std::make_shared<int>(0);
+  half.transport = [counter](int64_t, Envelope e) {
+    return (++*counter % 3 == 0) ? std::vector<Envelope>{} : std::vector<Envelope>{e};
+  };
+  const TeamResult h = runTeam(kDuration, kSeed, half);
+  EXPECT_GT(h.stats[0].landmarks_fused + h.stats[1].landmarks_fused, 0);
+}
+
+TEST(DcCooperation, ReorderedMessagesAreDropped) {
+  // Summaries are held back one and delivered after the next one (swapped pairs).
+  TeamOptions o;
+  auto held = std::make_shared<std::optional<Envelope>>();
+  o.transport = [held](int64_t, Envelope e) {
+    if (!e.summary) return std::vector<Envelope>{e};
+    if (!*held) {
+      *held = e;
+      return std::vector<Envelope>{};
+    }
+    std::vector<Envelope> out{e, **held};
+    held->reset();
+    return out;
+  };
+  const TeamResult r = runTeam(kDuration, kSeed, o);
+  EXPECT_GT(r.stats[0].rejected_reordered, 5);
+  EXPECT_GT(r.stats[1].rejected_reordered, 5);
+  EXPECT_GT(r.stats[0].landmarks_fused + r.stats[1].landmarks_fused, 0);
+}
+
+TEST(DcCooperation, StaleMessagesAreDropped) {
+  // Every message arrives 3 s late (> max_message_age_s = 2 s): nothing is applied.
+  TeamOptions o;
+  auto queue = std::make_shared<std::deque<std::pair<int64_t, Envelope>>>();
+  o.transport = [queue](int64_t t, Envelope e) {
+    queue->emplace_back(t, std::move(e));
+    std::vector<Envelope> out;
+    while (!queue->empty() && queue->front().first <= t - 3'000'000) {
+      out.push_back(queue->front().second);
+      queue->pop_front();
+    }
+    return out;
+  };
+  const TeamResult r = runTeam(kDuration, kSeed, o);
+  EXPECT_GT(r.stats[0].rejected_stale, 10);
+  EXPECT_EQ(r.stats[0].summaries_received + r.stats[1].summaries_received, 0);
+  EXPECT_EQ(r.stats[0].landmarks_fused + r.stats[1].landmarks_fused, 0);
+}
+
+TEST(DcCooperation, GateRejectsLandmarksOffsetBy50m) {
+  TeamOptions o;
+  o.transport = [](int64_t, Envelope e) {
+    if (e.shared)
+      for (auto& l : e.shared->landmarks) l.p_LinN.x() += 50.0;
+    return std::vector<Envelope>{e};
+  };
+  const TeamResult r = runTeam(kDuration, kSeed, o);
+  EXPECT_GT(r.stats[0].rejected_gate + r.stats[1].rejected_gate, 0);
+  EXPECT_EQ(r.stats[0].landmarks_fused + r.stats[1].landmarks_fused, 0);
+  EXPECT_DOUBLE_EQ(r.final_vehicle_error[1], baseline().final_vehicle_error[1]);
+}
+
+TEST(DcCooperation, BothWaysFusesAtBothAgents) {
+  const TeamResult& one = cooperative();
+  TeamOptions o;
+  o.coop.both_ways = true;
+  const TeamResult r = runTeam(kDuration, kSeed, o);
+  // Both ways, every answered request is followed by a return of the receiver's estimates.
+  EXPECT_GT(r.stats[0].shared_sent + r.stats[1].shared_sent,
+            one.stats[0].shared_sent + one.stats[1].shared_sent);
+  EXPECT_GT(r.stats[0].landmarks_fused, 0);
+  EXPECT_GT(r.stats[1].landmarks_fused, 0);
+  EXPECT_LT(r.final_vehicle_error[1], 0.7 * baseline().final_vehicle_error[1]);
+}
+
+TEST(DcCooperation, PeerRestartAndTimeout) {
+  TeamOptions restart;
+  restart.restart_at_us = 6'000'000;
+  const TeamResult r = runTeam(kDuration, kSeed, restart);
+  EXPECT_EQ(r.stats[0].peer_restarts, 1);
+  bool fused_after = false;
+  for (const coop::CoopEvent& e : r.events[0])
+    if (e.t_us > 7'000'000 && e.kind == coop::CoopEventKind::kSharedSent) fused_after = true;
+  for (const coop::CoopEvent& e : r.events[1])
+    if (e.t_us > 7'000'000 && e.kind == coop::CoopEventKind::kFused && e.fused > 0)
+      fused_after = true;
+  EXPECT_TRUE(fused_after) << "the restarted agent rejoins the exchange";
+
+  TeamOptions deaf;
+  deaf.deaf_after_us = 4'000'000;  // both go silent at 4 s; timeout 5 s
+  const TeamResult d = runTeam(kDuration, kSeed, deaf);
+  EXPECT_EQ(d.stats[0].peer_timeouts, 1);
+  EXPECT_EQ(d.stats[1].peer_timeouts, 1);
+  EXPECT_EQ(d.stats[0].peers_known, 0);
+}
+
+TEST(DcCooperation, MalformedMessagesAreRejectedAndCounted) {
+  coop::DcCooperation c(1, coop::DcCooperationOptions{}, 7);
+  coop::SharedLandmarks s;
+  s.header = {2, 0, 1000};
+  s.to_agent = 1;
+  s.vehicle_cov_trace = 0.1;
+  s.landmarks.push_back({5, {1, 2, 3}, 0.01 * Eigen::Matrix3d::Identity(), {}});
+  EXPECT_TRUE(c.onShared(s));
+  auto bad = [&](auto mutate) {
+    coop::SharedLandmarks b = s;
+    mutate(b);
+    return c.onShared(b);
+  };
+  EXPECT_FALSE(bad([](auto& b) { b.landmarks[0].p_LinN.x() = NAN; }));
+  EXPECT_FALSE(bad([](auto& b) { b.landmarks[0].p_LinN.x() = 1e7; }));
+  EXPECT_FALSE(bad([](auto& b) { b.landmarks[0].covariance(0, 0) = -1.0; }));
+  EXPECT_FALSE(bad([](auto& b) { b.landmarks[0].covariance *= 1e7; }));
+  EXPECT_FALSE(bad([](auto& b) { b.landmarks[0].covariance(0, 1) = 0.5; }));  // asymmetric
+  EXPECT_FALSE(bad([](auto& b) { b.vehicle_cov_trace = INFINITY; }));
+  EXPECT_FALSE(bad([](auto& b) { b.landmarks.resize(1000, b.landmarks[0]); }));
+  EXPECT_FALSE(bad([](auto& b) { b.header.agent_id = 0; }));
+  EXPECT_EQ(c.statistics().rejected_invalid, 8);
+  EXPECT_FALSE(bad([](auto& b) { b.to_agent = 3; }));
+  EXPECT_FALSE(bad([](auto& b) { b.header.agent_id = 1; }));
+  EXPECT_EQ(c.statistics().rejected_not_for_me, 2);
+  coop::CoopSummary sum;
+  sum.header = {2, 0, 0};
+  sum.std = {1, 1, -1};
+  EXPECT_FALSE(c.onSummary(sum));
+  coop::FeatureIndexList idx;
+  idx.header = {2, 0, 0};
+  idx.indices.resize(5000);
+  EXPECT_FALSE(c.onIndex(idx));
+  EXPECT_EQ(c.statistics().rejected_invalid, 10);
+}
+
+TEST(DcCooperation, OptionsLoadAndValidate) {
+  auto node = ConfigNode::fromString("ci_method: optimal_trace\nboth_ways: true\ncoop_sigma: 3\n",
+                                     "coop.yaml");
+  ASSERT_TRUE(node.ok());
+  coop::DcCooperationOptions o;
+  ASSERT_TRUE(o.load(*node).ok());
+  EXPECT_EQ(o.ci_method, coop::CiMethod::kOptimalTrace);
+  EXPECT_TRUE(o.both_ways);
+  EXPECT_EQ(o.coop_sigma, 3.0);
+  auto bad = ConfigNode::fromString("ci_method: best\n", "coop.yaml");
+  ASSERT_TRUE(bad.ok());
+  EXPECT_FALSE(coop::DcCooperationOptions{}.load(*bad).ok());
+  auto neg = ConfigNode::fromString("coop_sigma: -1\n", "coop.yaml");
+  EXPECT_FALSE(coop::DcCooperationOptions{}.load(*neg).ok());
+}
+
+}  // namespace
+}  // namespace cvslam

@@ -1,0 +1,140 @@
+#include "cvslam/lcm/coop_convert.h"
+
+#include "cvslam/lcm/message_finalize.h"
+
+namespace cvslam::transport {
+
+namespace {
+cvslam::header_t toHeader(const coop::CoopHeader& h) {
+  cvslam::header_t m{};
+  m.utime = h.t_us;
+  m.seq = h.seq;
+  m.agent_id = h.agent_id;
+  return m;
+}
+
+coop::CoopHeader fromHeader(const cvslam::header_t& m) {
+  return {m.agent_id, m.seq, m.utime};
+}
+
+template <typename Msg>
+Expected<Msg> finalized(Msg msg) {
+  if (Status s = finalize(msg); !s.ok()) return s;
+  return msg;
+}
+
+std::vector<int32_t> toWire(const std::vector<uint32_t>& indices) {
+  std::vector<int32_t> out;
+  out.reserve(indices.size());
+  for (uint32_t i : indices) out.push_back(static_cast<int32_t>(i));
+  return out;
+}
+
+std::vector<uint32_t> fromWire(const std::vector<int32_t>& indices) {
+  std::vector<uint32_t> out;
+  out.reserve(indices.size());
+  for (int32_t i : indices) out.push_back(static_cast<uint32_t>(i));
+  return out;
+}
+
+// Upper triangle xx xy xz yy yz zz (shared_landmarks_t.lcm).
+constexpr int kTriangle[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+}  // namespace
+
+Expected<cvslam::agent_summary_t> toMessage(const coop::CoopSummary& s) {
+  cvslam::agent_summary_t m{};
+  m.header = toHeader(s.header);
+  m.mode = s.mode;
+  m.boot_id = s.boot_id;
+  for (int k = 0; k < 3; ++k) {
+    m.ellipsoid_mean[k] = s.mean(k);
+    m.ellipsoid_std[k] = s.std(k);
+  }
+  m.num_features = s.num_features;
+  m.vehicle_cov_trace = s.vehicle_cov_trace;
+  return finalized(std::move(m));
+}
+
+coop::CoopSummary fromMessage(const cvslam::agent_summary_t& m) {
+  coop::CoopSummary s;
+  s.header = fromHeader(m.header);
+  s.mode = m.mode;
+  s.boot_id = m.boot_id;
+  s.mean = Eigen::Vector3d(m.ellipsoid_mean[0], m.ellipsoid_mean[1], m.ellipsoid_mean[2]);
+  s.std = Eigen::Vector3d(m.ellipsoid_std[0], m.ellipsoid_std[1], m.ellipsoid_std[2]);
+  s.num_features = m.num_features;
+  s.vehicle_cov_trace = m.vehicle_cov_trace;
+  return s;
+}
+
+Expected<cvslam::feature_index_t> toMessage(const coop::FeatureIndexList& l) {
+  cvslam::feature_index_t m{};
+  m.header = toHeader(l.header);
+  m.true_ids = l.true_ids;
+  m.index = toWire(l.indices);
+  return finalized(std::move(m));
+}
+
+coop::FeatureIndexList fromMessage(const cvslam::feature_index_t& m) {
+  coop::FeatureIndexList l;
+  l.header = fromHeader(m.header);
+  l.true_ids = m.true_ids;
+  l.indices = fromWire(m.index);
+  return l;
+}
+
+Expected<cvslam::shared_request_t> toMessage(const coop::SharedRequest& r) {
+  cvslam::shared_request_t m{};
+  m.header = toHeader(r.header);
+  m.index = toWire(r.indices);
+  return finalized(std::move(m));
+}
+
+coop::SharedRequest fromMessage(const cvslam::shared_request_t& m, int to_agent) {
+  coop::SharedRequest r;
+  r.header = fromHeader(m.header);
+  r.to_agent = to_agent;
+  r.indices = fromWire(m.index);
+  return r;
+}
+
+Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& s) {
+  cvslam::shared_landmarks_t m{};
+  m.header = toHeader(s.header);
+  m.vehicle_cov_trace = s.vehicle_cov_trace;
+  bool any_descriptor = false;
+  for (const coop::SharedLandmark& l : s.landmarks) any_descriptor |= !l.descriptor.empty();
+  for (const coop::SharedLandmark& l : s.landmarks) {
+    m.index.push_back(static_cast<int32_t>(l.index));
+    m.position.push_back({l.p_LinN.x(), l.p_LinN.y(), l.p_LinN.z()});
+    std::vector<double> c(6);
+    for (int k = 0; k < 6; ++k)
+      c[static_cast<std::size_t>(k)] = l.covariance(kTriangle[k][0], kTriangle[k][1]);
+    m.covariance.push_back(std::move(c));
+    if (any_descriptor) m.descriptors.push_back(l.descriptor);
+  }
+  return finalized(std::move(m));
+}
+
+coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks_t& m, int to_agent) {
+  coop::SharedLandmarks s;
+  s.header = fromHeader(m.header);
+  s.to_agent = to_agent;
+  s.vehicle_cov_trace = m.vehicle_cov_trace;
+  // Sizes are trusted here: messages reach this point only through decodeMessage().
+  s.landmarks.resize(m.index.size());
+  for (std::size_t i = 0; i < m.index.size(); ++i) {
+    coop::SharedLandmark& l = s.landmarks[i];
+    l.index = static_cast<uint32_t>(m.index[i]);
+    l.p_LinN = Eigen::Vector3d(m.position[i][0], m.position[i][1], m.position[i][2]);
+    for (int k = 0; k < 6; ++k) {
+      const double v = m.covariance[i][static_cast<std::size_t>(k)];
+      l.covariance(kTriangle[k][0], kTriangle[k][1]) = v;
+      l.covariance(kTriangle[k][1], kTriangle[k][0]) = v;
+    }
+    if (i < m.descriptors.size()) l.descriptor = m.descriptors[i];
+  }
+  return s;
+}
+
+}  // namespace cvslam::transport
