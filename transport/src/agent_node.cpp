@@ -80,6 +80,11 @@ Expected<std::unique_ptr<AgentNode>> AgentNode::create(const AgentNodeOptions& o
                                                        std::optional<VisualSlamPipeline> images,
                                                        std::unique_ptr<CooperationLink> coop) {
   if (options.id < 1) return Status::Error("agent id must be ≥ 1");
+  // LCM prints its own complaint about an unknown provider: check the scheme first.
+  bool known = false;
+  for (const char* scheme : {"udpm://", "tcpq://", "memq://", "file://"})
+    known = known || options.url.rfind(scheme, 0) == 0;
+  if (!known) return Status::Error("unsupported LCM URL '" + options.url + "'");
   std::unique_ptr<AgentNode> node(new AgentNode(options, std::move(calibration)));
   node->images_ = std::move(images);
   node->coop_ = std::move(coop);
@@ -241,8 +246,21 @@ Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
 }
 
 Status AgentNode::afterFrame(double arrival_s) {
-  const VisualInertialSlam& slam = agent_->slam();
   const AgentFrame& frame = agent_->lastFrame();
+  // Cooperation first (as cvslam_run: the fused estimate is the frame's result), its outbox
+  // published before the pose and before the STATUS that lets the replay go on.
+  if (coop_) {
+    if (Status s = coop_->afterFrame(*agent_, *bus_,
+                                     [this](cvslam::agent_summary_t& m) { fillCounters(m); });
+        !s.ok()) {
+      return s;
+    }
+  } else if (last_summary_us_ < 0 ||
+             frame.t_us - last_summary_us_ >= std::llround(o_.summary_period_s * 1e6)) {
+    last_summary_us_ = frame.t_us;
+    if (Status s = publishSummary(); !s.ok()) return s;
+  }
+  const VisualInertialSlam& slam = agent_->slam();
   cvslam::agent_state_t pose{};
   pose.header.utime = frame.t_us;
   pose.header.agent_id = o_.id;
@@ -258,18 +276,6 @@ Status AgentNode::afterFrame(double arrival_s) {
   if (Status s = bus_->publish(channels::pose(o_.id), pose); !s.ok()) return s;
   const double latency_ms = (now() - arrival_s) * 1e3;
   latencies_ms_.push_back(latency_ms);
-
-  if (coop_) {
-    if (Status s = coop_->afterFrame(*agent_, *bus_,
-                                     [this](cvslam::agent_summary_t& m) { fillCounters(m); });
-        !s.ok()) {
-      return s;
-    }
-  } else if (last_summary_us_ < 0 ||
-             frame.t_us - last_summary_us_ >= std::llround(o_.summary_period_s * 1e6)) {
-    last_summary_us_ = frame.t_us;
-    if (Status s = publishSummary(); !s.ok()) return s;
-  }
   if (recorder_.isOpen()) {
     const Vector9d* truth = nullptr;
     if (truth_ && std::llabs(truth_->first - frame.t_us) <= kTruthToleranceUs)
