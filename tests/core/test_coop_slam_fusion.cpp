@@ -53,9 +53,13 @@ TEST(CoopSlamFusion, CiUpdateCorrectsVehicleThroughCorrelations) {
   EXPECT_LT((P - P.transpose()).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P).eigenvalues().minCoeff(), -1e-12);
   // The fused landmarks are close to the external estimates.
-  for (const StateLandmark& l : fused.stateLandmarks())
-    for (std::size_t i = 0; i < ids.size(); ++i)
-      if (l.id == ids[i]) EXPECT_LT((l.p_LinN - truth[i]).norm(), 0.3);
+  for (const StateLandmark& l : fused.stateLandmarks()) {
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      if (l.id == ids[i]) {
+        EXPECT_LT((l.p_LinN - truth[i]).norm(), 0.3);
+      }
+    }
+  }
 
   VisualInertialSlam bad = slam2;
   EXPECT_FALSE(bad.fuseCovarianceIntersection(ids, y, R, 0.0).ok());
