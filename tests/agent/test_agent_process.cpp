@@ -58,7 +58,7 @@ TEST(AgentProcess, LockstepReproducesCvslamRun) {
   ASSERT_EQ(got.size(), 2u) << a1.out() << a2.out();
   for (int id : {1, 2}) {
     EXPECT_NEAR(got.at(id), expected.at(id), 0.01 * expected.at(id)) << "UAV" << id;
-    EXPECT_LT(got.at(id), 1.0);
+    EXPECT_LT(got.at(id), 2.0);  // a sane estimate (INS alone drifts far more)
   }
   // Same frames, same estimates: the trajectories are identical.
   for (int id : {1, 2}) {
@@ -81,7 +81,7 @@ TEST(AgentProcess, LockstepReproducesCvslamRun) {
 
 TEST(AgentProcess, PeersSurviveAKilledAgentWhichRejoins) {
   test::TempFolder tmp;
-  const std::string scenario = test::writeSmallScenario(tmp / "s.yaml", 16.0, true);
+  const std::string scenario = test::writeSmallScenario(tmp / "s.yaml", 20.0, true);
   const std::string url = test::agentUrl(27801);
   test::SummaryListener listener(url);
   ASSERT_TRUE(listener.ok());
@@ -115,7 +115,8 @@ TEST(AgentProcess, FloodOfJunkIsCountedNotFatal) {
   const std::string scenario = test::writeSmallScenario(tmp / "s.yaml", 10.0, true);
   const std::string url = test::agentUrl(27802);
   test::SummaryListener listener(url);
-  test::Child a1(agentArgs(1, scenario, url, tmp / "lcm"), tmp / "a1");
+  // DC mode: the agent listens on the cooperation channels too.
+  test::Child a1(agentArgs(1, scenario, url, tmp / "lcm", "dc"), tmp / "a1");
   std::this_thread::sleep_for(500ms);
   test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features",
                       "--rate", "4", "--lcm-url", url, "--quiet"},
@@ -127,7 +128,7 @@ TEST(AgentProcess, FloodOfJunkIsCountedNotFatal) {
   std::mt19937 rng(7);
   const std::vector<std::string> channels = {
       "UAV1/IMU",    "UAV1/GT",     "UAV1/FEATURES", "UAV1/STEREO", "TEAM/SUMMARY",
-      "UAV1/SHARED", "UAV1/SHARED_REQ", "UAV2/INDEX",  "UAV1/STATUS"};
+      "UAV1/SHARED", "UAV1/SHARED_REQ", "UAV2/INDEX"};
   // Valid encodings of sensor messages from a wrong sender, and with absurd content.
   cvslam::imu_t imu{};
   imu.header.agent_id = 5;  // not the replay
@@ -155,7 +156,7 @@ TEST(AgentProcess, FloodOfJunkIsCountedNotFatal) {
   const cvslam::agent_summary_t s = listener.last(1);
   int64_t invalid = 0;
   for (std::size_t i = 0; i < s.channel.size(); ++i) invalid += s.invalid[i];
-  EXPECT_GT(invalid, junk / 2) << a1.out();
+  EXPECT_GE(invalid, junk * 9 / 10) << a1.out();
   EXPECT_NE(a1.out().find("invalid"), std::string::npos);
   const auto ate = test::ateOf(tmp / "lcm", tmp / "eval");
   ASSERT_EQ(ate.count(1), 1u);
