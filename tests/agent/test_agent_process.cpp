@@ -60,14 +60,19 @@ TEST(AgentProcess, LockstepReproducesCvslamRun) {
     EXPECT_NEAR(got.at(id), expected.at(id), 0.01 * expected.at(id)) << "UAV" << id;
     EXPECT_LT(got.at(id), 2.0);  // a sane estimate (INS alone drifts far more)
   }
-  // Same frames, same estimates: the trajectories are identical.
+  // Same frames, same estimates: trajectories, dead reckoning, filter events and the map
+  // (with the true landmark positions) are identical.
   for (int id : {1, 2}) {
-    std::ifstream a(tmp / ("inproc/agent_" + std::to_string(id) + "/trajectory.tum"));
-    std::ifstream b(tmp / ("lcm/agent_" + std::to_string(id) + "/trajectory.tum"));
-    std::stringstream sa, sb;
-    sa << a.rdbuf();
-    sb << b.rdbuf();
-    EXPECT_EQ(sa.str(), sb.str()) << "UAV" << id;
+    for (const char* file : {"trajectory.tum", "ins_trajectory.tum", "events.csv",
+                             "landmarks.csv", "states.csv"}) {
+      std::ifstream a(tmp / ("inproc/agent_" + std::to_string(id) + "/" + file));
+      std::ifstream b(tmp / ("lcm/agent_" + std::to_string(id) + "/" + file));
+      std::stringstream sa, sb;
+      sa << a.rdbuf();
+      sb << b.rdbuf();
+      EXPECT_FALSE(sa.str().empty()) << file;
+      EXPECT_EQ(sa.str(), sb.str()) << "UAV" << id << " " << file;
+    }
   }
   // Nothing lost on the way; latency reported per frame.
   EXPECT_NE(a1.out().find("messages dropped 0, seq gaps 0, invalid 0, late 0"),

@@ -182,7 +182,7 @@ Status AgentNode::startPipeline(const AgentFilterSetup& setup) {
   if (images_) agent_->useImages(std::move(*images_), calibration_.rectifier);
   images_.reset();
   if (!o_.out_dir.empty()) {
-    if (Status s = recorder_.open(o_.out_dir, o_.id, agent_->imagesEnabled()); !s.ok()) return s;
+    if (Status s = recorder_.open(o_.out_dir, o_.id, false); !s.ok()) return s;
   }
   return Status::Ok();
 }
@@ -235,12 +235,14 @@ Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
   if (e.type == SensorEventType::kFeatures) {
     e.features.t_us = e.t_us;
     if (Status s = agent_->processFeatures(e.features); !s.ok()) return s;
+    ++feature_frames_;
   } else {
     if (!agent_->imagesEnabled()) {
       ++frames_skipped_;
       return Status::Ok();
     }
     if (Status s = agent_->processImages(e.t_us, e.left, e.right); !s.ok()) return s;
+    ++image_frames_;
   }
   return afterFrame(arrival_s);
 }
@@ -371,7 +373,8 @@ Status AgentNode::flushRecord(bool final) {
   w.setBytesSentTotal(coop);
   if (agent_) {
     LandmarkTruthFn truth;
-    if (calibration_.simulator && !agent_->imagesEnabled()) {
+    // Feature-level frames name their landmarks by true id: the simulated world knows them.
+    if (calibration_.simulator && feature_frames_ > 0 && image_frames_ == 0) {
       const auto* landmarks = &calibration_.simulator->landmarks();
       truth = [landmarks](int64_t id, Eigen::Vector3d* p) {
         if (id < 0 || id >= static_cast<int64_t>(landmarks->size())) return false;

@@ -15,12 +15,15 @@ Status AgentRunRecorder::open(const std::string& run_dir, int agent_id, bool ima
   if (!events_) return Status::Error("cannot write " + dir_ + "/events.csv");
   events_ << "t,observations,updated,rejected,initialised,archived,reactivated,"
              "loop_landmarks,loop_closure,theta_reduced,state_size\n";
-  if (images) {
-    frontend_.open(dir_ + "/frontend.csv", std::ios::trunc);
-    if (!frontend_) return Status::Error("cannot write " + dir_ + "/frontend.csv");
-    frontend_ << "t,observations,predictions,gated_pairs,associated,initialised,front_end_ms,"
-                 "association_ms,filter_ms\n";
-  }
+  if (images) return openFrontend();
+  return Status::Ok();
+}
+
+Status AgentRunRecorder::openFrontend() {
+  frontend_.open(dir_ + "/frontend.csv", std::ios::trunc);
+  if (!frontend_) return Status::Error("cannot write " + dir_ + "/frontend.csv");
+  frontend_ << "t,observations,predictions,gated_pairs,associated,initialised,front_end_ms,"
+               "association_ms,filter_ms\n";
   return Status::Ok();
 }
 
@@ -31,7 +34,9 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
   const FrameReport& report = f.report;
   const VisualInertialSlam& slam = agent.slam();
   const double t = static_cast<double>(f.t_us) * 1e-6;
-  if (f.visual != nullptr && frontend_.is_open()) {
+  if (f.visual != nullptr && !frontend_.is_open())
+    if (Status s = openFrontend(); !s.ok()) return s;
+  if (f.visual != nullptr) {
     const VisualFrameResult& r = *f.visual;
     frontend_ << t << ',' << r.frame.observations.size() << ',' << r.predictions << ','
               << r.association.candidates_gated << ',' << r.association.associated << ','

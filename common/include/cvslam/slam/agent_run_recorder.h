@@ -23,7 +23,8 @@ class AgentRunRecorder {
   /// True position of a landmark of the map when known (simulation), else false.
   using LandmarkTruth = std::function<bool(int64_t landmark_id, Eigen::Vector3d* p_LinN)>;
 
-  /// Creates DIR/agent_<id>/ and opens its files; `images` adds frontend.csv.
+  /// Creates DIR/agent_<id>/ and opens its files; `images` adds frontend.csv (else it is
+  /// opened with the first frame that went through the image path).
   Status open(const std::string& run_dir, int agent_id, bool images);
   bool isOpen() const { return writer_ != nullptr; }
 
@@ -43,6 +44,8 @@ class AgentRunRecorder {
   AgentRunWriter& writer() { return *writer_; }
 
  private:
+  Status openFrontend();
+
   std::unique_ptr<AgentRunWriter> writer_;
   std::ofstream events_, frontend_;
   std::string dir_;

@@ -130,6 +130,7 @@ class AgentNode {
   double last_sensor_s_ = 0.0;
   double start_s_ = 0.0;
   std::vector<double> latencies_ms_;
+  int64_t feature_frames_ = 0, image_frames_ = 0;
   int64_t frames_skipped_ = 0;  // frames of a kind the agent cannot process
   int64_t errors_ = 0;          // processing errors (reported in STATUS)
   std::string last_error_;
