@@ -30,7 +30,8 @@ namespace {
 
 using cvslam::Status;
 
-constexpr const char* kUsage = R"(usage: cvslam_agent --id N (--scenario FILE | --calibration DIR) [options]
+constexpr const char* kUsage =
+    R"(usage: cvslam_agent --id N (--scenario FILE | --calibration DIR) [options]
 
 One UAV of the team as a process: subscribes UAV<N>/IMU, UAV<N>/FEATURES or UAV<N>/STEREO
 and UAV<N>/GT (cvslam_replay), runs its VSLAM, publishes UAV<N>/POSE per frame,
@@ -240,8 +241,8 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<cvslam::transport::CooperationLink> coop;
   if (args.mode == "dc") {
-    coop = std::make_unique<cvslam::transport::DcLink>(args.id, coop_options, node.boot_id,
-                                                       args.out);
+    coop =
+        std::make_unique<cvslam::transport::DcLink>(args.id, coop_options, node.boot_id, args.out);
   }
 
   if (!args.out.empty()) {

@@ -6,14 +6,14 @@
 # (ATE single vs DC, cooperation bytes sent per second) and write plots.
 #
 #   scripts/demo.sh [--out DIR] [--detector orb|adaptive_sift|sift] [--sensing images|features]
-#                   [--duration S] [--build DIR]
+#                   [--duration S] [--build DIR] [--no-build]
 #
 # Default detector: ORB, so that the demo takes minutes on a 2-core machine (adaptive SIFT,
 # the image-sensing default, is more precise and ≈ 3× slower; docs/image_sensing.md).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-OUT="$ROOT/runs/demo" DETECTOR=orb SENSING=images DURATION="" BUILD="$ROOT/build"
+OUT="$ROOT/runs/demo" DETECTOR=orb SENSING=images DURATION="" BUILD="$ROOT/build" DO_BUILD=true
 SCENARIO="$ROOT/config/scenarios/team3_aerial.yaml"
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -23,6 +23,7 @@ while [ $# -gt 0 ]; do
     --sensing) SENSING="$2"; shift 2 ;;
     --duration) DURATION="$2"; shift 2 ;;
     --build) BUILD="$2"; shift 2 ;;
+    --no-build) DO_BUILD=false; shift ;;
     *) echo "demo.sh: unknown option '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -31,12 +32,12 @@ echo "== setup"
 "$ROOT/scripts/setup.sh" || { echo "demo.sh: setup incomplete (see above)" >&2; exit 1; }
 
 echo "== build"
-if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+if $DO_BUILD && [ ! -f "$BUILD/CMakeCache.txt" ]; then
   launcher=()
   command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
 fi
-cmake --build "$BUILD" -j2 --target cvslam_agent cvslam_replay cvslam_eval >/dev/null
+$DO_BUILD && cmake --build "$BUILD" -j2 --target cvslam_agent cvslam_replay cvslam_eval >/dev/null
 
 extra=()
 [ -n "$DURATION" ] && extra+=(--duration "$DURATION")

@@ -24,7 +24,8 @@ inline std::map<int, double> ateOf(const std::string& run_dir, const std::string
   std::map<int, double> ate;
   std::string err;
   const std::string json_path = log_prefix + ".json";
-  if (run({CVSLAM_EVAL_EXE, "--run", run_dir, "--summary-json", json_path}, log_prefix, nullptr, &err) != 0)
+  if (run({CVSLAM_EVAL_EXE, "--run", run_dir, "--summary-json", json_path}, log_prefix, nullptr,
+          &err) != 0)
     return ate;
   auto json = Json::parseFile(json_path);
   if (!json.ok() || json->find("agents") == nullptr) return ate;
@@ -45,12 +46,12 @@ class SummaryListener {
     auto bus = transport::LcmBus::create(o);
     if (!bus.ok()) return;
     bus_ = std::move(*bus);
-    bus_->subscribe<cvslam::agent_summary_t>(
-        transport::channels::teamSummary(), [this](const cvslam::agent_summary_t& m) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          boot_ids_[m.header.agent_id].insert(m.boot_id);
-          last_[m.header.agent_id] = m;
-        });
+    bus_->subscribe<cvslam::agent_summary_t>(transport::channels::teamSummary(),
+                                             [this](const cvslam::agent_summary_t& m) {
+                                               std::lock_guard<std::mutex> lock(mutex_);
+                                               boot_ids_[m.header.agent_id].insert(m.boot_id);
+                                               last_[m.header.agent_id] = m;
+                                             });
     bus_->start();
   }
   bool ok() const { return bus_ != nullptr; }

@@ -42,8 +42,8 @@ TEST(AgentDcProcess, LockstepReproducesCvslamRunDc) {
   for (int id : {1, 2}) {
     agents.push_back(std::make_unique<test::Child>(
         std::vector<std::string>{CVSLAM_AGENT_EXE, "--id", std::to_string(id), "--scenario",
-                                 scenario, "--mode", "dc", "--lcm-url", url, "--out",
-                                 tmp / "lcm", "--idle-exit", "3"},
+                                 scenario, "--mode", "dc", "--lcm-url", url, "--out", tmp / "lcm",
+                                 "--idle-exit", "3"},
         tmp / ("a" + std::to_string(id))));
   }
   test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features",
@@ -87,15 +87,15 @@ TEST(AgentDcProcess, NonFiniteAndAbsurdPeerLandmarksAreRejected) {
   auto bus = transport::LcmBus::create(o);
   ASSERT_TRUE(bus.ok());
   std::atomic<int64_t> agent_time{-1};
-  ASSERT_TRUE((*bus)
-                  ->subscribe<cvslam::status_t>(
-                      "UAV1/STATUS",
-                      [&](const cvslam::status_t& m) { agent_time = m.processed_utime; })
-                  .ok());
+  ASSERT_TRUE(
+      (*bus)
+          ->subscribe<cvslam::status_t>(
+              "UAV1/STATUS", [&](const cvslam::status_t& m) { agent_time = m.processed_utime; })
+          .ok());
   ASSERT_TRUE((*bus)->start().ok());
   std::this_thread::sleep_for(500ms);
-  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features",
-                      "--rate", "3", "--lcm-url", url, "--quiet"},
+  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--rate",
+                      "3", "--lcm-url", url, "--quiet"},
                      tmp / "replay");
   int absurd = 0, nan = 0;
   while (!replay.exited()) {

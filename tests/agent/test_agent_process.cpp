@@ -20,8 +20,19 @@ using namespace std::chrono_literals;
 
 std::vector<std::string> agentArgs(int id, const std::string& scenario, const std::string& url,
                                    const std::string& out, const std::string& mode = "single") {
-  return {CVSLAM_AGENT_EXE, "--id",  std::to_string(id), "--scenario", scenario, "--mode", mode,
-          "--lcm-url",      url,     "--out",            out,          "--idle-exit", "3"};
+  return {CVSLAM_AGENT_EXE,
+          "--id",
+          std::to_string(id),
+          "--scenario",
+          scenario,
+          "--mode",
+          mode,
+          "--lcm-url",
+          url,
+          "--out",
+          out,
+          "--idle-exit",
+          "3"};
 }
 
 bool validRecord(const std::string& run, int id, std::size_t min_poses) {
@@ -63,8 +74,8 @@ TEST(AgentProcess, LockstepReproducesCvslamRun) {
   // Same frames, same estimates: trajectories, dead reckoning, filter events and the map
   // (with the true landmark positions) are identical.
   for (int id : {1, 2}) {
-    for (const char* file : {"trajectory.tum", "ins_trajectory.tum", "events.csv",
-                             "landmarks.csv", "states.csv"}) {
+    for (const char* file :
+         {"trajectory.tum", "ins_trajectory.tum", "events.csv", "landmarks.csv", "states.csv"}) {
       std::ifstream a(tmp / ("inproc/agent_" + std::to_string(id) + "/" + file));
       std::ifstream b(tmp / ("lcm/agent_" + std::to_string(id) + "/" + file));
       std::stringstream sa, sb;
@@ -75,8 +86,7 @@ TEST(AgentProcess, LockstepReproducesCvslamRun) {
     }
   }
   // Nothing lost on the way; latency reported per frame.
-  EXPECT_NE(a1.out().find("messages dropped 0, seq gaps 0, invalid 0, late 0"),
-            std::string::npos)
+  EXPECT_NE(a1.out().find("messages dropped 0, seq gaps 0, invalid 0, late 0"), std::string::npos)
       << a1.out();
   auto stats = Json::parseFile(tmp / "lcm/agent_1/stats.json");
   ASSERT_TRUE(stats.ok());
@@ -93,8 +103,8 @@ TEST(AgentProcess, PeersSurviveAKilledAgentWhichRejoins) {
   test::Child a1(agentArgs(1, scenario, url, tmp / "lcm"), tmp / "a1");
   auto a2 = std::make_unique<test::Child>(agentArgs(2, scenario, url, tmp / "lcm"), tmp / "a2");
   std::this_thread::sleep_for(500ms);  // subscribed
-  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features",
-                      "--rate", "4", "--lcm-url", url, "--quiet"},
+  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--rate",
+                      "4", "--lcm-url", url, "--quiet"},
                      tmp / "replay");
   std::this_thread::sleep_for(1500ms);
   ASSERT_EQ(listener.bootIds(2).size(), 1u);
@@ -123,17 +133,17 @@ TEST(AgentProcess, FloodOfJunkIsCountedNotFatal) {
   // DC mode: the agent listens on the cooperation channels too.
   test::Child a1(agentArgs(1, scenario, url, tmp / "lcm", "dc"), tmp / "a1");
   std::this_thread::sleep_for(500ms);
-  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features",
-                      "--rate", "4", "--lcm-url", url, "--quiet"},
+  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--rate",
+                      "4", "--lcm-url", url, "--quiet"},
                      tmp / "replay");
   transport::BusOptions o;
   o.url = url;
   auto bus = transport::LcmBus::create(o);
   ASSERT_TRUE(bus.ok());
   std::mt19937 rng(7);
-  const std::vector<std::string> channels = {
-      "UAV1/IMU",    "UAV1/GT",     "UAV1/FEATURES", "UAV1/STEREO", "TEAM/SUMMARY",
-      "UAV1/SHARED", "UAV1/SHARED_REQ", "UAV2/INDEX"};
+  const std::vector<std::string> channels = {"UAV1/IMU",        "UAV1/GT",      "UAV1/FEATURES",
+                                             "UAV1/STEREO",     "TEAM/SUMMARY", "UAV1/SHARED",
+                                             "UAV1/SHARED_REQ", "UAV2/INDEX"};
   // Valid encodings of sensor messages from a wrong sender, and with absurd content.
   cvslam::imu_t imu{};
   imu.header.agent_id = 5;  // not the replay

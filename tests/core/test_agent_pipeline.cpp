@@ -127,15 +127,15 @@ TEST(AgentSetup, KnownPoseStartsAtTheGroundTruth) {
   options.ins.estimate_imu_bias = true;
   sim::InitialUncertainty sigma;
   const Eigen::Vector3d euler(0.0, 0.0, M_PI / 2);  // heading east
-  const AgentFilterSetup s = knownPoseSetup(5, Eigen::Vector3d(1, 2, -3),
-                                            Eigen::Vector3d(0, 2, 0), euler, sigma, options);
+  const AgentFilterSetup s =
+      knownPoseSetup(5, Eigen::Vector3d(1, 2, -3), Eigen::Vector3d(0, 2, 0), euler, sigma, options);
   ASSERT_EQ(s.x0.size(), 15);
   EXPECT_EQ(s.t0_us, 5);
   EXPECT_TRUE(s.x0.head<3>().isApprox(Eigen::Vector3d(1, 2, -3)));
   EXPECT_TRUE(s.x0.segment<3>(3).isApprox(Eigen::Vector3d(2, 0, 0), 1e-12));  // forward
   EXPECT_DOUBLE_EQ(s.P0(0, 0), 0.01);
-  EXPECT_DOUBLE_EQ(s.P0(9, 9), options.slam.initial_accel_bias_sigma *
-                                   options.slam.initial_accel_bias_sigma);
+  EXPECT_DOUBLE_EQ(s.P0(9, 9),
+                   options.slam.initial_accel_bias_sigma * options.slam.initial_accel_bias_sigma);
 }
 
 SensorEvent event(SensorEventType type, int64_t t_us) {
@@ -159,9 +159,9 @@ TEST(SensorEventOrderer, ReleasesInTimeOrderOnceTheImuPassed) {
   EXPECT_TRUE(o.push(event(SensorEventType::kImu, 10), 0.0));
   std::vector<SensorEventType> order;
   while (o.pop(0.01, false, &out, nullptr)) order.push_back(out.type);
-  EXPECT_EQ(order, (std::vector<SensorEventType>{SensorEventType::kImu,
-                                                 SensorEventType::kGroundTruth,
-                                                 SensorEventType::kFeatures}));
+  EXPECT_EQ(order,
+            (std::vector<SensorEventType>{SensorEventType::kImu, SensorEventType::kGroundTruth,
+                                          SensorEventType::kFeatures}));
   // Older than what was released: late, dropped, counted.
   EXPECT_FALSE(o.push(event(SensorEventType::kImu, 7), 0.1));
   EXPECT_EQ(o.late(), 1);

@@ -107,7 +107,9 @@ void AgentNode::push(SensorEvent&& event, const std::string& channel, std::size_
       return;
     }
     ++n;
-    inbox_.push_back(Inbound{std::move(event), now()});
+    const double t = now();
+    last_arrival_s_ = t;
+    inbox_.push_back(Inbound{std::move(event), t});
   }
   inbox_cv_.notify_one();
 }
@@ -144,17 +146,15 @@ Status AgentNode::subscribe() {
   });
   if (!s.ok()) return s;
   const std::string feat_ch = channels::features(id);
-  s = bus_->subscribe<cvslam::stereo_features_t>(feat_ch,
-                                                 [=](const cvslam::stereo_features_t& m) {
-                                                   if (!fromReplay(m.header.agent_id, feat_ch))
-                                                     return;
-                                                   SensorEvent e;
-                                                   e.type = SensorEventType::kFeatures;
-                                                   e.agent_id = id;
-                                                   e.t_us = m.header.utime;
-                                                   e.features = fromMessage(m);
-                                                   push(std::move(e), feat_ch, o_.frame_queue);
-                                                 });
+  s = bus_->subscribe<cvslam::stereo_features_t>(feat_ch, [=](const cvslam::stereo_features_t& m) {
+    if (!fromReplay(m.header.agent_id, feat_ch)) return;
+    SensorEvent e;
+    e.type = SensorEventType::kFeatures;
+    e.agent_id = id;
+    e.t_us = m.header.utime;
+    e.features = fromMessage(m);
+    push(std::move(e), feat_ch, o_.frame_queue);
+  });
   if (!s.ok()) return s;
   const std::string stereo_ch = channels::stereo(id);
   s = bus_->subscribe<cvslam::stereo_image_t>(stereo_ch, [=](const cvslam::stereo_image_t& m) {
@@ -210,9 +210,9 @@ Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
       truth_ = std::make_pair(e.t_us, truthVector(e.truth));
       if (!agent_) {
         // Thesis §6.3.1: the initial pose is known in the team's frame.
-        if (Status s = startPipeline(knownPoseSetup(e.t_us, e.truth.p_BinN, e.truth.v_N,
-                                                    e.truth.euler, o_.initial_sigma,
-                                                    calibration_.options));
+        if (Status s =
+                startPipeline(knownPoseSetup(e.t_us, e.truth.p_BinN, e.truth.v_N, e.truth.euler,
+                                             o_.initial_sigma, calibration_.options));
             !s.ok()) {
           return s;
         }
@@ -339,8 +339,8 @@ Status AgentNode::publishSummary() {
     m.ellipsoid_std[i] = std::sqrt(var(i));
   }
   m.num_features = n;
-  m.vehicle_cov_trace = agent_ ? agent_->slam().vehicleCovariance().topLeftCorner<3, 3>().trace()
-                               : 0.0;
+  m.vehicle_cov_trace =
+      agent_ ? agent_->slam().vehicleCovariance().topLeftCorner<3, 3>().trace() : 0.0;
   fillCounters(m);
   return bus_->publish(channels::teamSummary(), m);
 }
@@ -389,7 +389,7 @@ Status AgentNode::flushRecord(bool final) {
 
 Status AgentNode::run(const std::atomic<bool>& stop) {
   if (Status s = bus_->start(); !s.ok()) return s;
-  start_s_ = last_sensor_s_ = now();
+  start_s_ = now();
   double last_status = -1e300, last_flush = now();
   std::vector<Inbound> batch;
   SensorEvent event;
@@ -404,10 +404,8 @@ Status AgentNode::run(const std::atomic<bool>& stop) {
     // Cooperation after the sensor inbox: whatever arrived before these sensor messages is
     // handed over now (lockstep: the peers' outboxes of the previous epoch).
     if (coop_) coop_->drainInbound();
-    for (Inbound& in : batch) {
-      last_sensor_s_ = std::max(last_sensor_s_, in.arrival_s);
+    for (Inbound& in : batch)
       if (!orderer_.push(std::move(in.event), in.arrival_s)) ++late_;
-    }
     batch.clear();
     bool progressed = false;
     double arrival = 0.0;
@@ -424,7 +422,17 @@ Status AgentNode::run(const std::atomic<bool>& stop) {
       last_flush = t;
       if (Status s = flushRecord(false); !s.ok()) return s;
     }
-    if (o_.idle_exit_s > 0.0 && orderer_.size() == 0 && t - last_sensor_s_ >= o_.idle_exit_s) {
+    double last_arrival = 0.0;
+    bool inbox_empty = true;
+    {
+      std::lock_guard<std::mutex> lock(inbox_mutex_);
+      last_arrival = std::max(last_arrival_s_, start_s_);
+      inbox_empty = inbox_.empty();
+    }
+    // Idle: nothing arrived for idle_exit_s and nothing waits (a slow agent working through a
+    // backlog is not idle).
+    if (o_.idle_exit_s > 0.0 && inbox_empty && orderer_.size() == 0 &&
+        t - last_arrival >= o_.idle_exit_s) {
       if (o_.verbose)
         std::fprintf(stderr, "cvslam_agent %d: no sensor data for %.1f s, exiting\n", o_.id,
                      o_.idle_exit_s);

@@ -10,8 +10,9 @@
 namespace cvslam::transport {
 namespace {
 
-const coop::CoopHeader& headerOf(const std::variant<coop::CoopSummary, coop::FeatureIndexList,
-                                                    coop::SharedRequest, coop::SharedLandmarks>& m) {
+const coop::CoopHeader& headerOf(
+    const std::variant<coop::CoopSummary, coop::FeatureIndexList, coop::SharedRequest,
+                       coop::SharedLandmarks>& m) {
   return std::visit([](const auto& x) -> const coop::CoopHeader& { return x.header; }, m);
 }
 
@@ -131,22 +132,20 @@ Status DcLink::writeEvents() {
 std::string DcLink::report() const {
   const coop::DcCooperationStatistics& s = dc_.statistics();
   char buf[640];
-  std::snprintf(buf, sizeof(buf),
-                "cooperation: peers %d, exchanges %lld, landmarks fused %lld, requests sent %lld, "
-                "shared sent %lld; rejected: invalid %lld, gate %lld, descriptor %lld, stale "
-                "%lld, duplicate %lld, reordered %lld, unknown peer %lld; peer restarts %lld, "
-                "peer timeouts %lld, request timeouts %lld",
-                s.peers_known, static_cast<long long>(s.exchanges_completed),
-                static_cast<long long>(s.landmarks_fused), static_cast<long long>(s.requests_sent),
-                static_cast<long long>(s.shared_sent), static_cast<long long>(s.rejected_invalid),
-                static_cast<long long>(s.rejected_gate),
-                static_cast<long long>(s.rejected_descriptor),
-                static_cast<long long>(s.rejected_stale),
-                static_cast<long long>(s.rejected_duplicate),
-                static_cast<long long>(s.rejected_reordered),
-                static_cast<long long>(s.rejected_unknown_peer),
-                static_cast<long long>(s.peer_restarts), static_cast<long long>(s.peer_timeouts),
-                static_cast<long long>(s.request_timeouts));
+  std::snprintf(
+      buf, sizeof(buf),
+      "cooperation: peers %d, exchanges %lld, landmarks fused %lld, requests sent %lld, "
+      "shared sent %lld; rejected: invalid %lld, gate %lld, descriptor %lld, stale "
+      "%lld, duplicate %lld, reordered %lld, unknown peer %lld; peer restarts %lld, "
+      "peer timeouts %lld, request timeouts %lld",
+      s.peers_known, static_cast<long long>(s.exchanges_completed),
+      static_cast<long long>(s.landmarks_fused), static_cast<long long>(s.requests_sent),
+      static_cast<long long>(s.shared_sent), static_cast<long long>(s.rejected_invalid),
+      static_cast<long long>(s.rejected_gate), static_cast<long long>(s.rejected_descriptor),
+      static_cast<long long>(s.rejected_stale), static_cast<long long>(s.rejected_duplicate),
+      static_cast<long long>(s.rejected_reordered), static_cast<long long>(s.rejected_unknown_peer),
+      static_cast<long long>(s.peer_restarts), static_cast<long long>(s.peer_timeouts),
+      static_cast<long long>(s.request_timeouts));
   return buf;
 }
 

@@ -60,9 +60,9 @@ cvslam::pose_t toPoseMessage(const VehiclePose& pose, int64_t t_us, int32_t send
 
 VehiclePose fromPoseMessage(const cvslam::pose_t& msg) {
   VehiclePose pose;
-  pose.q_BtoN = Eigen::Quaterniond(msg.quaternion[0], msg.quaternion[1], msg.quaternion[2],
-                                   msg.quaternion[3])
-                    .normalized();
+  pose.q_BtoN =
+      Eigen::Quaterniond(msg.quaternion[0], msg.quaternion[1], msg.quaternion[2], msg.quaternion[3])
+          .normalized();
   for (int i = 0; i < 3; ++i) {
     pose.p_BinN[i] = msg.position[i];
     pose.euler[i] = msg.euler[i];

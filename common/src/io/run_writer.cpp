@@ -149,9 +149,9 @@ Status writeRunStats(const std::string& path, int agent_id, const RunStats& stat
     Json bytes = Json::object(), rates = Json::object();
     for (const auto& [stream, n] : stats.bytes_sent_per_stream) {
       bytes.set(stream, Json::number(static_cast<double>(n)));
-      rates.set(stream, Json::number(stats.duration_s > 0.0
-                                         ? static_cast<double>(n) / stats.duration_s
-                                         : std::numeric_limits<double>::quiet_NaN()));
+      rates.set(stream,
+                Json::number(stats.duration_s > 0.0 ? static_cast<double>(n) / stats.duration_s
+                                                    : std::numeric_limits<double>::quiet_NaN()));
     }
     root.set("bytes_sent_per_stream", std::move(bytes));
     root.set("bytes_sent_per_s", std::move(rates));

@@ -56,9 +56,8 @@ Status AgentPipeline::processWith(int64_t t_us, const FrameFunction& fn,
   const auto t0 = std::chrono::steady_clock::now();
   FrameReport report;
   if (Status s = fn(slam_, &report); !s.ok()) {
-    return Status::Error("agent " + std::to_string(id_) +
-                         " at t = " + std::to_string(static_cast<double>(t_us) * 1e-6) +
-                         " s: " + s.message());
+    return Status::Error("agent " + std::to_string(id_) + " at t = " +
+                         std::to_string(static_cast<double>(t_us) * 1e-6) + " s: " + s.message());
   }
   last_.t_us = t_us;
   last_.report = report;

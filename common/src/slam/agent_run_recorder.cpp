@@ -65,8 +65,8 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
   if (n_lm > 0) fs.landmark_sigma_mean_m = sigma_sum / n_lm;
   writer_->addFrame(fs);
   events_ << t << ',' << report.observations << ',' << report.updated << ',' << report.rejected
-          << ',' << report.initialised << ',' << report.archived << ',' << report.reactivated
-          << ',' << report.loop_landmarks << ',' << (report.loop_closure ? 1 : 0) << ','
+          << ',' << report.initialised << ',' << report.archived << ',' << report.reactivated << ','
+          << report.loop_landmarks << ',' << (report.loop_closure ? 1 : 0) << ','
           << (report.theta_reduced ? 1 : 0) << ',' << report.state_size << '\n';
   return events_ ? Status::Ok() : Status::Error(dir_ + "/events.csv: write failed");
 }

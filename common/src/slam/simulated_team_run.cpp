@@ -45,14 +45,17 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
       continue;
     }
     FrameSensing& sensing = *a.sensing;
-    if (Status s = p.processWith(ev.t_us, [&](VisualInertialSlam& slam, FrameReport* report) {
-          return sensing.processFrame(ev, slam, report);
-        }, &sensing.lastObservations());
+    if (Status s = p.processWith(
+            ev.t_us,
+            [&](VisualInertialSlam& slam, FrameReport* report) {
+              return sensing.processFrame(ev, slam, report);
+            },
+            &sensing.lastObservations());
         !s.ok()) {
       return s;
     }
     const AgentFrame& last = p.lastFrame();
-    SimulatedFrame f{a.id,         ev.t_us,       &ev.truth,    &p.slam(),       &last.report,
+    SimulatedFrame f{a.id,          ev.t_us,      &ev.truth,       &p.slam(), &last.report,
                      &p.insState(), last.time_ms, a.sensing.get(), &p.slam()};
     if (on_frame) {
       if (Status s = on_frame(f); !s.ok()) return s;

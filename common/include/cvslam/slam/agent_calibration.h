@@ -21,8 +21,8 @@
 namespace cvslam {
 
 struct AgentCalibration {
-  std::string source;          ///< what it was read from (for messages)
-  StereoCamera camera;         ///< rectified pinhole model the filter uses
+  std::string source;                 ///< what it was read from (for messages)
+  StereoCamera camera;                ///< rectified pinhole model the filter uses
   VisualInertialSlamOptions options;  ///< the configuration with the IMU's noise
   /// Filter start when known in advance (scenario); empty: from the first ground truth.
   std::optional<AgentFilterSetup> setup;

@@ -30,19 +30,19 @@
 namespace cvslam::transport {
 
 struct AgentNodeOptions {
-  int id = 1;                     ///< this UAV's id (≥ 1)
-  std::string mode = "single";    ///< single | dc (summary's mode field)
+  int id = 1;                   ///< this UAV's id (≥ 1)
+  std::string mode = "single";  ///< single | dc (summary's mode field)
   std::string url = kDefaultLcmUrl;
-  std::string out_dir;            ///< run record folder; empty: none
+  std::string out_dir;              ///< run record folder; empty: none
   std::string filter_name = "ekf";  ///< agent_state_t.filter
-  double status_period_s = 0.2;   ///< STATUS heartbeat period (wall) [s]
-  double summary_period_s = 1.0;  ///< single mode: SUMMARY period (dataset time) [s]
-  double flush_period_s = 5.0;    ///< run record written every … (wall) [s]
-  double idle_exit_s = 0.0;       ///< exit after this long without sensor data (0: never) [s]
-  double max_wait_s = 0.3;        ///< orderer: release a frame without IMU past it after [s]
-  std::size_t imu_queue = 20000;  ///< inbound buffers (messages); full → dropped, counted
+  double status_period_s = 0.2;     ///< STATUS heartbeat period (wall) [s]
+  double summary_period_s = 1.0;    ///< single mode: SUMMARY period (dataset time) [s]
+  double flush_period_s = 5.0;      ///< run record written every … (wall) [s]
+  double idle_exit_s = 0.0;         ///< exit after this long without sensor data (0: never) [s]
+  double max_wait_s = 0.3;          ///< orderer: release a frame without IMU past it after [s]
+  std::size_t imu_queue = 20000;    ///< inbound buffers (messages); full → dropped, counted
   std::size_t frame_queue = 64;
-  int64_t boot_id = 0;            ///< random per process start (summary)
+  int64_t boot_id = 0;  ///< random per process start (summary)
   /// Initial 1σ when the filter starts at the first ground truth (EuRoC calibration).
   sim::InitialUncertainty initial_sigma;
   bool verbose = false;
@@ -117,17 +117,17 @@ class AgentNode {
   std::mutex inbox_mutex_;
   std::condition_variable inbox_cv_;
   std::vector<Inbound> inbox_;
-  std::map<std::string, std::size_t> inbox_count_;    // per channel, in inbox_
-  std::map<std::string, int64_t> dropped_;             // queue full, per channel
-  std::map<std::string, int64_t> rejected_;            // valid LCM, wrong sender, per channel
-  int64_t late_ = 0;                                   // out of order (orderer)
-  int64_t before_start_ = 0;                           // IMU / frames before the first pose
+  std::map<std::string, std::size_t> inbox_count_;  // per channel, in inbox_
+  std::map<std::string, int64_t> dropped_;          // queue full, per channel
+  std::map<std::string, int64_t> rejected_;         // valid LCM, wrong sender, per channel
+  int64_t late_ = 0;                                // out of order (orderer)
+  int64_t before_start_ = 0;                        // IMU / frames before the first pose
   std::optional<ImuSample> pre_start_imu_;
   bool start_decided_ = false;
   std::optional<std::pair<int64_t, Vector9d>> truth_;  // latest ground truth
   int64_t processed_us_ = -1;
   int64_t last_summary_us_ = -1;
-  double last_sensor_s_ = 0.0;
+  double last_arrival_s_ = 0.0;  // wall time of the latest sensor message (inbox_mutex_)
   double start_s_ = 0.0;
   std::vector<double> latencies_ms_;
   int64_t feature_frames_ = 0, image_frames_ = 0;
