@@ -100,8 +100,10 @@ TEST(AgentProcess, PeersSurviveAKilledAgentWhichRejoins) {
   const std::string url = test::agentUrl(27801);
   test::SummaryListener listener(url);
   ASSERT_TRUE(listener.ok());
-  test::Child a1(agentArgs(1, scenario, url, tmp / "lcm"), tmp / "a1");
-  auto a2 = std::make_unique<test::Child>(agentArgs(2, scenario, url, tmp / "lcm"), tmp / "a2");
+  // DC mode: the survivor also cooperates with the peer before and after its restart.
+  test::Child a1(agentArgs(1, scenario, url, tmp / "lcm", "dc"), tmp / "a1");
+  auto a2 =
+      std::make_unique<test::Child>(agentArgs(2, scenario, url, tmp / "lcm", "dc"), tmp / "a2");
   std::this_thread::sleep_for(500ms);  // subscribed
   test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--rate",
                       "4", "--lcm-url", url, "--quiet"},
@@ -111,7 +113,7 @@ TEST(AgentProcess, PeersSurviveAKilledAgentWhichRejoins) {
   kill(a2->pid(), SIGKILL);  // no chance to clean up
   a2.reset();
   std::this_thread::sleep_for(500ms);
-  test::Child a2b(agentArgs(2, scenario, url, tmp / "lcm2"), tmp / "a2b");
+  test::Child a2b(agentArgs(2, scenario, url, tmp / "lcm2", "dc"), tmp / "a2b");
   EXPECT_EQ(replay.wait(60s), 0) << replay.err();
   EXPECT_EQ(a1.wait(30s), 0) << a1.err();
   EXPECT_EQ(a2b.wait(30s), 0) << a2b.err();
@@ -120,6 +122,12 @@ TEST(AgentProcess, PeersSurviveAKilledAgentWhichRejoins) {
   EXPECT_TRUE(validRecord(tmp / "lcm", 1, 150));
   EXPECT_TRUE(validRecord(tmp / "lcm2", 2, 40)) << a2b.err();
   EXPECT_EQ(listener.bootIds(2).size(), 2u);
+  // The survivor noticed: the peer timed out or restarted (new boot id), and is known again.
+  const std::string out = a1.out();
+  EXPECT_TRUE(out.find("peer restarts 1") != std::string::npos ||
+              out.find("peer timeouts 1") != std::string::npos)
+      << out;
+  EXPECT_NE(out.find("cooperation: peers 1"), std::string::npos) << out;
   const auto ate = test::ateOf(tmp / "lcm2", tmp / "eval2");
   ASSERT_EQ(ate.count(2), 1u);
   EXPECT_LT(ate.at(2), 1.0);
