@@ -134,5 +134,5 @@ for i in "${!PIDS[@]}"; do
     failed=1
   fi
 done
-for id in ${AGENTS//,/ }; do grep -h "^cvslam_agent" "$OUT/logs/agent_$id.out" 2>/dev/null; done
+for id in ${AGENTS//,/ }; do grep -h -A1 "^cvslam_agent" "$OUT/logs/agent_$id.out" 2>/dev/null; done
 exit $failed
