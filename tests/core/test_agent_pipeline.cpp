@@ -4,9 +4,12 @@
 #include <gtest/gtest.h>
 
 #include "cvslam/io/euroc_sensor_yaml.h"
+#include "cvslam/io/json.h"
+#include "cvslam/io/run_reader.h"
 #include "cvslam/sensors/sensor_event_orderer.h"
 #include "cvslam/slam/agent_calibration.h"
 #include "cvslam/slam/agent_pipeline.h"
+#include "cvslam/slam/agent_run_recorder.h"
 #include "cvslam/slam/simulated_team_run.h"
 #include "euroc_test_folder.h"
 #include "replay/small_scenario.h"
@@ -136,6 +139,63 @@ TEST(AgentSetup, KnownPoseStartsAtTheGroundTruth) {
   EXPECT_DOUBLE_EQ(s.P0(0, 0), 0.01);
   EXPECT_DOUBLE_EQ(s.P0(9, 9),
                    options.slam.initial_accel_bias_sigma * options.slam.initial_accel_bias_sigma);
+}
+
+TEST(AgentRunRecorder, RecordReadableWhileRunningAndAfter) {
+  test::TempFolder dir;
+  const sim::Scenario scenario = smallScenario(3.0);
+  auto calibration = calibrationFromScenario(scenario, 1, VisualInertialSlamOptions());
+  ASSERT_TRUE(calibration.ok());
+  auto agent = AgentPipeline::create(1, *calibration->setup, calibration->camera);
+  ASSERT_TRUE(agent.ok());
+  AgentRunRecorder recorder;
+  ASSERT_TRUE(recorder.open(dir.path(), 1, false).ok());
+  auto sim = sim::Simulator::create(scenario);
+  ASSERT_TRUE(sim.ok());
+  sim::SimEvent ev;
+  int frames = 0;
+  while (sim->next(ev)) {
+    if (ev.agent_id != 1) continue;
+    if (ev.type == sim::SimEventType::kImu) {
+      ASSERT_TRUE((*agent)->addImu(ev.imu).ok());
+      continue;
+    }
+    ASSERT_TRUE((*agent)->processFeatures(ev.frame).ok());
+    Vector9d truth;
+    truth << ev.truth.p_BinN, ev.truth.v_B, ev.truth.euler;
+    ASSERT_TRUE(recorder.addFrame(**agent, &truth, 2.5).ok());
+    if (++frames == 10) {
+      // Periodic output: a reader sees the first ten frames while the run goes on.
+      recorder.writer().setBytesSent("SUMMARY", 1000);
+      ASSERT_TRUE(recorder.flush().ok());
+      auto run = readAgentRun(dir.path(), 1);
+      ASSERT_TRUE(run.ok()) << run.status().message();
+      EXPECT_EQ(run->trajectory.size(), 10u);
+      EXPECT_EQ(run->stats.frames.size(), 10u);
+    }
+  }
+  const auto& truth_of = calibration->simulator->landmarks();
+  ASSERT_TRUE(recorder
+                  .writeMap((*agent)->slam(),
+                            [&](int64_t id, Eigen::Vector3d* p) {
+                              *p = truth_of[static_cast<std::size_t>(id)].p_LinN;
+                              return true;
+                            })
+                  .ok());
+  ASSERT_TRUE(recorder.close().ok());
+  auto run = readAgentRun(dir.path(), 1);
+  ASSERT_TRUE(run.ok());
+  EXPECT_EQ(run->trajectory.size(), 31u);
+  EXPECT_EQ(run->truth.size(), 31u);
+  ASSERT_TRUE(run->ins_trajectory.has_value());
+  EXPECT_FALSE(run->landmarks.empty());
+  EXPECT_TRUE(run->landmarks.front().truth.has_value());
+  EXPECT_TRUE(std::filesystem::exists(dir / "agent_1/events.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "agent_1/frontend.csv"));  // no image frame
+  auto stats = Json::parseFile(dir / "agent_1/stats.json");
+  ASSERT_TRUE(stats.ok());
+  EXPECT_DOUBLE_EQ(stats->find("frames")->find("latency_ms")->items().at(0).asNumber(), 2.5);
+  EXPECT_NEAR(stats->find("bytes_sent_per_s")->find("SUMMARY")->asNumber(), 1000.0 / 3.0, 1e-9);
 }
 
 SensorEvent event(SensorEventType type, int64_t t_us) {
