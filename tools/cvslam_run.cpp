@@ -43,7 +43,7 @@ options:
                           (thesis §6.6; LCM-encoded messages through an in-process
                           mailbox, configuration section `coop:`, docs/cooperation.md)
   --ci METHOD             dc: overrides coop.ci_method (adaptive | fast |
-                          optimal_trace | optimal_determinant)
+                          optimal_trace | optimal_determinant | optimal_vehicle)
   --both-ways             dc: overrides coop.both_ways to true
   --sensing KIND          features: feature-level simulation with true landmark ids;
                           images: stereo pairs rendered at the true pose (the scenario's

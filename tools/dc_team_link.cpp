@@ -22,7 +22,8 @@ Status DcTeamLink::open(const std::string& run_dir) {
     std::ofstream& f = csv_[id];
     f.open(path, std::ios::trunc);
     if (!f) return Status::Error("cannot write " + path);
-    f << "t,event,peer,count,fused,rejected_gate,rejected_descriptor,omega1\n";
+    f << "t,event,peer,count,fused,rejected_gate,rejected_descriptor,not_in_state,no_gain,"
+         "omega1\n";
   }
   return Status::Ok();
 }
@@ -59,7 +60,8 @@ Status DcTeamLink::afterFrame(const SimulatedFrame& f, AgentRunWriter* writer) {
   for (const coop::CoopEvent& e : self.takeEvents()) {
     csv << static_cast<double>(e.t_us) / kUsPerS << ',' << coop::coopEventName(e.kind) << ','
         << e.peer << ',' << e.count << ',' << e.fused << ',' << e.rejected_gate << ','
-        << e.rejected_descriptor << ',' << e.omega1 << '\n';
+        << e.rejected_descriptor << ',' << e.not_in_state << ',' << (e.no_gain ? 1 : 0) << ','
+        << e.omega1 << '\n';
   }
 
   const int from = f.agent_id;

@@ -111,7 +111,9 @@ inline TeamResult runTeam(double duration, uint64_t seed, const TeamOptions& opt
     if (opt.deaf_after_us >= 0 && f.t_us > opt.deaf_after_us) return Status::Ok();
     for (Envelope& e : sent) {
       if (opt.transport) {
-        for (const Envelope& d : opt.transport(f.t_us, std::move(e))) deliver(*agents[peer], d);
+        // A transport may release messages of either sender: each goes to the other agent.
+        for (const Envelope& d : opt.transport(f.t_us, std::move(e)))
+          deliver(*agents[d.from == 1 ? 1 : 0], d);
       } else {
         deliver(*agents[peer], e);
       }

@@ -114,6 +114,36 @@ TEST(CovarianceIntersection, WeightsFollowTheirDefinitions) {
           .ok());
 }
 
+// The closed form for the vehicle block equals the information-form joint CI update.
+TEST(CovarianceIntersection, JointVehicleTraceMatchesInformationForm) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  Eigen::MatrixXd A(9, 9);
+  for (int i = 0; i < 81; ++i) A(i / 9, i % 9) = n01(rng);
+  const Eigen::MatrixXd P = A * A.transpose() + 0.1 * Eigen::MatrixXd::Identity(9, 9);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(6, 9);  // two landmarks after a 3-D position
+  H.block(0, 3, 6, 6).setIdentity();
+  const Eigen::MatrixXd R = 0.5 * Eigen::MatrixXd::Identity(6, 6);
+  for (double w : {0.1, 0.5, 0.9}) {
+    const Eigen::MatrixXd info = w * P.inverse() + (1 - w) * H.transpose() * R.inverse() * H;
+    const double expected = info.inverse().topLeftCorner(3, 3).trace();
+    EXPECT_NEAR(jointCiVehiclePositionTrace(P.topLeftCorner(3, 3), P.block(0, 3, 3, 6),
+                                            P.bottomRightCorner(6, 6), R, w),
+                expected, 1e-9 * expected);
+  }
+  EXPECT_EQ(jointCiVehiclePositionTrace(P.topLeftCorner(3, 3), P.block(0, 3, 3, 6),
+                                        P.bottomRightCorner(6, 6), R, 1.0),
+            P.topLeftCorner(3, 3).trace());
+  const double w = optimalVehicleCiOmega(P.topLeftCorner(3, 3), P.block(0, 3, 3, 6),
+                                         P.bottomRightCorner(6, 6), R, 0.05);
+  const double best = jointCiVehiclePositionTrace(P.topLeftCorner(3, 3), P.block(0, 3, 3, 6),
+                                                  P.bottomRightCorner(6, 6), R, w);
+  for (double v = 0.05; v <= 1.0; v += 0.05)
+    EXPECT_LE(best, jointCiVehiclePositionTrace(P.topLeftCorner(3, 3), P.block(0, 3, 3, 6),
+                                                P.bottomRightCorner(6, 6), R, v) +
+                        1e-9);
+}
+
 // For random P1, P2 and a true joint error covariance with those marginals and random
 // cross-correlation (including ±fully correlated), the CI estimate's empirical error
 // covariance must not exceed the fused P (PSD sense, within Monte-Carlo tolerance), for every
@@ -124,7 +154,7 @@ TEST(CovarianceIntersection, ConsistentForAnyCorrelationMonteCarlo) {
   constexpr int kSamples = 20000;
   constexpr double kTolerance = 0.06;  // relative Monte-Carlo error of a variance at 20000
   const CiMethod methods[] = {CiMethod::kAdaptive, CiMethod::kFast, CiMethod::kOptimalTrace,
-                              CiMethod::kOptimalDeterminant};
+                              CiMethod::kOptimalDeterminant, CiMethod::kOptimalVehicle};
   for (int trial = 0; trial < 12; ++trial) {
     const Eigen::Matrix3d P1 = randomCovariance(rng, 0.2, 4.0),
                           P2 = randomCovariance(rng, 0.2, 4.0);

@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "cvslam/coop/dc_cooperation.h"
 #include "cvslam/io/config_node.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/slam/simulated_team_run.h"
@@ -184,11 +185,12 @@ TEST(VisualInertialSlam, OptionsLoadAndValidate) {
   auto bad = ConfigNode::fromString("slam: {pixel_sigma: -1}", "a.yaml");
   EXPECT_FALSE(VisualInertialSlamOptions().load(*bad).ok());
   // The shipped configuration loads with no unknown keys (with the image front end's
-  // section, visual_slam_pipeline.h).
+  // section, visual_slam_pipeline.h, and cooperation's, coop/dc_cooperation.h).
   auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
   ASSERT_TRUE(shipped.ok()) << shipped.status().message();
   ASSERT_TRUE(VisualInertialSlamOptions().load(*shipped).ok());
   ASSERT_TRUE(VisualFrontEndOptions().load(shipped->child("frontend")).ok());
+  ASSERT_TRUE(coop::DcCooperationOptions().load(shipped->child("coop")).ok());
   EXPECT_TRUE(shipped->finish().ok()) << shipped->finish().message();
 }
 

@@ -102,6 +102,11 @@ Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& s) {
   cvslam::shared_landmarks_t m{};
   m.header = toHeader(s.header);
   m.vehicle_cov_trace = s.vehicle_cov_trace;
+  // One descriptor length per message: when the landmarks' lengths differ, none is sent (the
+  // receiver then confirms by the Mahalanobis gate alone).
+  bool same_length = true;
+  for (const coop::SharedLandmark& l : s.landmarks)
+    same_length &= l.descriptor.size() == s.landmarks.front().descriptor.size();
   for (const coop::SharedLandmark& l : s.landmarks) {
     m.index.push_back(static_cast<int32_t>(l.index));
     m.position.push_back({l.p_LinN.x(), l.p_LinN.y(), l.p_LinN.z()});
@@ -109,9 +114,7 @@ Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& s) {
     for (int k = 0; k < 6; ++k)
       c[static_cast<std::size_t>(k)] = l.covariance(kTriangle[k][0], kTriangle[k][1]);
     m.covariance.push_back(std::move(c));
-    // One row per landmark even without descriptors (descriptor_length 0): the count field
-    // covers every row (message_finalize.h).
-    m.descriptors.push_back(l.descriptor);
+    m.descriptors.push_back(same_length ? l.descriptor : std::vector<uint8_t>{});
   }
   return finalized(std::move(m));
 }

@@ -25,8 +25,9 @@ Expected<CiMethod> parseCiMethod(const std::string& name) {
   if (name == "fast") return CiMethod::kFast;
   if (name == "optimal_trace") return CiMethod::kOptimalTrace;
   if (name == "optimal_determinant") return CiMethod::kOptimalDeterminant;
+  if (name == "optimal_vehicle") return CiMethod::kOptimalVehicle;
   return Status::Error("unknown ci_method '" + name +
-                       "' (adaptive, fast, optimal_trace or optimal_determinant)");
+                       "' (adaptive, fast, optimal_trace, optimal_determinant or optimal_vehicle)");
 }
 
 std::string ciMethodName(CiMethod method) {
@@ -39,6 +40,8 @@ std::string ciMethodName(CiMethod method) {
       return "optimal_trace";
     case CiMethod::kOptimalDeterminant:
       return "optimal_determinant";
+    case CiMethod::kOptimalVehicle:
+      return "optimal_vehicle";
   }
   return "adaptive";
 }
@@ -99,11 +102,50 @@ double ciOmega(CiMethod method, const Eigen::MatrixXd& P1, const Eigen::MatrixXd
     case CiMethod::kFast:
       return fastCiOmega(P1, P2);
     case CiMethod::kOptimalTrace:
+    case CiMethod::kOptimalVehicle:
       return optimalCiOmega(P1, P2, false);
     case CiMethod::kOptimalDeterminant:
       return optimalCiOmega(P1, P2, true);
   }
   return 0.5;
+}
+
+double jointCiVehiclePositionTrace(const Eigen::MatrixXd& P_pp, const Eigen::MatrixXd& P_pL,
+                                   const Eigen::MatrixXd& P_LL, const Eigen::MatrixXd& R,
+                                   double omega1) {
+  if (omega1 >= 1.0) return P_pp.trace();
+  const double w2 = 1.0 - omega1;
+  const Eigen::MatrixXd S = P_LL / omega1 + R / w2;
+  const Eigen::MatrixXd PpL = P_pL / omega1;
+  return (P_pp / omega1 - PpL * S.ldlt().solve(PpL.transpose())).trace();
+}
+
+double optimalVehicleCiOmega(const Eigen::MatrixXd& P_pp, const Eigen::MatrixXd& P_pL,
+                             const Eigen::MatrixXd& P_LL, const Eigen::MatrixXd& R,
+                             double omega_min, double tolerance) {
+  auto cost = [&](double w) { return jointCiVehiclePositionTrace(P_pp, P_pL, P_LL, R, w); };
+  double lo = omega_min, hi = 1.0;
+  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
+  double f1 = cost(x1), f2 = cost(x2);
+  while (hi - lo > tolerance) {
+    if (f1 < f2) {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - kGolden * (hi - lo);
+      f1 = cost(x1);
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + kGolden * (hi - lo);
+      f2 = cost(x2);
+    }
+  }
+  const double w = 0.5 * (lo + hi);
+  if (cost(1.0) <= cost(w)) return 1.0;
+  if (cost(omega_min) <= cost(w)) return omega_min;
+  return w;
 }
 
 Expected<CiFusion> fuseCovarianceIntersection(const Eigen::VectorXd& x1, const Eigen::MatrixXd& P1,

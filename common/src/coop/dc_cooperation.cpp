@@ -7,7 +7,6 @@
 
 #include "cvslam/filter/chi_square.h"
 #include "cvslam/filter/covariance_helper.h"
-#include "cvslam/io/config_node.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 #include "cvslam/vision/descriptor_distance.h"
 
@@ -30,6 +29,12 @@ bool validHeader(const CoopHeader& h) {
   return h.agent_id >= 1 && h.seq >= 0 && h.t_us >= 0;
 }
 
+VariableKey vehicleKeyOf(const VisualInertialSlam& slam) {
+  for (const StateVariable& v : slam.state().variables())
+    if (v.key.kind == VariableKey::Kind::kVehicle) return v.key;
+  return VariableKey::vehicle(0);
+}
+
 double vehiclePositionTrace(const VisualInertialSlam& slam) {
   return slam.vehicleCovariance().topLeftCorner<3, 3>().trace();
 }
@@ -42,73 +47,6 @@ std::vector<StateLandmark> observedNow(const std::vector<StateLandmark>& in_stat
   return out;
 }
 }  // namespace
-
-std::string coopEventName(CoopEventKind kind) {
-  switch (kind) {
-    case CoopEventKind::kPeerJoined:
-      return "peer_joined";
-    case CoopEventKind::kPeerRestarted:
-      return "peer_restarted";
-    case CoopEventKind::kPeerLost:
-      return "peer_lost";
-    case CoopEventKind::kIndexSent:
-      return "index_sent";
-    case CoopEventKind::kRequestSent:
-      return "request_sent";
-    case CoopEventKind::kSharedSent:
-      return "shared_sent";
-    case CoopEventKind::kFused:
-      return "fused";
-    case CoopEventKind::kRequestTimeout:
-      return "request_timeout";
-  }
-  return "unknown";
-}
-
-Status DcCooperationOptions::load(const ConfigNode& node) {
-  node.get("coop_sigma", coop_sigma);
-  node.get("min_semi_axis_m", min_semi_axis_m);
-  node.get("summary_period_s", summary_period_s);
-  node.get("exchange_period_s", exchange_period_s);
-  node.get("peer_timeout_s", peer_timeout_s);
-  node.get("request_timeout_s", request_timeout_s);
-  node.get("max_message_age_s", max_message_age_s);
-  std::string method = ciMethodName(ci_method);
-  node.get("ci_method", method);
-  if (Expected<CiMethod> m = parseCiMethod(method); m.ok()) {
-    ci_method = m.value();
-  } else {
-    node.check(false, "ci_method", m.status().message());
-  }
-  node.get("both_ways", both_ways);
-  node.get("max_landmarks_per_message", max_landmarks_per_message);
-  node.get("max_indices_per_message", max_indices_per_message);
-  node.get("gate_probability", gate_probability);
-  node.get("max_descriptor_distance", max_descriptor_distance);
-  node.get("max_position_m", max_position_m);
-  node.get("max_landmark_variance_m2", max_landmark_variance_m2);
-  node.get("min_landmark_variance_m2", min_landmark_variance_m2);
-  node.get("min_omega", min_omega);
-  node.get("max_queued_messages", max_queued_messages);
-  node.check(coop_sigma > 0.0, "coop_sigma", "must be > 0");
-  node.check(min_semi_axis_m > 0.0, "min_semi_axis_m", "must be > 0");
-  node.check(summary_period_s > 0.0 && exchange_period_s > 0.0, "summary_period_s",
-             "summary_period_s and exchange_period_s must be > 0");
-  node.check(peer_timeout_s > 0.0 && request_timeout_s > 0.0 && max_message_age_s > 0.0,
-             "peer_timeout_s", "peer_timeout_s, request_timeout_s, max_message_age_s must be > 0");
-  node.check(max_landmarks_per_message >= 1, "max_landmarks_per_message", "must be ≥ 1");
-  node.check(max_indices_per_message >= 1, "max_indices_per_message", "must be ≥ 1");
-  node.check(gate_probability > 0.0 && gate_probability < 1.0, "gate_probability",
-             "must be in (0, 1)");
-  node.check(max_descriptor_distance >= 0.0, "max_descriptor_distance", "must be ≥ 0");
-  node.check(max_position_m > 0.0, "max_position_m", "must be > 0");
-  node.check(min_landmark_variance_m2 > 0.0 && max_landmark_variance_m2 > min_landmark_variance_m2,
-             "max_landmark_variance_m2",
-             "need 0 < min_landmark_variance_m2 < max_landmark_variance_m2");
-  node.check(min_omega > 0.0 && min_omega < 0.5, "min_omega", "must be in (0, 0.5)");
-  node.check(max_queued_messages >= 1, "max_queued_messages", "must be ≥ 1");
-  return node.status();
-}
 
 DcCooperation::DcCooperation(int self_id, const DcCooperationOptions& options, int64_t boot_id)
     : self_(self_id), o_(options), boot_id_(boot_id) {}
@@ -210,6 +148,10 @@ void DcCooperation::handleSummary(const CoopSummary& m, int64_t now_us) {
   }
   const int j = m.header.agent_id;
   auto it = peers_.find(j);
+  if (it == peers_.end() && static_cast<int>(peers_.size()) >= o_.max_peers) {
+    ++stats_.rejected_too_many_peers;
+    return;
+  }
   if (it == peers_.end() || it->second.boot_id != m.boot_id) {
     const bool restart = it != peers_.end();
     PeerState fresh;
@@ -289,8 +231,13 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
   ++stats_.shared_received;
   const int j = m.header.agent_id;
   PeerState& p = peers_[j];
-  const bool answers_request = p.request_pending;
-  p.request_pending = false;
+  // The answer to the pending request holds only requested indices; anything else is a
+  // both_ways return of an exchange the peer started (fused, never returned again).
+  bool answers_request = p.request_pending;
+  for (const SharedLandmark& l : m.landmarks)
+    answers_request =
+        answers_request && std::binary_search(p.requested.begin(), p.requested.end(), l.index);
+  if (answers_request) p.request_pending = false;
 
   const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
   const std::vector<StateLandmark> local = slam.stateLandmarks();
@@ -325,6 +272,7 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
     }
     if (!any_index) {
       ++stats_.shared_not_in_state;
+      ++e.not_in_state;
     } else if (!any_descriptor) {
       ++stats_.rejected_descriptor;
       ++e.rejected_descriptor;
@@ -356,13 +304,21 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
       R.block<3, 3>(3 * k, 3 * k) = static_cast<double>(n) * pr.peer->covariance;
       peer_trace += pr.peer->covariance.trace();
     }
-    Expected<Eigen::MatrixXd> P1 = CovarianceHelper::marginalCovariance(slam.state(), keys);
-    if (!P1.ok()) {
+    // Joint prior covariance of [vehicle; confirmed landmarks]: P1 is the landmarks' block,
+    // the vehicle position blocks serve optimal_vehicle and the gain check.
+    std::vector<VariableKey> joint_keys{vehicleKeyOf(slam)};
+    joint_keys.insert(joint_keys.end(), keys.begin(), keys.end());
+    Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), joint_keys);
+    if (!J.ok()) {
       ++stats_.fusion_failures;
       return;
     }
-    const double own_trace = P1.value().trace();
-    const double own_vehicle = vehiclePositionTrace(slam);
+    const Eigen::Index nv = J.value().rows() - 3 * n;
+    const Eigen::MatrixXd P1 = J.value().bottomRightCorner(3 * n, 3 * n);
+    const Eigen::MatrixXd P_pp = J.value().topLeftCorner(3, 3);
+    const Eigen::MatrixXd P_pL = J.value().block(0, nv, 3, 3 * n);
+    const double own_trace = P1.trace();
+    const double own_vehicle = P_pp.trace();
     double w = 1.0;
     const double nn = static_cast<double>(n);
     switch (o_.ci_method) {
@@ -375,10 +331,13 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
         break;
       case CiMethod::kOptimalTrace:
       case CiMethod::kOptimalDeterminant:
-        w = optimalCiOmega(P1.value(), R, o_.ci_method == CiMethod::kOptimalDeterminant);
+        w = optimalCiOmega(P1, R, o_.ci_method == CiMethod::kOptimalDeterminant);
+        break;
+      case CiMethod::kOptimalVehicle:
+        w = optimalVehicleCiOmega(P_pp, P_pL, P1, R, o_.min_omega);
         break;
     }
-    w = std::clamp(w, o_.min_omega, 1.0 - o_.min_omega);
+    w = std::clamp(w, o_.min_omega, 1.0);
     e.omega1 = w;
     // both_ways: return the local (pre-fusion) estimates of the confirmed landmarks.
     if (o_.both_ways && answers_request) {
@@ -394,6 +353,17 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
       events_.push_back({now_us, CoopEventKind::kSharedSent, j,
                          static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
       out->shared.push_back(std::move(back));
+    }
+    // CI on the joint state inflates everything by 1/ω1; when the peer's landmarks would not
+    // even shrink the bound on the vehicle position, fusing only loses information (not
+    // fusing is always consistent), so skip it.
+    const bool gain = w < 1.0 && jointCiVehiclePositionTrace(P_pp, P_pL, P1, R, w) < own_vehicle;
+    if (o_.require_vehicle_gain && !gain) {
+      ++stats_.skipped_no_gain;
+      e.no_gain = true;
+      e.count = static_cast<int>(m.landmarks.size());
+      events_.push_back(e);
+      return;
     }
     if (Status s = slam.fuseCovarianceIntersection(ids, y, R, w); !s.ok()) {
       ++stats_.fusion_failures;
@@ -457,6 +427,7 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
   for (const StateLandmark& l : now_seen) points.push_back(l.p_LinN);
   const FeatureEllipsoid mine = ellipsoidOf(points);
   const int n_self = mine.count;
+  const double own_vehicle_trace = vehiclePositionTrace(slam);
 
   if (last_summary_us_ < 0 || seconds(now - last_summary_us_) >= o_.summary_period_s) {
     CoopSummary s;
@@ -465,7 +436,7 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
     s.mean = mine.mean;
     s.std = mine.std;
     s.num_features = n_self;
-    s.vehicle_cov_trace = vehiclePositionTrace(slam);
+    s.vehicle_cov_trace = own_vehicle_trace;
     out->summary = s;
     last_summary_us_ = now;
     ++stats_.summaries_sent;
@@ -483,7 +454,13 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
     theirs.mean = p.summary.mean;
     theirs.std = p.summary.std;
     theirs.count = p.summary.num_features;
-    if (!ellipsoidsIntersect(mine, theirs, o_.coop_sigma, o_.min_semi_axis_m)) continue;
+    FeatureEllipsoid own = mine;
+    if (o_.include_vehicle_uncertainty) {
+      // Where the features are is uncertain by the vehicle position too (trace/3 per axis).
+      own.std = (own.std.array().square() + own_vehicle_trace / 3.0).sqrt();
+      theirs.std = (theirs.std.array().square() + p.summary.vehicle_cov_trace / 3.0).sqrt();
+    }
+    if (!ellipsoidsIntersect(own, theirs, o_.coop_sigma, o_.min_semi_axis_m)) continue;
     const int n_peer = p.summary.num_features;
     if (n_self < n_peer || (n_self == n_peer && self_ < j)) send = true;
   }

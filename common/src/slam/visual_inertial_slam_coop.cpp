@@ -69,6 +69,15 @@ Status VisualInertialSlam::fuseCovarianceIntersection(const std::vector<int64_t>
   UpdateReport report;
   if (Status s = CovarianceHelper::update(state_, batch, UpdatePolicy::ekf(), &report); !s.ok())
     return s;
+  // The peer's landmarks can move the vehicle and, through it, the whole local map by far more
+  // than the stereo updates do (metres when a drifted UAV meets an accurate one). First-
+  // estimates Jacobians linearised at the old landmark positions would then pair the new
+  // vehicle with the old map; restart them at the fused means, as loop closing does.
+  for (const StateVariable& v : state_.variables()) {
+    if (v.key.kind != VariableKey::Kind::kLandmark) continue;
+    if (auto it = info_.find(static_cast<int64_t>(v.key.id)); it != info_.end())
+      it->second.first_estimate = state_.value(v);
+  }
   return Status::Ok();
 }
 

@@ -13,9 +13,17 @@
 
 namespace cvslam::coop {
 
-enum class CiMethod { kAdaptive, kFast, kOptimalTrace, kOptimalDeterminant };
+enum class CiMethod {
+  kAdaptive,
+  kFast,
+  kOptimalTrace,
+  kOptimalDeterminant,
+  /// ω1 minimising the trace of the VEHICLE position covariance after the joint CI update
+  /// (jointCiVehiclePositionTrace); on two plain estimates (ciOmega) it is kOptimalTrace.
+  kOptimalVehicle,
+};
 
-/// "adaptive", "fast", "optimal_trace", "optimal_determinant".
+/// "adaptive", "fast", "optimal_trace", "optimal_determinant", "optimal_vehicle".
 Expected<CiMethod> parseCiMethod(const std::string& name);
 std::string ciMethodName(CiMethod method);
 
@@ -33,6 +41,21 @@ double optimalCiOmega(const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2, bool
 /// ω1 by `method` (the vehicle traces are used by kAdaptive only).
 double ciOmega(CiMethod method, const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2,
                double vehicle_trace1, double vehicle_trace2);
+
+/// The joint-state CI update of DESIGN §3 (P⁺⁻¹ = ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H, H selecting the
+/// landmarks) seen from the vehicle position: with the prior blocks P_pp (position, 3×3),
+/// P_pL (3×3m) and P_LL (3m×3m), the fused position covariance is
+///   P_pp/ω1 − (P_pL/ω1) (P_LL/ω1 + R/ω2)⁻¹ (P_Lp/ω1),
+/// whose trace this returns (ω1 = 1: tr P_pp). Convex in ω1 (matrix inversion is operator
+/// convex and the information is affine in ω1).
+double jointCiVehiclePositionTrace(const Eigen::MatrixXd& P_pp, const Eigen::MatrixXd& P_pL,
+                                   const Eigen::MatrixXd& P_LL, const Eigen::MatrixXd& R,
+                                   double omega1);
+
+/// ω1 ∈ [omega_min, 1] minimising jointCiVehiclePositionTrace (golden section).
+double optimalVehicleCiOmega(const Eigen::MatrixXd& P_pp, const Eigen::MatrixXd& P_pL,
+                             const Eigen::MatrixXd& P_LL, const Eigen::MatrixXd& R,
+                             double omega_min, double tolerance = 1e-6);
 
 struct CiFusion {
   Eigen::VectorXd x;

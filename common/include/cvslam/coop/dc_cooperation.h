@@ -42,16 +42,21 @@ namespace cvslam::coop {
 
 /// Config section `coop:` of agent.yaml.
 struct DcCooperationOptions {
-  double coop_sigma = 2.0;         ///< ellipsoid semi-axes = coop_sigma · std (§6.6.2)
-  double min_semi_axis_m = 1.0;    ///< floor of the semi-axes (one feature, planar sets) [m]
+  double coop_sigma = 2.0;  ///< ellipsoid semi-axes = coop_sigma · std (§6.6.2)
+  double min_semi_axis_m = 1.0;
+  /// Widen both ellipsoids by the agents' vehicle position variance (trace/3 per axis):
+  /// the features' estimated positions are off by the vehicle error. false: the thesis's
+  /// ellipsoid of the feature spread only.
+  bool include_vehicle_uncertainty =
+      true;                        ///< floor of the semi-axes (one feature, planar sets) [m]
   double summary_period_s = 0.5;   ///< summary/heartbeat period [s]
   double exchange_period_s = 1.0;  ///< at most one index broadcast per period [s]
   double peer_timeout_s = 5.0;     ///< a silent peer is forgotten after this [s]
   double request_timeout_s = 2.0;  ///< an unanswered request is abandoned after this [s]
   double max_message_age_s = 2.0;  ///< older messages (dataset time) are dropped as stale [s]
-  CiMethod ci_method =
-      CiMethod::kAdaptive;  ///< adaptive | fast | optimal_trace | optimal_determinant
-  bool both_ways = false;   ///< the receiver also returns its estimates to the sender
+  CiMethod ci_method = CiMethod::kAdaptive;  ///< adaptive | fast | optimal_trace |
+                                             ///< optimal_determinant | optimal_vehicle
+  bool both_ways = false;  ///< the receiver also returns its estimates to the sender
   int max_landmarks_per_message =
       50;  ///< landmarks per request / SharedLandmarks (sent and accepted)
   int max_indices_per_message = 2000;  ///< indices per FeatureIndexList (sent and accepted)
@@ -62,9 +67,15 @@ struct DcCooperationOptions {
   double max_position_m = 1.0e5;            ///< |p| above this is absurd [m]
   double max_landmark_variance_m2 = 1.0e4;  ///< covariance eigenvalues above this are absurd [m²]
   double min_landmark_variance_m2 = 1.0e-12;  ///< ... below this (not PD) too [m²]
-  /// Smallest weight of either estimate: ω1 → 0 would scale the local prior by 1/ω1 → ∞.
+  /// Smallest weight of the own estimate: ω1 → 0 would scale the local prior by 1/ω1 → ∞.
   double min_omega = 0.05;
+  /// Fuse only when the CI update shrinks the trace of the vehicle position covariance
+  /// (otherwise it only inflates the local state; not fusing is always consistent).
+  bool require_vehicle_gain = true;
   int max_queued_messages = 1000;
+  /// Peers tracked at most; summaries of further agents are dropped (rejected_too_many_peers),
+  /// so that a flood of forged agent ids cannot grow the state without bound.
+  int max_peers = 64;
   /// Indices are true landmark ids (feature-level simulation); set by the runner, not YAML.
   bool true_ids = false;  ///< inbound queue bound (oldest dropped beyond)
   Status load(const ConfigNode& node);
@@ -83,11 +94,13 @@ struct DcCooperationStatistics {
   int64_t rejected_duplicate = 0;
   int64_t rejected_reordered = 0;
   int64_t rejected_queue_full = 0;
+  int64_t rejected_too_many_peers = 0;
   int64_t rejected_unknown_peer = 0;  ///< index/request/shared from a peer with no summary yet
   int64_t rejected_gate = 0;          ///< shared landmarks failing the χ² gate
   int64_t rejected_descriptor = 0;    ///< shared landmarks failing the descriptor check
   int64_t shared_not_in_state = 0;    ///< shared landmarks no longer in the local state
   int64_t fusion_failures = 0;        ///< CI updates the filter refused
+  int64_t skipped_no_gain = 0;        ///< confirmed sets not fused (require_vehicle_gain)
   int64_t request_timeouts = 0;
   int64_t peer_restarts = 0;
   int64_t peer_timeouts = 0;
@@ -116,6 +129,8 @@ struct CoopEvent {
   int rejected_gate = 0;        ///< kFused
   int rejected_descriptor = 0;  ///< kFused
   double omega1 = 1.0;          ///< kFused: weight of the own estimate
+  int not_in_state = 0;         ///< kFused: landmarks no longer in the local state
+  bool no_gain = false;         ///< kFused: not fused (require_vehicle_gain)
 };
 
 class DcCooperation {

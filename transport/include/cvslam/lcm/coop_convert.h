@@ -23,8 +23,8 @@ coop::FeatureIndexList fromMessage(const cvslam::feature_index_t& msg);
 Expected<cvslam::shared_request_t> toMessage(const coop::SharedRequest& request);
 coop::SharedRequest fromMessage(const cvslam::shared_request_t& msg, int to_agent);
 
-/// Fails if the landmarks' descriptors differ in length (the message has one length; all
-/// empty is fine).
+/// The message has one descriptor length: if the landmarks' descriptors differ in length,
+/// they are all left out.
 Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& shared);
 coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks_t& msg, int to_agent);
 
