@@ -5,6 +5,8 @@
 #include <atomic>
 #include <set>
 
+#include "cvslam/io/config_node.h"
+#include "cvslam/lcm/agent_node.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/codec.h"
 #include "cvslam/lcm/lcm_bus.h"
@@ -62,6 +64,21 @@ TEST(AgentChannels, PatternSubscriptionHearsEveryAgentAndCountsBytes) {
   EXPECT_EQ((*bus)->bytesPublished(channels::index(7)), bytes);
   EXPECT_EQ((*bus)->messagesPublished(channels::index(7)), 1);
   EXPECT_EQ((*bus)->bytesPublishedByChannel().size(), 4u);
+}
+
+TEST(AgentNodeOptions, ShippedSectionLoadsAndBadValuesFail) {
+  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  ASSERT_TRUE(shipped.ok());
+  AgentNodeOptions o;
+  ASSERT_TRUE(o.load(shipped->child("agent")).ok()) << shipped->status().message();
+  EXPECT_DOUBLE_EQ(o.status_period_s, 0.2);
+  EXPECT_EQ(o.frame_queue, 64u);
+  EXPECT_DOUBLE_EQ(o.initial_sigma.attitude_sigma(0), M_PI / 180.0);
+  auto bad = ConfigNode::fromString("max_wait_s: 0\nframe_queue: -3\n", "bad.yaml");
+  ASSERT_TRUE(bad.ok());
+  Status s = AgentNodeOptions().load(*bad);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("max_wait_s"), std::string::npos) << s.message();
 }
 
 }  // namespace
