@@ -120,17 +120,41 @@ echo "launch.sh: UAVs $AGENTS, mode $MODE, ${PACING[*]}, logs in $OUT/logs/"
 start replay "${replay[@]}"
 
 # The replay ends the run; then the agents process what they hold and write their records.
-wait "${PIDS[-1]}"; replay_status=$?
-[ "$replay_status" -ne 0 ] && echo "launch.sh: replay failed ($replay_status): $(tail -n 1 "$OUT/logs/replay.err")" >&2
-sleep 0.5
+# A process that fails early (bad option, no LCM) stops the whole run at once.
+replay_pid="${PIDS[-1]}"
+declare -A STATUS
+early_failure=false
+while kill -0 "$replay_pid" 2>/dev/null; do
+  for i in "${!PIDS[@]}"; do
+    pid="${PIDS[$i]}"
+    [ "$pid" = "$replay_pid" ] && continue
+    [ -n "${STATUS[$pid]:-}" ] && continue
+    if ! kill -0 "$pid" 2>/dev/null; then
+      wait "$pid"; STATUS[$pid]=$?
+      if [ "${STATUS[$pid]}" -ne 0 ]; then early_failure=true; fi
+    fi
+  done
+  if $early_failure; then stop_all; break; fi
+  sleep 0.2
+done
+wait "$replay_pid"; replay_status=$?
+# A trapped Ctrl-C interrupts `wait` (status > 128): wait again for the replay's own status.
+if [ "$replay_status" -gt 128 ]; then wait "$replay_pid"; replay_status=$?; fi
+[ "$replay_status" -ne 0 ] && ! $early_failure && echo "launch.sh: replay failed ($replay_status): $(tail -n 1 "$OUT/logs/replay.err")" >&2
+$early_failure || sleep 0.5
 stop_all
 failed=0
-[ "$replay_status" -ne 0 ] && failed=1
+[ "$replay_status" -ne 0 ] && ! $early_failure && failed=1
 for i in "${!PIDS[@]}"; do
-  [ "${NAMES[$i]}" = replay ] && continue
-  wait "${PIDS[$i]}"; s=$?
-  if [ "$s" -ne 0 ]; then
-    echo "launch.sh: ${NAMES[$i]} failed ($s): $(tail -n 1 "$OUT/logs/${NAMES[$i]}.err")" >&2
+  pid="${PIDS[$i]}"
+  [ "$pid" = "$replay_pid" ] && continue
+  if [ -z "${STATUS[$pid]:-}" ]; then
+    wait "$pid"; s=$?
+    if [ "$s" -gt 128 ]; then wait "$pid"; s=$?; fi
+    STATUS[$pid]=$s
+  fi
+  if [ "${STATUS[$pid]}" -ne 0 ]; then
+    echo "launch.sh: ${NAMES[$i]} failed (${STATUS[$pid]}): $(tail -n 1 "$OUT/logs/${NAMES[$i]}.err")" >&2
     failed=1
   fi
 done
