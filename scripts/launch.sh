@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Starts a team on one host: cvslam_replay (a scenario or EuRoC folders, at a rate or in
-# lockstep) + one cvslam_agent per UAV (+ cvslam_ground_station in cc mode, when it is
-# built), each logging to OUT/logs/<process>.{out,err}. Ctrl-C stops them all. Exit status:
+# lockstep) + one cvslam_agent per UAV (+ cvslam_ground_station with --ground-station, when
+# it is built), each logging to OUT/logs/<process>.{out,err}. Ctrl-C stops them all. Exit status:
 # 0 when every process succeeded, 1 otherwise (the failed ones are named).
 #
 #   scripts/launch.sh --scenario config/scenarios/team3_aerial.yaml --out runs/team3 --lockstep
@@ -12,7 +12,8 @@
 #   --scenario FILE        live simulation (agents take calibration and initial estimate from it)
 #   --dataset ID:PATH      EuRoC folder of UAV ID (repeatable; agents read PATH's sensor.yaml)
 #   --agents LIST          UAV ids to start (default: the scenario's or the datasets' ids)
-#   --mode single|dc|cc    cooperation mode of the agents (default single)
+#   --mode single|dc       cooperation mode of the agents (default single)
+#   --ground-station       also start cvslam_ground_station (skipped with a note if not built)
 #   --sensing KIND         scenario: features | images (default: images)
 #   --rate R | --lockstep  replay pacing (default --lockstep)
 #   --lcm-url URL          LCM provider (default: port 7667, loopback, 16 MB receive buffer)
@@ -26,18 +27,19 @@ ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BUILD="$ROOT/build"
 OUT="" SCENARIO="" MODE=single SENSING=images PACING=(--lockstep) AGENTS=""
 URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16777216'
-CONFIG="" DURATION="" SEED=""
+CONFIG="" DURATION="" SEED="" WITH_GS=false
 DATASETS=() AGENT_EXTRA=()
 
 die() { echo "launch.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
   case "$1" in
-    -h|--help) sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,/^set -uo/p' "$0" | grep '^#' | sed 's/^# \{0,1\}//'; exit 0 ;;
     --out) OUT="${2:?--out needs a value}"; shift 2 ;;
     --scenario) SCENARIO="${2:?--scenario needs a value}"; shift 2 ;;
     --dataset) DATASETS+=("${2:?--dataset needs ID:PATH}"); shift 2 ;;
     --agents) AGENTS="${2:?--agents needs a list}"; shift 2 ;;
     --mode) MODE="${2:?--mode needs a value}"; shift 2 ;;
+    --ground-station) WITH_GS=true; shift ;;
     --sensing) SENSING="${2:?--sensing needs a value}"; shift 2 ;;
     --rate) PACING=(--rate "${2:?--rate needs a value}"); shift 2 ;;
     --lockstep) PACING=(--lockstep); shift ;;
@@ -53,7 +55,7 @@ done
 [ -n "$OUT" ] || die "--out is required (try --help)"
 if [ -n "$SCENARIO" ] && [ ${#DATASETS[@]} -gt 0 ]; then die "give --scenario or --dataset, not both"; fi
 if [ -z "$SCENARIO" ] && [ ${#DATASETS[@]} -eq 0 ]; then die "give --scenario FILE or --dataset ID:PATH"; fi
-case "$MODE" in single|dc|cc) ;; *) die "--mode must be single, dc or cc" ;; esac
+case "$MODE" in single|dc) ;; *) die "--mode must be single or dc" ;; esac
 REPLAY="$BUILD/sensors_replay/cvslam_replay"
 AGENT="$BUILD/agent/cvslam_agent"
 GS="$BUILD/ground_station/cvslam_ground_station"
@@ -98,7 +100,7 @@ for id in ${AGENTS//,/ }; do
   start "agent_$id" "$AGENT" "${args[@]}"
 done
 participants="$AGENTS"
-if [ "$MODE" = cc ]; then
+if $WITH_GS; then
   if [ -x "$GS" ]; then
     start ground_station "$GS" --agents "$AGENTS" --lcm-url "$URL" --out "$OUT"
     participants="$AGENTS,0"
