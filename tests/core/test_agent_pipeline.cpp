@@ -3,6 +3,7 @@
 // calibration an agent process reads (scenario or EuRoC folder) starts it the same way.
 #include <gtest/gtest.h>
 
+#include "cvslam/io/config_node.h"
 #include "cvslam/io/euroc_sensor_yaml.h"
 #include "cvslam/io/json.h"
 #include "cvslam/io/run_reader.h"
@@ -139,6 +140,20 @@ TEST(AgentSetup, KnownPoseStartsAtTheGroundTruth) {
   EXPECT_DOUBLE_EQ(s.P0(0, 0), 0.01);
   EXPECT_DOUBLE_EQ(s.P0(9, 9),
                    options.slam.initial_accel_bias_sigma * options.slam.initial_accel_bias_sigma);
+  EXPECT_TRUE(s.x0.tail<6>().isZero());
+  // A real IMU's turn-on bias (slam.initial_*_bias) starts the bias states.
+  auto cfg = ConfigNode::fromString(
+      "slam: {initial_gyro_bias: [0.077, 0.021, 0.003], initial_accel_bias: [0.1, 0, 0]}\n",
+      "bias.yaml");
+  ASSERT_TRUE(cfg.ok());
+  ASSERT_TRUE(options.load(*cfg).ok());
+  const AgentFilterSetup b =
+      knownPoseSetup(5, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), euler, sigma, options);
+  EXPECT_TRUE(b.x0.segment<3>(12).isApprox(Eigen::Vector3d(0.077, 0.021, 0.003)));
+  EXPECT_DOUBLE_EQ(b.x0(9), 0.1);
+  auto bad = ConfigNode::fromString("slam: {initial_gyro_bias: [0, .nan, 0]}\n", "bad.yaml");
+  ASSERT_TRUE(bad.ok());
+  EXPECT_FALSE(VisualInertialSlamOptions().load(*bad).ok());
 }
 
 TEST(AgentRunRecorder, RecordReadableWhileRunningAndAfter) {

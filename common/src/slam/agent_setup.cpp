@@ -20,6 +20,8 @@ AgentFilterSetup setupAt(int64_t t_us, const Eigen::Vector3d& p, const Eigen::Ve
   sigma << init.position_sigma, init.velocity_sigma, init.attitude_sigma,
       Eigen::VectorXd::Zero(n - 9);
   if (with_bias) {
+    s.x0.segment<3>(vehicle::kAccelBias) = options.slam.initial_accel_bias;
+    s.x0.segment<3>(vehicle::kGyroBias) = options.slam.initial_gyro_bias;
     sigma.segment<3>(vehicle::kAccelBias).setConstant(options.slam.initial_accel_bias_sigma);
     sigma.segment<3>(vehicle::kGyroBias).setConstant(options.slam.initial_gyro_bias_sigma);
   }
