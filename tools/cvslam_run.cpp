@@ -226,7 +226,7 @@ int main(int argc, char** argv) {
     options.load(*cfg);
     frontend.load(cfg->child("frontend"));
     coop_options.load(cfg->child("coop"));
-    for (const char* section : {"agent", "lcm"}) cfg->child(section);
+    for (const char* section : {"agent", "lcm"}) cfg->skip(section);
     if (Status s = cfg->finish(); !s.ok()) return fail(s.message());
   }
   if (!args.world.empty()) {

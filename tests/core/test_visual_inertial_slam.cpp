@@ -193,6 +193,8 @@ TEST(VisualInertialSlam, OptionsLoadAndValidate) {
   ASSERT_TRUE(VisualInertialSlamOptions().load(*shipped).ok());
   ASSERT_TRUE(VisualFrontEndOptions().load(shipped->child("frontend")).ok());
   ASSERT_TRUE(coop::DcCooperationOptions().load(shipped->child("coop")).ok());
+  // cvslam_agent's process section is transport's (AgentNodeOptions, cvslam_lcm_tests).
+  shipped->skip("agent");
   EXPECT_TRUE(shipped->finish().ok()) << shipped->finish().message();
 }
 

@@ -66,6 +66,16 @@ const char* streamName(Stream stream) {
   return "";
 }
 
+std::string allAgentsPattern(Stream stream) {
+  return std::string(kAgentPrefix) + "[0-9]+/" + streamName(stream);
+}
+
+bool isAgentPattern(const std::string& name) {
+  for (Stream s : kAllStreams)
+    if (isPerAgent(s) && name == allAgentsPattern(s)) return true;
+  return false;
+}
+
 std::string channelName(Stream stream, int32_t agent_id) {
   switch (stream) {
     case Stream::kTeamSummary:

@@ -42,7 +42,7 @@ LcmBus::~LcmBus() {
 
 Status LcmBus::add(std::unique_ptr<SubscriptionBase> subscription) {
   const std::string& channel = subscription->channel();
-  if (!isPlainChannelName(channel)) {
+  if (!isPlainChannelName(channel) && !isAgentPattern(channel)) {
     return Status::Error("bad channel name '" + channel + "': use [A-Za-z0-9_/] only");
   }
   // LCM's handler table is read by the receive thread without our lock: forbid changes
@@ -65,7 +65,30 @@ Status LcmBus::publishRaw(const std::string& channel, const void* data, std::siz
   if (lcm_->publish(channel, data, static_cast<unsigned int>(size)) != 0) {
     return Status::Error("LCM publish failed on " + channel);
   }
+  std::lock_guard<std::mutex> lock(published_mutex_);
+  auto& [bytes, messages] = published_[channel];
+  bytes += static_cast<int64_t>(size);
+  ++messages;
   return Status::Ok();
+}
+
+int64_t LcmBus::bytesPublished(const std::string& channel) const {
+  std::lock_guard<std::mutex> lock(published_mutex_);
+  auto it = published_.find(channel);
+  return it == published_.end() ? 0 : it->second.first;
+}
+
+std::map<std::string, int64_t> LcmBus::bytesPublishedByChannel() const {
+  std::lock_guard<std::mutex> lock(published_mutex_);
+  std::map<std::string, int64_t> bytes;
+  for (const auto& [channel, counts] : published_) bytes[channel] = counts.first;
+  return bytes;
+}
+
+int64_t LcmBus::messagesPublished(const std::string& channel) const {
+  std::lock_guard<std::mutex> lock(published_mutex_);
+  auto it = published_.find(channel);
+  return it == published_.end() ? 0 : it->second.second;
 }
 
 int64_t LcmBus::nextSeq(const std::string& channel) {

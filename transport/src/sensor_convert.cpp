@@ -58,6 +58,19 @@ cvslam::pose_t toPoseMessage(const VehiclePose& pose, int64_t t_us, int32_t send
   return msg;
 }
 
+VehiclePose fromPoseMessage(const cvslam::pose_t& msg) {
+  VehiclePose pose;
+  pose.q_BtoN =
+      Eigen::Quaterniond(msg.quaternion[0], msg.quaternion[1], msg.quaternion[2], msg.quaternion[3])
+          .normalized();
+  for (int i = 0; i < 3; ++i) {
+    pose.p_BinN[i] = msg.position[i];
+    pose.euler[i] = msg.euler[i];
+    pose.v_N[i] = msg.velocity[i];
+  }
+  return pose;
+}
+
 Expected<cvslam::stereo_image_t> toStereoMessage(const cv::Mat& left, const cv::Mat& right,
                                                  int64_t t_us, int32_t sender_id, bool png) {
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1 || left.size() != right.size() ||

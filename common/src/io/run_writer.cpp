@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 
 #include "cvslam/io/json.h"
 
@@ -132,22 +133,56 @@ Status writeRunStats(const std::string& path, int agent_id, const RunStats& stat
   frames.set("state_size", Json::numbers(size));
   frames.set("landmarks", Json::numbers(lms));
   frames.set("landmark_sigma_mean_m", Json::numbers(sigma));
+  std::vector<double> latency;
+  bool any_latency = false;
+  for (const FrameStats& f : stats.frames) {
+    latency.push_back(f.latency_ms);
+    any_latency = any_latency || std::isfinite(f.latency_ms);
+  }
+  if (any_latency) frames.set("latency_ms", Json::numbers(latency));
   Json root = Json::object();
   root.set("agent_id", Json::number(agent_id));
   root.set("duration_s", Json::number(stats.duration_s));
   root.set("bytes_sent", Json::number(static_cast<double>(stats.bytes_sent)));
   root.set("bytes_received", Json::number(static_cast<double>(stats.bytes_received)));
   if (!stats.bytes_sent_per_stream.empty()) {
-    Json streams = Json::object();
-    for (const auto& [stream, bytes] : stats.bytes_sent_per_stream)
-      streams.set(stream, Json::number(static_cast<double>(bytes)));
-    root.set("bytes_sent_per_stream", std::move(streams));
+    Json bytes = Json::object(), rates = Json::object();
+    for (const auto& [stream, n] : stats.bytes_sent_per_stream) {
+      bytes.set(stream, Json::number(static_cast<double>(n)));
+      rates.set(stream,
+                Json::number(stats.duration_s > 0.0 ? static_cast<double>(n) / stats.duration_s
+                                                    : std::numeric_limits<double>::quiet_NaN()));
+    }
+    root.set("bytes_sent_per_stream", std::move(bytes));
+    root.set("bytes_sent_per_s", std::move(rates));
   }
   root.set("frames", std::move(frames));
   std::ofstream out(path, std::ios::trunc);
   if (!out) return Status::Error(path + ": cannot write");
   out << root.dump(2);
   return out ? Status::Ok() : Status::Error(path + ": write failed");
+}
+
+double AgentRunWriter::durationSoFar() const {
+  double first = have_time_ ? t_first_ : 0.0, last = have_time_ ? t_last_ : 0.0;
+  if (!stats_.frames.empty()) {
+    first = have_time_ ? std::min(first, stats_.frames.front().t) : stats_.frames.front().t;
+    last = std::max(last, stats_.frames.back().t);
+  }
+  return last - first;
+}
+
+Status AgentRunWriter::flush() {
+  if (!open_) return Status::Error("AgentRunWriter: not open");
+  trajectory_.flush();
+  ins_.flush();
+  states_.flush();
+  truth_.flush();
+  if (!std::filesystem::exists(dir_ + "/landmarks.csv"))
+    if (Status s = writeLandmarks({}); !s.ok()) return s;
+  RunStats snapshot = stats_;
+  if (snapshot.duration_s <= 0.0) snapshot.duration_s = durationSoFar();
+  return writeRunStats(dir_ + "/stats.json", agent_id_, snapshot);
 }
 
 Status AgentRunWriter::close() {
@@ -157,14 +192,7 @@ Status AgentRunWriter::close() {
   ins_.close();
   states_.close();
   truth_.close();
-  if (stats_.duration_s <= 0.0) {
-    double first = have_time_ ? t_first_ : 0.0, last = have_time_ ? t_last_ : 0.0;
-    if (!stats_.frames.empty()) {
-      first = have_time_ ? std::min(first, stats_.frames.front().t) : stats_.frames.front().t;
-      last = std::max(last, stats_.frames.back().t);
-    }
-    stats_.duration_s = last - first;
-  }
+  if (stats_.duration_s <= 0.0) stats_.duration_s = durationSoFar();
   // A run that never wrote its map still leaves a valid (empty) landmarks.csv.
   if (!std::filesystem::exists(dir_ + "/landmarks.csv"))
     if (Status s = writeLandmarks({}); !s.ok()) return s;

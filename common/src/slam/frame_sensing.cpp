@@ -1,12 +1,14 @@
 #include "cvslam/slam/frame_sensing.h"
 
+#include "cvslam/slam/agent_pipeline.h"
+
 namespace cvslam {
 
 Status FeatureSensing::processFrame(const sim::SimEvent& event, VisualInertialSlam& slam,
                                     FrameReport* report) {
   frame_ = event.frame;
   // Feature-level sensing: the simulator's index is the true landmark id (DESIGN.md §3).
-  for (StereoObservation& obs : frame_.observations) obs.landmark_id = obs.index;
+  useTrueLandmarkIds(&frame_);
   return slam.processFrame(frame_, report);
 }
 

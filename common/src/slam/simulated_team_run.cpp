@@ -1,6 +1,6 @@
 #include "cvslam/slam/simulated_team_run.h"
 
-#include <chrono>
+#include "cvslam/slam/agent_setup.h"
 
 namespace cvslam {
 
@@ -12,28 +12,8 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
   if (!simulator.ok()) return simulator.status();
   std::unique_ptr<SimulatedTeamRun> run(new SimulatedTeamRun(std::move(*simulator)));
 
-  const bool with_bias = options.ins.estimate_imu_bias;
-  const int n = vehicle::size(with_bias);
   for (std::size_t i = 0; i < run->simulator_.agentCount(); ++i) {
     const sim::AgentSimulator& as = run->simulator_.agent(i);
-    VisualInertialSlamOptions agent_options = options;
-    const sim::ImuOptions& imu = as.spec().imu;
-    if (imu.noise) {
-      agent_options.ins.gyro_noise_density = imu.gyro_noise_density;
-      agent_options.ins.accel_noise_density = imu.accel_noise_density;
-      agent_options.ins.gyro_random_walk = imu.gyro_random_walk;
-      agent_options.ins.accel_random_walk = imu.accel_random_walk;
-    }
-    const sim::InitialEstimate& init = as.initialEstimate();
-    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n);
-    x0 << init.state.p_BinN, init.state.v_B, init.state.euler, Eigen::VectorXd::Zero(n - 9);
-    Eigen::VectorXd sigma = Eigen::VectorXd::Zero(n);
-    sigma << init.sigma.position_sigma, init.sigma.velocity_sigma, init.sigma.attitude_sigma,
-        Eigen::VectorXd::Zero(n - 9);
-    if (with_bias) {
-      sigma.segment<3>(vehicle::kAccelBias).setConstant(options.slam.initial_accel_bias_sigma);
-      sigma.segment<3>(vehicle::kGyroBias).setConstant(options.slam.initial_gyro_bias_sigma);
-    }
     std::unique_ptr<FrameSensing> agent_sensing;
     if (sensing) {
       auto made = sensing(as);
@@ -44,17 +24,9 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
     } else {
       agent_sensing = std::make_unique<FeatureSensing>(&run->simulator_.landmarks());
     }
-    Agent a{as.id(),
-            VisualInertialSlam(agent_options, as.camera()),
-            std::move(agent_sensing),
-            InsPropagator(agent_options.ins),
-            x0,
-            ImuSample(),
-            false};
-    const Eigen::MatrixXd P0 = sigma.array().square().matrix().asDiagonal();
-    if (Status s = a.slam.initialize(init.state.t_us, x0, P0); !s.ok()) {
-      return Status::Error("agent " + std::to_string(a.id) + ": " + s.message());
-    }
+    auto pipeline = AgentPipeline::create(as.id(), simulatedAgentSetup(as, options), as.camera());
+    if (!pipeline.ok()) return pipeline.status();
+    Agent a{as.id(), std::move(pipeline.value()), std::move(agent_sensing)};
     if (a.id >= static_cast<int>(run->slot_of_id_.size())) run->slot_of_id_.resize(a.id + 1, -1);
     run->slot_of_id_[static_cast<std::size_t>(a.id)] = static_cast<int>(run->agents_.size());
     run->agents_.push_back(std::move(a));
@@ -64,30 +36,27 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
 
 Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
   sim::SimEvent ev;
-  FrameReport report;
   while (simulator_.next(ev)) {
     Agent& a =
         agents_[static_cast<std::size_t>(slot_of_id_[static_cast<std::size_t>(ev.agent_id)])];
+    AgentPipeline& p = *a.pipeline;
     if (ev.type == sim::SimEventType::kImu) {
-      if (Status s = a.slam.addImu(ev.imu); !s.ok()) return s;
-      if (a.have_imu) {
-        a.x_ins = a.dead_reckoning.stepMean(a.x_ins, a.last_imu, ev.imu,
-                                            Eigen::VectorXd::Zero(a.dead_reckoning.noiseSize()));
-      }
-      a.last_imu = ev.imu;
-      a.have_imu = true;
+      if (Status s = p.addImu(ev.imu); !s.ok()) return s;
       continue;
     }
-    const auto t0 = std::chrono::steady_clock::now();
-    if (Status s = a.sensing->processFrame(ev, a.slam, &report); !s.ok()) {
-      return Status::Error("agent " + std::to_string(a.id) +
-                           " at t = " + std::to_string(static_cast<double>(ev.t_us) * 1e-6) +
-                           " s: " + s.message());
+    FrameSensing& sensing = *a.sensing;
+    if (Status s = p.processWith(
+            ev.t_us,
+            [&](VisualInertialSlam& slam, FrameReport* report) {
+              return sensing.processFrame(ev, slam, report);
+            },
+            &sensing.lastObservations());
+        !s.ok()) {
+      return s;
     }
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    SimulatedFrame f{a.id,     ev.t_us, &ev.truth,       &a.slam, &report,
-                     &a.x_ins, ms,      a.sensing.get(), &a.slam};
+    const AgentFrame& last = p.lastFrame();
+    SimulatedFrame f{a.id,          ev.t_us,      &ev.truth,       &p.slam(), &last.report,
+                     &p.insState(), last.time_ms, a.sensing.get(), &p.slam()};
     if (on_frame) {
       if (Status s = on_frame(f); !s.ok()) return s;
     }

@@ -30,6 +30,10 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.check(loop_closure_passes >= 1, "loop_closure_passes", "must be ≥ 1");
   node.get("initial_accel_bias_sigma", initial_accel_bias_sigma);
   node.get("initial_gyro_bias_sigma", initial_gyro_bias_sigma);
+  node.get("initial_accel_bias", initial_accel_bias);
+  node.get("initial_gyro_bias", initial_gyro_bias);
+  node.check(initial_accel_bias.allFinite() && initial_gyro_bias.allFinite(), "initial_accel_bias",
+             "initial biases must be finite");
   node.check(initial_accel_bias_sigma > 0.0 && initial_gyro_bias_sigma > 0.0,
              "initial_accel_bias_sigma", "initial bias sigmas must be > 0");
   node.check(pixel_sigma > 0.0, "pixel_sigma", "must be > 0");

@@ -38,6 +38,9 @@ class ConfigNode {
   /// The sub-map at `key`. A missing key gives an empty section (defaults apply); a key that is
   /// not a map is an error.
   ConfigNode child(const std::string& key) const;
+  /// Marks `key` as read without looking inside: a section another program reads (e.g.
+  /// cvslam_run skips cvslam_agent's `agent:`), so finish() does not call it unknown.
+  void skip(const std::string& key) const { markRead(key); }
   bool has(const std::string& key) const;
   /// Keys present in this map, in file order.
   std::vector<std::string> keys() const;

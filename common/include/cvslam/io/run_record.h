@@ -52,13 +52,17 @@ struct FrameStats {
   /// Mean landmark standard deviation sqrt(trace(P_LL)/3) over the state's landmarks [m]
   /// (NaN: not recorded). Drives the "landmark uncertainty over time" plot.
   double landmark_sigma_mean_m = std::numeric_limits<double>::quiet_NaN();
+  /// Wall time from the frame's arrival to the publication of its pose [ms] (cvslam_agent;
+  /// NaN: not recorded).
+  double latency_ms = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct RunStats {
   double duration_s = 0.0;  ///< dataset time covered by the run [s]
   int64_t bytes_sent = 0;   ///< payload bytes this agent published (all channels)
   int64_t bytes_received = 0;
-  /// Payload bytes per stream ("SUMMARY", "INDEX", ...), when the driver counts them.
+  /// Payload bytes published per stream ("SUMMARY", "INDEX", ...), when the driver counts
+  /// them; stats.json: bytes_sent_per_stream and their rates bytes_sent_per_s.
   std::map<std::string, int64_t> bytes_sent_per_stream;
   std::vector<FrameStats> frames;
 };

@@ -49,6 +49,15 @@ class AgentRunWriter {
     stats_.bytes_sent_per_stream[stream] += bytes;
   }
   void addBytesReceived(int64_t bytes) { stats_.bytes_received += bytes; }
+  /// Bytes published on one stream so far (replaces the stream's count; cvslam_agent).
+  void setBytesSent(const std::string& stream, int64_t bytes) {
+    stats_.bytes_sent_per_stream[stream] = bytes;
+  }
+  void setBytesSentTotal(int64_t bytes) { stats_.bytes_sent = bytes; }
+
+  /// Flushes the files and writes stats.json as of now (an empty landmarks.csv if none yet),
+  /// so that a process killed later still leaves a readable record. Stays open.
+  Status flush();
 
   /// Writes landmarks.csv (overwrites; call with the final map, or periodically).
   Status writeLandmarks(const std::vector<LandmarkRecord>& landmarks) const;
@@ -58,8 +67,11 @@ class AgentRunWriter {
   Status close();
 
   const std::string& dir() const { return dir_; }
+  bool isOpen() const { return open_; }
 
  private:
+  double durationSoFar() const;
+
   AgentRunWriterOptions options_;
   std::string dir_;
   int agent_id_ = 0;

@@ -37,6 +37,7 @@ class TumWriter {
   Status add(const TumPose& pose);
   bool isOpen() const { return out_.is_open(); }
   void close() { out_.close(); }
+  void flush() { out_.flush(); }
 
  private:
   std::ofstream out_;

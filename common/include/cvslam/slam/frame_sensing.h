@@ -24,6 +24,8 @@ class FrameSensing {
                               FrameReport* report) = 0;
   /// True position of a landmark of the filter's map; false when unknown.
   virtual bool landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const = 0;
+  /// The observations the last frame gave the filter (landmark ids set).
+  virtual const StereoFrameObservations& lastObservations() const = 0;
 };
 
 /// Feature-level sensing: the simulator's index is the true landmark id.
@@ -34,6 +36,7 @@ class FeatureSensing : public FrameSensing {
   Status processFrame(const sim::SimEvent& event, VisualInertialSlam& slam,
                       FrameReport* report) override;
   bool landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const override;
+  const StereoFrameObservations& lastObservations() const override { return frame_; }
 
  private:
   const std::vector<sim::Landmark>* landmarks_;

@@ -65,6 +65,7 @@ class RenderedSensing : public FrameSensing {
   Status processFrame(const sim::SimEvent& event, VisualInertialSlam& slam,
                       FrameReport* report) override;
   bool landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const override;
+  const StereoFrameObservations& lastObservations() const override { return result_.frame; }
 
   const RenderedSensingStats& stats() const { return stats_; }
   const VisualFrameResult& lastResult() const { return result_; }

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "cvslam/core/status.h"
-#include "cvslam/ins/ins_propagator.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/sim/simulator.h"
+#include "cvslam/slam/agent_pipeline.h"
 #include "cvslam/slam/frame_sensing.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
@@ -52,20 +52,19 @@ class SimulatedTeamRun {
   Status run(const FrameCallback& on_frame);
 
   std::size_t agentCount() const { return agents_.size(); }
-  const VisualInertialSlam& slam(std::size_t i) const { return agents_[i].slam; }
+  const VisualInertialSlam& slam(std::size_t i) const { return agents_[i].pipeline->slam(); }
+  AgentPipeline& pipeline(std::size_t i) { return *agents_[i].pipeline; }
   const FrameSensing& sensing(std::size_t i) const { return *agents_[i].sensing; }
   int agentId(std::size_t i) const { return agents_[i].id; }
   const sim::Simulator& simulator() const { return simulator_; }
 
  private:
+  // Filter and dead reckoning are the agent process's (agent_pipeline.h), so that
+  // cvslam_agent reproduces this run; only the sensing is simulation's.
   struct Agent {
     int id = 0;
-    VisualInertialSlam slam;
+    std::unique_ptr<AgentPipeline> pipeline;
     std::unique_ptr<FrameSensing> sensing;
-    InsPropagator dead_reckoning;
-    Eigen::VectorXd x_ins;
-    ImuSample last_imu;
-    bool have_imu = false;
   };
   SimulatedTeamRun(sim::Simulator simulator) : simulator_(std::move(simulator)) {}
 

@@ -51,6 +51,13 @@ std::optional<ChannelId> parseChannel(const std::string& name);
 /// metacharacter and so matches only itself when subscribed to.
 bool isPlainChannelName(const std::string& name);
 
+/// The LCM subscription pattern matching a per-agent stream of every agent, e.g.
+/// "UAV[0-9]+/INDEX" (the only regular expressions LcmBus accepts, see isAgentPattern).
+std::string allAgentsPattern(Stream stream);
+
+/// True if `name` is allAgentsPattern() of some per-agent stream.
+bool isAgentPattern(const std::string& name);
+
 /// Shorthands, one per stream, so call sites read `channels::imu(2)`.
 namespace channels {
 inline std::string imu(int32_t id) {

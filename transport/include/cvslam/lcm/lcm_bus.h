@@ -61,7 +61,8 @@ class LcmBus {
   LcmBus(const LcmBus&) = delete;
   LcmBus& operator=(const LcmBus&) = delete;
 
-  /// Subscribes `channel` (a plain name, see isPlainChannelName) with a queue of
+  /// Subscribes `channel` (a plain name, see isPlainChannelName, or allAgentsPattern(stream)
+  /// for a stream of every agent) with a queue of
   /// `capacity` messages; the caller pops from the returned queue.
   template <typename Msg>
   Expected<std::shared_ptr<BoundedQueue<Msg>>> subscribeQueue(const std::string& channel,
@@ -101,6 +102,12 @@ class LcmBus {
   void stop();
   bool running() const { return thread_.joinable(); }
 
+  /// Payload bytes and messages published on `channel` so far (publish and publishRaw).
+  int64_t bytesPublished(const std::string& channel) const;
+  int64_t messagesPublished(const std::string& channel) const;
+  /// Bytes published per channel so far.
+  std::map<std::string, int64_t> bytesPublishedByChannel() const;
+
   /// Counters of every subscription, in subscription order.
   std::vector<ChannelCounters> counters() const;
   /// Counters summed over the subscriptions of one channel (zero if none).
@@ -118,6 +125,8 @@ class LcmBus {
   std::vector<std::unique_ptr<SubscriptionBase>> subscriptions_;
   std::mutex seq_mutex_;
   std::map<std::string, int64_t> next_seq_;
+  mutable std::mutex published_mutex_;
+  std::map<std::string, std::pair<int64_t, int64_t>> published_;  // channel -> (bytes, msgs)
   std::atomic<bool> stop_requested_{false};
   std::thread thread_;
 };

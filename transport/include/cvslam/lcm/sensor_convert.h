@@ -15,6 +15,9 @@ constexpr int32_t kReplaySenderId = -1;
 
 cvslam::pose_t toPoseMessage(const VehiclePose& pose, int64_t t_us, int32_t sender_id);
 
+/// The pose back (gyro and accel biases are not carried: zero).
+VehiclePose fromPoseMessage(const cvslam::pose_t& msg);
+
 /// Both images must be CV_8UC1 of the same size. `png`: each image as a PNG file (lossless,
 /// fastest compression level, since the replay must keep up with real time).
 Expected<cvslam::stereo_image_t> toStereoMessage(const cv::Mat& left, const cv::Mat& right,

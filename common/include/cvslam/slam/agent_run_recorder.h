@@ -1,0 +1,54 @@
+#pragma once
+// The run record of one agent (docs/run_format.md) written from its AgentPipeline after each
+// frame, exactly as cvslam_run writes it: states.csv + trajectory.tum (estimate),
+// ins_trajectory.tum (dead reckoning), truth.csv (when the truth is known), stats.json (per
+// frame time, state size, landmarks, landmark σ; cvslam_agent adds latency and bytes per
+// stream), events.csv (per frame filter events) and, for images, frontend.csv.
+
+#include <Eigen/Core>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "cvslam/core/status.h"
+#include "cvslam/io/run_writer.h"
+#include "cvslam/slam/agent_pipeline.h"
+
+namespace cvslam {
+
+class AgentRunRecorder {
+ public:
+  /// True position of a landmark of the map when known (simulation), else false.
+  using LandmarkTruth = std::function<bool(int64_t landmark_id, Eigen::Vector3d* p_LinN)>;
+
+  /// Creates DIR/agent_<id>/ and opens its files; `images` adds frontend.csv (else it is
+  /// opened with the first frame that went through the image path).
+  Status open(const std::string& run_dir, int agent_id, bool images);
+  bool isOpen() const { return writer_ != nullptr; }
+
+  /// Records the pipeline's last frame. `truth`: the true vehicle state at the frame (null:
+  /// unknown); `latency_ms`: arrival → pose published (NaN: not measured).
+  Status addFrame(const AgentPipeline& agent, const Vector9d* truth,
+                  double latency_ms = std::numeric_limits<double>::quiet_NaN());
+
+  /// Writes landmarks.csv from the agent's map (active and archived landmarks).
+  Status writeMap(const VisualInertialSlam& slam, const LandmarkTruth& truth);
+
+  /// Flushes everything written so far and stats.json (periodic output of a live agent).
+  Status flush();
+  /// Writes stats.json and closes the files.
+  Status close();
+
+  AgentRunWriter& writer() { return *writer_; }
+
+ private:
+  Status openFrontend();
+
+  std::unique_ptr<AgentRunWriter> writer_;
+  std::ofstream events_, frontend_;
+  std::string dir_;
+};
+
+}  // namespace cvslam

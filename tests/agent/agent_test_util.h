@@ -1,0 +1,75 @@
+#pragma once
+// Helpers for the agent process tests: ports, a short two-UAV scenario, evaluation of a run
+// folder with cvslam_eval, and a listener for the agents' TEAM/SUMMARY heartbeats.
+#include <map>
+#include <mutex>
+#include <set>
+#include <string>
+
+#include "cvslam/io/json.h"
+#include "cvslam/lcm/channels.h"
+#include "cvslam/lcm/lcm_bus.h"
+#include "euroc_test_folder.h"
+#include "replay/process_util.h"
+#include "replay/small_scenario.h"
+
+namespace cvslam::test {
+
+inline std::string agentUrl(int port) {
+  return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
+}
+
+/// ATE RMSE per agent id of a run folder, by cvslam_eval.
+inline std::map<int, double> ateOf(const std::string& run_dir, const std::string& log_prefix) {
+  std::map<int, double> ate;
+  std::string err;
+  const std::string json_path = log_prefix + ".json";
+  if (run({CVSLAM_EVAL_EXE, "--run", run_dir, "--summary-json", json_path}, log_prefix, nullptr,
+          &err) != 0)
+    return ate;
+  auto json = Json::parseFile(json_path);
+  if (!json.ok() || json->find("agents") == nullptr) return ate;
+  for (int id = 1; id <= 9; ++id) {
+    const Json* a = json->find("agents")->find(std::to_string(id));
+    if (a != nullptr && a->find("ate_rmse_m") != nullptr)
+      ate[id] = a->find("ate_rmse_m")->asNumber();
+  }
+  return ate;
+}
+
+/// Records the boot ids and modes heard on TEAM/SUMMARY per agent.
+class SummaryListener {
+ public:
+  explicit SummaryListener(const std::string& url) {
+    transport::BusOptions o;
+    o.url = url;
+    auto bus = transport::LcmBus::create(o);
+    if (!bus.ok()) return;
+    bus_ = std::move(*bus);
+    bus_->subscribe<cvslam::agent_summary_t>(transport::channels::teamSummary(),
+                                             [this](const cvslam::agent_summary_t& m) {
+                                               std::lock_guard<std::mutex> lock(mutex_);
+                                               boot_ids_[m.header.agent_id].insert(m.boot_id);
+                                               last_[m.header.agent_id] = m;
+                                             });
+    bus_->start();
+  }
+  bool ok() const { return bus_ != nullptr; }
+  std::set<int64_t> bootIds(int id) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return boot_ids_[id];
+  }
+  /// The latest summary of agent `id` (default-constructed if none).
+  cvslam::agent_summary_t last(int id) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return last_[id];
+  }
+
+ private:
+  std::unique_ptr<transport::LcmBus> bus_;
+  std::mutex mutex_;
+  std::map<int, std::set<int64_t>> boot_ids_;
+  std::map<int, cvslam::agent_summary_t> last_;
+};
+
+}  // namespace cvslam::test

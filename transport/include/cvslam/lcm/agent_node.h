@@ -1,0 +1,139 @@
+#pragma once
+// The LCM side of one agent process (cvslam_agent, DESIGN.md §2, §6): subscribes the agent's
+// sensor streams, puts them back in dataset-time order (sensor_event_orderer.h) and feeds
+// its AgentPipeline; publishes UAV<id>/POSE (agent_state_t) after every frame, TEAM/SUMMARY
+// as heartbeat with the per-channel receive counters, and UAV<id>/STATUS (processed-up-to
+// time, for lockstep, docs/replay.md) after every batch and periodically. In DC mode a
+// CooperationLink runs the exchange with the peers; it publishes its outbox before the
+// STATUS, so a lockstep run delivers it to every peer before the next epoch.
+// Writes the run record (agent_run_recorder.h) periodically and at the end.
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cvslam/core/status.h"
+#include "cvslam/lcm/lcm_bus.h"
+#include "cvslam/lcm/message_types.h"
+#include "cvslam/sensors/sensor_event_orderer.h"
+#include "cvslam/slam/agent_calibration.h"
+#include "cvslam/slam/agent_pipeline.h"
+#include "cvslam/slam/agent_run_recorder.h"
+
+namespace cvslam::transport {
+
+struct AgentNodeOptions {
+  int id = 1;                   ///< this UAV's id (≥ 1)
+  std::string mode = "single";  ///< single | dc (summary's mode field)
+  std::string url = kDefaultLcmUrl;
+  std::string out_dir;              ///< run record folder; empty: none
+  std::string filter_name = "ekf";  ///< agent_state_t.filter
+  double status_period_s = 0.2;     ///< STATUS heartbeat period (wall) [s]
+  double summary_period_s = 1.0;    ///< single mode: SUMMARY period (dataset time) [s]
+  double flush_period_s = 5.0;      ///< run record written every … (wall) [s]
+  double idle_exit_s = 0.0;         ///< exit after this long without sensor data (0: never) [s]
+  double max_wait_s = 0.3;          ///< orderer: release a frame without IMU past it after [s]
+  std::size_t imu_queue = 20000;    ///< inbound buffers (messages); full → dropped, counted
+  std::size_t frame_queue = 64;
+  int64_t boot_id = 0;  ///< random per process start (summary)
+  /// Initial 1σ when the filter starts at the first ground truth (EuRoC calibration).
+  sim::InitialUncertainty initial_sigma;
+  bool verbose = false;
+
+  /// agent.yaml section `agent:` (status_period_s, summary_period_s, flush_period_s,
+  /// max_wait_s, imu_queue, frame_queue, initial: {position_sigma, velocity_sigma,
+  /// attitude_sigma_deg}); id, mode, url, out_dir, idle_exit_s come from the command line.
+  Status load(const ConfigNode& node);
+};
+
+/// Cooperation of the agent with its peers (DC mode), plugged into the node.
+class CooperationLink {
+ public:
+  virtual ~CooperationLink() = default;
+  /// Subscribes the cooperation channels (before the bus starts).
+  virtual Status subscribe(LcmBus& bus) = 0;
+  /// Hands the messages received so far to the cooperation core (main thread; called after
+  /// the sensor inbox was drained, so everything that arrived before those sensor messages
+  /// is included).
+  virtual void drainInbound() = 0;
+  /// Right after a frame: runs the cooperation and publishes its outbox. `fill_counters`
+  /// adds the node's per-channel counters to an outgoing summary.
+  virtual Status afterFrame(AgentPipeline& agent, LcmBus& bus,
+                            const std::function<void(cvslam::agent_summary_t&)>& fill_counters) = 0;
+  /// One line for the final report.
+  virtual std::string report() const = 0;
+};
+
+using LandmarkTruthFn = AgentRunRecorder::LandmarkTruth;
+
+class AgentNode {
+ public:
+  static Expected<std::unique_ptr<AgentNode>> create(const AgentNodeOptions& options,
+                                                     AgentCalibration calibration,
+                                                     std::optional<VisualSlamPipeline> images,
+                                                     std::unique_ptr<CooperationLink> coop);
+  ~AgentNode();
+
+  /// Runs until *stop becomes true or --idle-exit; processes what is left, writes outputs.
+  Status run(const std::atomic<bool>& stop);
+
+  /// Summary of the run for stdout.
+  std::string report() const;
+
+ private:
+  struct Inbound {
+    SensorEvent event;
+    double arrival_s;
+  };
+  AgentNode(const AgentNodeOptions& options, AgentCalibration calibration);
+  Status subscribe();
+  void push(SensorEvent&& event, const std::string& channel, std::size_t capacity);
+  Status processEvent(SensorEvent& event, double arrival_s);
+  void handle(SensorEvent& event, double arrival_s);
+  Status startPipeline(const AgentFilterSetup& setup);
+  Status afterFrame(double arrival_s);
+  Status publishStatus();
+  Status publishSummary();
+  void fillCounters(cvslam::agent_summary_t& msg);
+  Status flushRecord(bool final);
+  double now() const;
+
+  AgentNodeOptions o_;
+  AgentCalibration calibration_;
+  std::optional<VisualSlamPipeline> images_;
+  std::unique_ptr<CooperationLink> coop_;
+  std::unique_ptr<LcmBus> bus_;
+  std::unique_ptr<AgentPipeline> agent_;
+  AgentRunRecorder recorder_;
+  SensorEventOrderer orderer_;
+
+  std::mutex inbox_mutex_;
+  std::condition_variable inbox_cv_;
+  std::vector<Inbound> inbox_;
+  std::map<std::string, std::size_t> inbox_count_;  // per channel, in inbox_
+  std::map<std::string, int64_t> dropped_;          // queue full, per channel
+  std::map<std::string, int64_t> rejected_;         // valid LCM, wrong sender, per channel
+  int64_t late_ = 0;                                // out of order (orderer)
+  int64_t before_start_ = 0;                        // IMU / frames before the first pose
+  std::optional<ImuSample> pre_start_imu_;
+  bool start_decided_ = false;
+  std::optional<std::pair<int64_t, Vector9d>> truth_;  // latest ground truth
+  int64_t processed_us_ = -1;
+  int64_t last_summary_us_ = -1;
+  double last_arrival_s_ = 0.0;  // wall time of the latest sensor message (inbox_mutex_)
+  double start_s_ = 0.0;
+  std::vector<double> latencies_ms_;
+  int64_t feature_frames_ = 0, image_frames_ = 0;
+  int64_t frames_skipped_ = 0;  // frames of a kind the agent cannot process
+  int64_t errors_ = 0;          // processing errors (reported in STATUS)
+  std::string last_error_;
+};
+
+}  // namespace cvslam::transport

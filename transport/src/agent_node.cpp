@@ -1,0 +1,497 @@
+#include "cvslam/lcm/agent_node.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#include "cvslam/geometry/euler.h"
+#include "cvslam/io/config_node.h"
+#include "cvslam/io/run_writer.h"
+#include "cvslam/lcm/channels.h"
+#include "cvslam/lcm/features_convert.h"
+#include "cvslam/lcm/imu_convert.h"
+#include "cvslam/lcm/sensor_convert.h"
+
+namespace cvslam::transport {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Largest plausible agent id in a header (the replay is −1, the ground station 0).
+constexpr int32_t kMaxAgentId = 1000000;
+/// Ground truth within this of a frame is the frame's truth (cvslam_eval's default
+/// association tolerance) [µs].
+constexpr int64_t kTruthToleranceUs = 10000;
+/// Data starting later than this after the scenario's initial estimate: the agent joins a
+/// running team and starts at the first ground truth [µs].
+constexpr int64_t kLateStartUs = 100000;
+/// The cooperation streams: bytes_sent of stats.json and the bandwidth target (issue #6).
+const std::vector<Stream> kCoopStreams = {Stream::kTeamSummary, Stream::kIndex, Stream::kSharedReq,
+                                          Stream::kShared};
+
+Vector9d truthVector(const VehiclePose& pose) {
+  Vector9d x;
+  const Eigen::Vector3d v_B = rotationBodyToNav<double>(pose.euler).transpose() * pose.v_N;
+  x << pose.p_BinN, v_B, pose.euler;
+  return x;
+}
+
+}  // namespace
+
+Status AgentNodeOptions::load(const ConfigNode& node) {
+  node.get("status_period_s", status_period_s);
+  node.get("summary_period_s", summary_period_s);
+  node.get("flush_period_s", flush_period_s);
+  node.get("max_wait_s", max_wait_s);
+  int imu = static_cast<int>(imu_queue), frames = static_cast<int>(frame_queue);
+  node.get("imu_queue", imu);
+  node.get("frame_queue", frames);
+  node.check(status_period_s > 0.0, "status_period_s", "must be > 0");
+  node.check(summary_period_s > 0.0, "summary_period_s", "must be > 0");
+  node.check(flush_period_s > 0.0, "flush_period_s", "must be > 0");
+  node.check(max_wait_s > 0.0, "max_wait_s", "must be > 0");
+  node.check(imu > 0, "imu_queue", "must be > 0");
+  node.check(frames > 0, "frame_queue", "must be > 0");
+  imu_queue = static_cast<std::size_t>(std::max(imu, 1));
+  frame_queue = static_cast<std::size_t>(std::max(frames, 1));
+  if (node.has("initial")) initial_sigma.load(node.child("initial"));
+  return node.status();
+}
+
+AgentNode::AgentNode(const AgentNodeOptions& options, AgentCalibration calibration)
+    : o_(options),
+      calibration_(std::move(calibration)),
+      orderer_(SensorEventOrdererOptions{options.max_wait_s}) {}
+
+AgentNode::~AgentNode() {
+  if (bus_) bus_->stop();
+}
+
+double AgentNode::now() const {
+  return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+}
+
+Expected<std::unique_ptr<AgentNode>> AgentNode::create(const AgentNodeOptions& options,
+                                                       AgentCalibration calibration,
+                                                       std::optional<VisualSlamPipeline> images,
+                                                       std::unique_ptr<CooperationLink> coop) {
+  if (options.id < 1) return Status::Error("agent id must be ≥ 1");
+  // LCM prints its own complaint about an unknown provider: check the scheme first.
+  bool known = false;
+  for (const char* scheme : {"udpm://", "tcpq://", "memq://", "file://"})
+    known = known || options.url.rfind(scheme, 0) == 0;
+  if (!known) return Status::Error("unsupported LCM URL '" + options.url + "'");
+  std::unique_ptr<AgentNode> node(new AgentNode(options, std::move(calibration)));
+  node->images_ = std::move(images);
+  node->coop_ = std::move(coop);
+  BusOptions bus_options;
+  bus_options.url = options.url;
+  bus_options.receive.accept_agent = [](int32_t id) { return id >= -1 && id <= kMaxAgentId; };
+  auto bus = LcmBus::create(bus_options);
+  if (!bus.ok()) return bus.status();
+  node->bus_ = std::move(*bus);
+  if (Status s = node->subscribe(); !s.ok()) return s;
+  return node;
+}
+
+void AgentNode::push(SensorEvent&& event, const std::string& channel, std::size_t capacity) {
+  {
+    std::lock_guard<std::mutex> lock(inbox_mutex_);
+    std::size_t& n = inbox_count_[channel];
+    if (n >= capacity) {
+      ++dropped_[channel];
+      return;
+    }
+    ++n;
+    const double t = now();
+    last_arrival_s_ = t;
+    inbox_.push_back(Inbound{std::move(event), t});
+  }
+  inbox_cv_.notify_one();
+}
+
+Status AgentNode::subscribe() {
+  const int id = o_.id;
+  // Sensor streams come from the replay (or a simulator) only.
+  auto fromReplay = [this](int32_t sender, const std::string& channel) {
+    if (sender == kReplaySenderId) return true;
+    std::lock_guard<std::mutex> lock(inbox_mutex_);
+    ++rejected_[channel];
+    return false;
+  };
+  const std::string imu_ch = channels::imu(id);
+  Status s = bus_->subscribe<cvslam::imu_t>(imu_ch, [=](const cvslam::imu_t& m) {
+    if (!fromReplay(m.header.agent_id, imu_ch)) return;
+    SensorEvent e;
+    e.type = SensorEventType::kImu;
+    e.agent_id = id;
+    e.t_us = m.header.utime;
+    e.imu = fromMessage(m);
+    push(std::move(e), imu_ch, o_.imu_queue);
+  });
+  if (!s.ok()) return s;
+  const std::string gt_ch = channels::groundTruth(id);
+  s = bus_->subscribe<cvslam::pose_t>(gt_ch, [=](const cvslam::pose_t& m) {
+    if (!fromReplay(m.header.agent_id, gt_ch)) return;
+    SensorEvent e;
+    e.type = SensorEventType::kGroundTruth;
+    e.agent_id = id;
+    e.t_us = m.header.utime;
+    e.truth = fromPoseMessage(m);
+    push(std::move(e), gt_ch, o_.imu_queue);
+  });
+  if (!s.ok()) return s;
+  const std::string feat_ch = channels::features(id);
+  s = bus_->subscribe<cvslam::stereo_features_t>(feat_ch, [=](const cvslam::stereo_features_t& m) {
+    if (!fromReplay(m.header.agent_id, feat_ch)) return;
+    SensorEvent e;
+    e.type = SensorEventType::kFeatures;
+    e.agent_id = id;
+    e.t_us = m.header.utime;
+    e.features = fromMessage(m);
+    push(std::move(e), feat_ch, o_.frame_queue);
+  });
+  if (!s.ok()) return s;
+  const std::string stereo_ch = channels::stereo(id);
+  s = bus_->subscribe<cvslam::stereo_image_t>(stereo_ch, [=](const cvslam::stereo_image_t& m) {
+    if (!fromReplay(m.header.agent_id, stereo_ch)) return;
+    SensorEvent e;
+    e.type = SensorEventType::kStereoImage;
+    e.agent_id = id;
+    e.t_us = m.header.utime;
+    if (!fromStereoMessage(m, e.left, e.right).ok()) {
+      std::lock_guard<std::mutex> lock(inbox_mutex_);
+      ++rejected_[stereo_ch];
+      return;
+    }
+    push(std::move(e), stereo_ch, o_.frame_queue);
+  });
+  if (!s.ok()) return s;
+  if (coop_) return coop_->subscribe(*bus_);
+  return Status::Ok();
+}
+
+Status AgentNode::startPipeline(const AgentFilterSetup& setup) {
+  auto agent = AgentPipeline::create(o_.id, setup, calibration_.camera);
+  if (!agent.ok()) return agent.status();
+  agent_ = std::move(*agent);
+  if (images_) agent_->useImages(std::move(*images_), calibration_.rectifier);
+  images_.reset();
+  if (!o_.out_dir.empty()) {
+    if (Status s = recorder_.open(o_.out_dir, o_.id, false); !s.ok()) return s;
+  }
+  return Status::Ok();
+}
+
+Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
+  if (!agent_ && !start_decided_) {
+    // A known initial estimate (scenario) holds only when the data starts there; an agent
+    // (re)started in the middle of a run starts at the first ground truth instead.
+    start_decided_ = true;
+    if (calibration_.setup && e.t_us <= calibration_.setup->t0_us + kLateStartUs) {
+      if (Status s = startPipeline(*calibration_.setup); !s.ok()) return s;
+    } else if (o_.verbose) {
+      std::fprintf(stderr, "cvslam_agent %d: starting at the first ground truth\n", o_.id);
+    }
+  }
+  switch (e.type) {
+    case SensorEventType::kImu:
+      if (!agent_) {
+        if (pre_start_imu_) ++before_start_;
+        pre_start_imu_ = e.imu;
+        return Status::Ok();
+      }
+      return agent_->addImu(e.imu);
+    case SensorEventType::kGroundTruth:
+      truth_ = std::make_pair(e.t_us, truthVector(e.truth));
+      if (!agent_) {
+        // Thesis §6.3.1: the initial pose is known in the team's frame.
+        if (Status s =
+                startPipeline(knownPoseSetup(e.t_us, e.truth.p_BinN, e.truth.v_N, e.truth.euler,
+                                             o_.initial_sigma, calibration_.options));
+            !s.ok()) {
+          return s;
+        }
+        if (pre_start_imu_ && pre_start_imu_->t_us == e.t_us) {
+          if (Status s = agent_->addImu(*pre_start_imu_); !s.ok()) return s;
+        } else if (pre_start_imu_) {
+          ++before_start_;
+        }
+        pre_start_imu_.reset();
+      }
+      return Status::Ok();
+    case SensorEventType::kFeatures:
+    case SensorEventType::kStereoImage:
+      break;
+  }
+  if (!agent_ || e.t_us < agent_->slam().time()) {
+    ++before_start_;
+    return Status::Ok();
+  }
+  if (e.type == SensorEventType::kFeatures) {
+    e.features.t_us = e.t_us;
+    if (Status s = agent_->processFeatures(e.features); !s.ok()) return s;
+    ++feature_frames_;
+  } else {
+    if (!agent_->imagesEnabled()) {
+      ++frames_skipped_;
+      return Status::Ok();
+    }
+    if (Status s = agent_->processImages(e.t_us, e.left, e.right); !s.ok()) return s;
+    ++image_frames_;
+  }
+  return afterFrame(arrival_s);
+}
+
+Status AgentNode::afterFrame(double arrival_s) {
+  const AgentFrame& frame = agent_->lastFrame();
+  // Cooperation first (as cvslam_run: the fused estimate is the frame's result), its outbox
+  // published before the pose and before the STATUS that lets the replay go on.
+  if (coop_) {
+    if (Status s = coop_->afterFrame(*agent_, *bus_,
+                                     [this](cvslam::agent_summary_t& m) { fillCounters(m); });
+        !s.ok()) {
+      return s;
+    }
+  } else if (last_summary_us_ < 0 ||
+             frame.t_us - last_summary_us_ >= std::llround(o_.summary_period_s * 1e6)) {
+    last_summary_us_ = frame.t_us;
+    if (Status s = publishSummary(); !s.ok()) return s;
+  }
+  const VisualInertialSlam& slam = agent_->slam();
+  cvslam::agent_state_t pose{};
+  pose.header.utime = frame.t_us;
+  pose.header.agent_id = o_.id;
+  pose.filter = o_.filter_name;
+  const Eigen::VectorXd x = slam.vehicleState();
+  const Eigen::MatrixXd P = slam.vehicleCovariance();
+  pose.state_dim = static_cast<int32_t>(x.size());
+  pose.state.assign(x.data(), x.data() + x.size());
+  for (int r = 0; r < P.rows(); ++r)
+    for (int c = 0; c < P.cols(); ++c) pose.covariance.push_back(P(r, c));
+  pose.num_landmarks = frame.report.landmarks_in_state;
+  pose.num_archived = static_cast<int32_t>(slam.archive().size());
+  if (Status s = bus_->publish(channels::pose(o_.id), pose); !s.ok()) return s;
+  const double latency_ms = (now() - arrival_s) * 1e3;
+  latencies_ms_.push_back(latency_ms);
+  if (recorder_.isOpen()) {
+    const Vector9d* truth = nullptr;
+    if (truth_ && std::llabs(truth_->first - frame.t_us) <= kTruthToleranceUs)
+      truth = &truth_->second;
+    if (Status s = recorder_.addFrame(*agent_, truth, latency_ms); !s.ok()) return s;
+  }
+  return Status::Ok();
+}
+
+void AgentNode::fillCounters(cvslam::agent_summary_t& msg) {
+  std::map<std::string, ChannelCounters> by_channel;
+  for (const ChannelCounters& c : bus_->counters()) {
+    ChannelCounters& sum = by_channel[c.channel];
+    sum.received += c.received;
+    sum.dropped += c.dropped + c.seq_gaps;  // LCM's own queue losses show as gaps
+    sum.invalid += c.invalid;
+  }
+  std::lock_guard<std::mutex> lock(inbox_mutex_);
+  for (auto& [channel, c] : by_channel) {
+    auto d = dropped_.find(channel);
+    auto r = rejected_.find(channel);
+    const int64_t dropped = d == dropped_.end() ? 0 : d->second;
+    const int64_t rejected = r == rejected_.end() ? 0 : r->second;
+    msg.channel.push_back(channel);
+    msg.received.push_back(c.received - dropped - rejected);
+    msg.dropped.push_back(c.dropped + dropped);
+    msg.invalid.push_back(c.invalid + rejected);
+  }
+}
+
+Status AgentNode::publishSummary() {
+  cvslam::agent_summary_t m{};
+  m.header.utime = agent_ ? agent_->lastFrame().t_us : 0;
+  m.header.agent_id = o_.id;
+  m.mode = o_.mode;
+  m.boot_id = o_.boot_id;
+  // The ellipsoid of the landmarks observed now (thesis §6.6.2), for the team's display.
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sq = Eigen::Vector3d::Zero();
+  int n = 0;
+  if (agent_ && agent_->lastFrame().observations != nullptr) {
+    const VisualInertialSlam& slam = agent_->slam();
+    for (const StereoObservation& o : agent_->lastFrame().observations->observations) {
+      if (o.landmark_id < 0) continue;
+      const StateVariable* v =
+          slam.state().find(VariableKey::landmark(static_cast<uint64_t>(o.landmark_id)));
+      if (v == nullptr) continue;
+      const Eigen::Vector3d p = slam.state().value(*v);
+      sum += p;
+      sq += p.cwiseProduct(p);
+      ++n;
+    }
+  }
+  const Eigen::Vector3d mean = n > 0 ? Eigen::Vector3d(sum / n) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d var =
+      n > 0 ? Eigen::Vector3d((sq / n - mean.cwiseProduct(mean)).cwiseMax(0.0))
+            : Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    m.ellipsoid_mean[i] = mean(i);
+    m.ellipsoid_std[i] = std::sqrt(var(i));
+  }
+  m.num_features = n;
+  m.vehicle_cov_trace =
+      agent_ ? agent_->slam().vehicleCovariance().topLeftCorner<3, 3>().trace() : 0.0;
+  fillCounters(m);
+  return bus_->publish(channels::teamSummary(), m);
+}
+
+Status AgentNode::publishStatus() {
+  cvslam::status_t m{};
+  m.header.utime = std::max<int64_t>(processed_us_, 0);
+  m.header.agent_id = o_.id;
+  m.processed_utime = processed_us_;
+  m.health = errors_ > 0 ? cvslam::status_t::HEALTH_DEGRADED : cvslam::status_t::HEALTH_OK;
+  m.message = last_error_;
+  return bus_->publish(channels::status(o_.id), m);
+}
+
+Status AgentNode::flushRecord(bool final) {
+  if (!recorder_.isOpen()) return Status::Ok();
+  AgentRunWriter& w = recorder_.writer();
+  const std::map<std::string, int64_t> bytes = bus_->bytesPublishedByChannel();
+  std::map<std::string, int64_t> by_stream;
+  for (const auto& [channel, n] : bytes) {
+    if (auto id = parseChannel(channel)) by_stream[streamName(id->stream)] += n;
+  }
+  int64_t coop = 0;
+  for (Stream s : kCoopStreams) {
+    by_stream.emplace(streamName(s), 0);
+    coop += by_stream[streamName(s)];
+  }
+  by_stream["cooperation"] = coop;
+  for (const auto& [stream, n] : by_stream) w.setBytesSent(stream, n);
+  w.setBytesSentTotal(coop);
+  if (agent_) {
+    LandmarkTruthFn truth;
+    // Feature-level frames name their landmarks by true id: the simulated world knows them.
+    if (calibration_.simulator && feature_frames_ > 0 && image_frames_ == 0) {
+      const auto* landmarks = &calibration_.simulator->landmarks();
+      truth = [landmarks](int64_t id, Eigen::Vector3d* p) {
+        if (id < 0 || id >= static_cast<int64_t>(landmarks->size())) return false;
+        *p = (*landmarks)[static_cast<std::size_t>(id)].p_LinN;
+        return true;
+      };
+    }
+    if (Status s = recorder_.writeMap(agent_->slam(), truth); !s.ok()) return s;
+  }
+  return final ? recorder_.close() : recorder_.flush();
+}
+
+Status AgentNode::run(const std::atomic<bool>& stop) {
+  if (Status s = bus_->start(); !s.ok()) return s;
+  start_s_ = now();
+  double last_status = -1e300, last_flush = now();
+  std::vector<Inbound> batch;
+  SensorEvent event;
+  Status failure;
+  while (!stop) {
+    {
+      std::unique_lock<std::mutex> lock(inbox_mutex_);
+      inbox_cv_.wait_for(lock, std::chrono::milliseconds(10), [this] { return !inbox_.empty(); });
+      batch.swap(inbox_);
+      inbox_count_.clear();
+    }
+    // Cooperation after the sensor inbox: whatever arrived before these sensor messages is
+    // handed over now (lockstep: the peers' outboxes of the previous epoch).
+    if (coop_) coop_->drainInbound();
+    for (Inbound& in : batch)
+      if (!orderer_.push(std::move(in.event), in.arrival_s)) ++late_;
+    batch.clear();
+    bool progressed = false;
+    double arrival = 0.0;
+    while (orderer_.pop(now(), false, &event, &arrival)) {
+      progressed = true;
+      handle(event, arrival);
+    }
+    const double t = now();
+    if (progressed || t - last_status >= o_.status_period_s) {
+      last_status = t;
+      if (Status s = publishStatus(); !s.ok()) return s;
+    }
+    if (t - last_flush >= o_.flush_period_s) {
+      last_flush = t;
+      if (Status s = flushRecord(false); !s.ok()) return s;
+    }
+    double last_arrival = 0.0;
+    bool inbox_empty = true;
+    {
+      std::lock_guard<std::mutex> lock(inbox_mutex_);
+      last_arrival = std::max(last_arrival_s_, start_s_);
+      inbox_empty = inbox_.empty();
+    }
+    // Idle: nothing arrived for idle_exit_s and nothing waits (a slow agent working through a
+    // backlog is not idle).
+    if (o_.idle_exit_s > 0.0 && inbox_empty && orderer_.size() == 0 &&
+        t - last_arrival >= o_.idle_exit_s) {
+      if (o_.verbose)
+        std::fprintf(stderr, "cvslam_agent %d: no sensor data for %.1f s, exiting\n", o_.id,
+                     o_.idle_exit_s);
+      break;
+    }
+  }
+  // What is left, in order (shutdown or end of data).
+  bus_->stop();
+  {
+    std::lock_guard<std::mutex> lock(inbox_mutex_);
+    batch.swap(inbox_);
+  }
+  if (coop_) coop_->drainInbound();
+  for (Inbound& in : batch)
+    if (!orderer_.push(std::move(in.event), in.arrival_s)) ++late_;
+  double arrival = 0.0;
+  while (orderer_.pop(now(), true, &event, &arrival)) handle(event, arrival);
+  if (Status s = publishStatus(); !s.ok()) return s;
+  return flushRecord(true);
+}
+
+void AgentNode::handle(SensorEvent& event, double arrival_s) {
+  Status s = processEvent(event, arrival_s);
+  processed_us_ = std::max(processed_us_, event.t_us);
+  if (!s.ok()) {
+    ++errors_;
+    last_error_ = s.message();
+    if (o_.verbose || errors_ <= 3)
+      std::fprintf(stderr, "cvslam_agent %d: %s\n", o_.id, s.message().c_str());
+  }
+}
+
+std::string AgentNode::report() const {
+  char buf[512];
+  std::vector<double> l = latencies_ms_;
+  std::sort(l.begin(), l.end());
+  auto pct = [&](double q) {
+    return l.empty() ? 0.0 : l[std::min(l.size() - 1, static_cast<std::size_t>(q * l.size()))];
+  };
+  int64_t dropped = 0, invalid = 0, gaps = 0;
+  for (const ChannelCounters& c : bus_->counters()) {
+    dropped += c.dropped;
+    invalid += c.invalid;
+    gaps += c.seq_gaps;
+  }
+  for (const auto& [ch, n] : dropped_) dropped += n;
+  for (const auto& [ch, n] : rejected_) invalid += n;
+  std::snprintf(buf, sizeof(buf),
+                "UAV%d: %ld frames, latency median %.1f ms, p95 %.1f ms, max %.1f ms; messages "
+                "dropped %lld, seq gaps %lld, invalid %lld, late %lld, before start %lld, "
+                "errors %lld",
+                o_.id, agent_ ? agent_->frames() : 0L, pct(0.5), pct(0.95),
+                l.empty() ? 0.0 : l.back(), static_cast<long long>(dropped),
+                static_cast<long long>(gaps), static_cast<long long>(invalid),
+                static_cast<long long>(late_), static_cast<long long>(before_start_),
+                static_cast<long long>(errors_));
+  std::string r = buf;
+  if (coop_) r += "\n  " + coop_->report();
+  return r;
+}
+
+}  // namespace cvslam::transport
