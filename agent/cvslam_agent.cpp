@@ -211,21 +211,10 @@ int main(int argc, char** argv) {
   if (!calibration.ok()) return fail(calibration.status().message());
 
   // The image path (used when UAV<N>/STEREO arrives), with the feature-index vocabulary.
-  std::shared_ptr<const cvslam::vision::Vocabulary> vocabulary;
-  if (!frontend.vocabulary.empty()) {
-    std::filesystem::path file = frontend.vocabulary;
-    if (file.is_relative()) file = std::filesystem::path(config_path).parent_path() / file;
-    auto v = cvslam::vision::Vocabulary::load(file.string());
-    if (!v.ok()) return fail(v.status().message());
-    const bool orb = frontend.front_end.detector.type == cvslam::vision::DetectorType::kOrb;
-    if ((v->type() == cvslam::vision::DescriptorType::kOrb) == orb) {
-      vocabulary = std::make_shared<const cvslam::vision::Vocabulary>(std::move(v.value()));
-    } else if (args.verbose) {
-      std::fprintf(stderr, "cvslam_agent: %s does not fit the detector: feature index 0\n",
-                   file.string().c_str());
-    }
-  }
-  auto images = cvslam::VisualSlamPipeline::create(frontend, calibration->camera, vocabulary);
+  auto vocabulary = cvslam::loadFeatureIndexVocabulary(
+      frontend, std::filesystem::path(config_path).parent_path().string());
+  if (!vocabulary.ok()) return fail(vocabulary.status().message());
+  auto images = cvslam::VisualSlamPipeline::create(frontend, calibration->camera, *vocabulary);
   if (!images.ok()) return fail(images.status().message());
 
   node.id = args.id;

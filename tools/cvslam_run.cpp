@@ -257,9 +257,6 @@ int main(int argc, char** argv) {
   }
   if (args.both_ways) coop_options.both_ways = true;
   coop_options.true_ids = args.sensing == "features";
-  if (args.sensing == "images" && frontend.first_estimate_jacobians) {
-    options.slam.first_estimate_jacobians = *frontend.first_estimate_jacobians;
-  }
   if (auto p = options.filter.policy(); !p.ok()) return fail(p.status().message());
 
   cvslam::SimulatedTeamRun::SensingFactory sensing;

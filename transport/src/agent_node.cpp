@@ -349,7 +349,18 @@ Status AgentNode::publishStatus() {
   cvslam::status_t m{};
   m.header.utime = std::max<int64_t>(processed_us_, 0);
   m.header.agent_id = o_.id;
-  m.processed_utime = processed_us_;
+  // An IMU or GT sample at t does not finish t: the frame taken at t comes after it. Reporting
+  // t then would let a lockstep replay publish the next epoch before this agent has processed
+  // (and, in DC mode, sent the cooperation messages of) its frame at t. So IMU/GT progress
+  // counts up to t − 1 µs until the sensors have been quiet for a status period (an instant
+  // without a frame for this agent, or the end of the data).
+  double quiet_s = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(inbox_mutex_);
+    quiet_s = now() - std::max(last_arrival_s_, start_s_);
+  }
+  const bool unfinished = frame_may_follow_ && quiet_s < o_.status_period_s;
+  m.processed_utime = unfinished ? processed_us_ - 1 : processed_us_;
   m.health = errors_ > 0 ? cvslam::status_t::HEALTH_DEGRADED : cvslam::status_t::HEALTH_OK;
   m.message = last_error_;
   return bus_->publish(channels::status(o_.id), m);
@@ -457,6 +468,8 @@ Status AgentNode::run(const std::atomic<bool>& stop) {
 void AgentNode::handle(SensorEvent& event, double arrival_s) {
   Status s = processEvent(event, arrival_s);
   processed_us_ = std::max(processed_us_, event.t_us);
+  frame_may_follow_ =
+      event.type == SensorEventType::kImu || event.type == SensorEventType::kGroundTruth;
   if (!s.ok()) {
     ++errors_;
     last_error_ = s.message();

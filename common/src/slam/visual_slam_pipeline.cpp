@@ -133,6 +133,7 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
                                    VisualInertialSlam& slam, VisualFrameResult* result) {
   VisualFrameResult& r = *result;
   r = VisualFrameResult();
+  if (o_.first_estimate_jacobians) slam.setFirstEstimateJacobians(*o_.first_estimate_jacobians);
   r.frame.t_us = t_us;
   if (left.empty() || right.empty()) return Status::Error("pipeline: empty image");
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1) {

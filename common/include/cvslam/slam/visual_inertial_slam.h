@@ -174,6 +174,10 @@ class VisualInertialSlam {
   /// Landmarks in the state and in the archive, sorted by id.
   std::vector<MapLandmark> map() const;
   const FilterStatistics& statistics() const { return stats_; }
+  /// Switches first-estimates Jacobians (SlamOptions) from the next update on; the first
+  /// estimates are always recorded, so this is safe at any time. The image path sets it from
+  /// `frontend.first_estimate_jacobians` (visual_slam_pipeline.h).
+  void setFirstEstimateJacobians(bool on) { o_.slam.first_estimate_jacobians = on; }
   const VisualInertialSlamOptions& options() const { return o_; }
   const StereoCamera& camera() const { return camera_; }
 

@@ -126,6 +126,9 @@ class AgentNode {
   bool start_decided_ = false;
   std::optional<std::pair<int64_t, Vector9d>> truth_;  // latest ground truth
   int64_t processed_us_ = -1;
+  // The latest handled event was an IMU or GT sample: a frame of the same time may still be
+  // on its way (cvslam_replay publishes an instant's frame last), see publishStatus().
+  bool frame_may_follow_ = false;
   int64_t last_summary_us_ = -1;
   double last_arrival_s_ = 0.0;  // wall time of the latest sensor message (inbox_mutex_)
   double start_s_ = 0.0;
