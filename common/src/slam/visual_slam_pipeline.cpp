@@ -83,6 +83,11 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
     node.get("first_estimate_jacobians", fej);
     first_estimate_jacobians = fej;
   }
+  if (node.has("observability_constrained")) {
+    bool oc = true;
+    node.get("observability_constrained", oc);
+    observability_constrained = oc;
+  }
   node.check(confirm_gate_px > 0.0, "confirm_gate_px", "must be > 0");
   node.check(tracked_landmarks >= 0, "tracked_landmarks", "must be ≥ 0");
   node.check(max_hamming_distance > 0.0, "max_hamming_distance", "must be > 0");
@@ -134,6 +139,9 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
   VisualFrameResult& r = *result;
   r = VisualFrameResult();
   if (o_.first_estimate_jacobians) slam.setFirstEstimateJacobians(*o_.first_estimate_jacobians);
+  if (o_.observability_constrained) {
+    slam.setObservabilityConstrained(*o_.observability_constrained);
+  }
   r.frame.t_us = t_us;
   if (left.empty() || right.empty()) return Status::Error("pipeline: empty image");
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1) {

@@ -178,6 +178,9 @@ class VisualInertialSlam {
   /// estimates are always recorded, so this is safe at any time. The image path sets it from
   /// `frontend.first_estimate_jacobians` (visual_slam_pipeline.h).
   void setFirstEstimateJacobians(bool on) { o_.slam.first_estimate_jacobians = on; }
+  /// The same for the observability-constrained updates (SlamOptions): their bookkeeping is
+  /// always kept, only the projection of the Jacobians is switched.
+  void setObservabilityConstrained(bool on) { o_.slam.observability_constrained = on; }
   const VisualInertialSlamOptions& options() const { return o_; }
   const StereoCamera& camera() const { return camera_; }
 
