@@ -1,5 +1,6 @@
 #include "dc_team_link.h"
 
+#include "cvslam/coop/coop_log.h"
 #include "cvslam/lcm/codec.h"
 #include "cvslam/lcm/coop_convert.h"
 
@@ -7,7 +8,6 @@ namespace cvslam {
 
 namespace {
 constexpr int64_t kBootIdBase = 1000;  // deterministic boot ids for in-process runs
-constexpr double kUsPerS = 1e6;
 }  // namespace
 
 DcTeamLink::DcTeamLink(const coop::DcCooperationOptions& options,
@@ -22,8 +22,7 @@ Status DcTeamLink::open(const std::string& run_dir) {
     std::ofstream& f = csv_[id];
     f.open(path, std::ios::trunc);
     if (!f) return Status::Error("cannot write " + path);
-    f << "t,event,peer,count,fused,rejected_gate,rejected_descriptor,not_in_state,no_gain,"
-         "omega1\n";
+    f << coop::coopCsvHeader();
   }
   return Status::Ok();
 }
@@ -57,12 +56,7 @@ Status DcTeamLink::afterFrame(const SimulatedFrame& f, AgentRunWriter* writer) {
   if (Status s = self.afterFrame(frame, *f.mutable_slam, &box); !s.ok()) return s;
 
   std::ofstream& csv = csv_[f.agent_id];
-  for (const coop::CoopEvent& e : self.takeEvents()) {
-    csv << static_cast<double>(e.t_us) / kUsPerS << ',' << coop::coopEventName(e.kind) << ','
-        << e.peer << ',' << e.count << ',' << e.fused << ',' << e.rejected_gate << ','
-        << e.rejected_descriptor << ',' << e.not_in_state << ',' << (e.no_gain ? 1 : 0) << ','
-        << e.omega1 << '\n';
-  }
+  for (const coop::CoopEvent& e : self.takeEvents()) coop::writeCoopCsvRow(csv, e);
 
   const int from = f.agent_id;
   auto others = [&](const auto& call) {

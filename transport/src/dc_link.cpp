@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "cvslam/coop/coop_log.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/coop_convert.h"
@@ -118,17 +119,9 @@ Status DcLink::writeEvents() {
     std::filesystem::create_directories(dir, ec);
     csv_.open(dir + "/coop.csv", std::ios::trunc);
     if (!csv_) return Status::Error("cannot write " + dir + "/coop.csv");
-    // The columns of cvslam_run --mode dc (tools/dc_team_link.cpp; AgentDcProcess tests
-    // compare the files byte for byte).
-    csv_ << "t,event,peer,count,fused,rejected_gate,rejected_descriptor,not_in_state,no_gain,"
-            "omega1\n";
+    csv_ << coop::coopCsvHeader();
   }
-  for (const coop::CoopEvent& e : events) {
-    csv_ << static_cast<double>(e.t_us) * 1e-6 << ',' << coop::coopEventName(e.kind) << ','
-         << e.peer << ',' << e.count << ',' << e.fused << ',' << e.rejected_gate << ','
-         << e.rejected_descriptor << ',' << e.not_in_state << ',' << (e.no_gain ? 1 : 0) << ','
-         << e.omega1 << '\n';
-  }
+  for (const coop::CoopEvent& e : events) coop::writeCoopCsvRow(csv_, e);
   csv_.flush();
   return Status::Ok();
 }

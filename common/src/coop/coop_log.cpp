@@ -1,0 +1,16 @@
+#include "cvslam/coop/coop_log.h"
+
+namespace cvslam::coop {
+
+const char* coopCsvHeader() {
+  return "t,event,peer,count,fused,rejected_gate,rejected_descriptor,not_in_state,no_gain,"
+         "omega1\n";
+}
+
+void writeCoopCsvRow(std::ostream& out, const CoopEvent& e) {
+  out << static_cast<double>(e.t_us) / 1e6 << ',' << coopEventName(e.kind) << ',' << e.peer << ','
+      << e.count << ',' << e.fused << ',' << e.rejected_gate << ',' << e.rejected_descriptor << ','
+      << e.not_in_state << ',' << (e.no_gain ? 1 : 0) << ',' << e.omega1 << '\n';
+}
+
+}  // namespace cvslam::coop
