@@ -59,47 +59,32 @@ Status DcTeamLink::afterFrame(const SimulatedFrame& f, AgentRunWriter* writer) {
   for (const coop::CoopEvent& e : self.takeEvents()) coop::writeCoopCsvRow(csv, e);
 
   const int from = f.agent_id;
-  auto others = [&](const auto& call) {
-    for (auto& [id, a] : agents_)
-      if (id != from) call(*a);
-  };
-  if (box.summary) {
-    Expected<cvslam::agent_summary_t> m = transport::toMessage(*box.summary);
-    if (!m.ok()) return m.status();
-    Status s = send(from, "SUMMARY", *m, writer, [&](const cvslam::agent_summary_t& msg) {
-      others([&](coop::DcCooperation& a) { a.onSummary(transport::fromMessage(msg)); });
-    });
-    if (!s.ok()) return s;
-  }
-  if (box.index) {
-    Expected<cvslam::feature_index_t> m = transport::toMessage(*box.index);
-    if (!m.ok()) return m.status();
-    Status s = send(from, "INDEX", *m, writer, [&](const cvslam::feature_index_t& msg) {
-      others([&](coop::DcCooperation& a) { a.onIndex(transport::fromMessage(msg)); });
-    });
-    if (!s.ok()) return s;
-  }
-  for (const coop::SharedRequest& r : box.requests) {
-    Expected<cvslam::shared_request_t> m = transport::toMessage(r);
-    if (!m.ok()) return m.status();
-    const int to = r.to_agent;
-    Status s = send(from, "SHARED_REQ", *m, writer, [&](const cvslam::shared_request_t& msg) {
-      if (auto peer = agents_.find(to); peer != agents_.end())
-        peer->second->onRequest(transport::fromMessage(msg, to));
-    });
-    if (!s.ok()) return s;
-  }
-  for (const coop::SharedLandmarks& l : box.shared) {
-    Expected<cvslam::shared_landmarks_t> m = transport::toMessage(l);
-    if (!m.ok()) return m.status();
-    const int to = l.to_agent;
-    Status s = send(from, "SHARED", *m, writer, [&](const cvslam::shared_landmarks_t& msg) {
-      if (auto peer = agents_.find(to); peer != agents_.end())
-        peer->second->onShared(transport::fromMessage(msg, to));
-    });
-    if (!s.ok()) return s;
-  }
-  return Status::Ok();
+  return transport::forEachOutboxMessage(
+      box, from, [&](const std::string&, transport::Stream stream, int to, auto& m) -> Status {
+        return send(from, transport::streamName(stream), m, writer,
+                    [&](const auto& msg) { deliver(from, to, msg); });
+      });
+}
+
+// Broadcasts reach every other agent, directed messages their addressee.
+void DcTeamLink::deliver(int from, int, const cvslam::agent_summary_t& msg) {
+  for (auto& [id, a] : agents_)
+    if (id != from) a->onSummary(transport::fromMessage(msg));
+}
+
+void DcTeamLink::deliver(int from, int, const cvslam::feature_index_t& msg) {
+  for (auto& [id, a] : agents_)
+    if (id != from) a->onIndex(transport::fromMessage(msg));
+}
+
+void DcTeamLink::deliver(int, int to, const cvslam::shared_request_t& msg) {
+  if (auto peer = agents_.find(to); peer != agents_.end())
+    peer->second->onRequest(transport::fromMessage(msg, to));
+}
+
+void DcTeamLink::deliver(int, int to, const cvslam::shared_landmarks_t& msg) {
+  if (auto peer = agents_.find(to); peer != agents_.end())
+    peer->second->onShared(transport::fromMessage(msg, to));
 }
 
 void DcTeamLink::printSummary(std::FILE* out, double duration_s) const {

@@ -16,6 +16,7 @@
 
 #include "cvslam/coop/dc_cooperation.h"
 #include "cvslam/io/run_writer.h"
+#include "cvslam/lcm/message_types.h"
 #include "cvslam/slam/simulated_team_run.h"
 
 namespace cvslam {
@@ -42,6 +43,12 @@ class DcTeamLink {
   template <typename Msg, typename Deliver>
   Status send(int from, const std::string& stream, Msg msg, AgentRunWriter* writer,
               const Deliver& deliver);
+
+  /// Hands a decoded message from `from` to its addressee(s) (`to`: directed messages).
+  void deliver(int from, int to, const cvslam::agent_summary_t& msg);
+  void deliver(int from, int to, const cvslam::feature_index_t& msg);
+  void deliver(int from, int to, const cvslam::shared_request_t& msg);
+  void deliver(int from, int to, const cvslam::shared_landmarks_t& msg);
 
   std::map<int, std::unique_ptr<coop::DcCooperation>> agents_;
   std::map<int, std::ofstream> csv_;

@@ -86,28 +86,13 @@ Status DcLink::afterFrame(AgentPipeline& agent, LcmBus& bus,
   if (Status s = dc_.afterFrame(frame, agent.slam(), &box); !s.ok()) return s;
   if (Status s = writeEvents(); !s.ok()) return s;
 
-  if (box.summary) {
-    Expected<cvslam::agent_summary_t> m = toMessage(*box.summary);
-    if (!m.ok()) return m.status();
-    fill_counters(*m);
-    if (Status s = bus.publish(channels::teamSummary(), *m); !s.ok()) return s;
-  }
-  if (box.index) {
-    Expected<cvslam::feature_index_t> m = toMessage(*box.index);
-    if (!m.ok()) return m.status();
-    if (Status s = bus.publish(channels::index(self_), *m); !s.ok()) return s;
-  }
-  for (const coop::SharedRequest& r : box.requests) {
-    Expected<cvslam::shared_request_t> m = toMessage(r);
-    if (!m.ok()) return m.status();
-    if (Status s = bus.publish(channels::sharedRequest(r.to_agent), *m); !s.ok()) return s;
-  }
-  for (const coop::SharedLandmarks& l : box.shared) {
-    Expected<cvslam::shared_landmarks_t> m = toMessage(l);
-    if (!m.ok()) return m.status();
-    if (Status s = bus.publish(channels::shared(l.to_agent), *m); !s.ok()) return s;
-  }
-  return Status::Ok();
+  return forEachOutboxMessage(
+      box, self_, [&](const std::string& channel, Stream, int, auto& m) -> Status {
+        if constexpr (std::is_same_v<std::decay_t<decltype(m)>, cvslam::agent_summary_t>) {
+          fill_counters(m);
+        }
+        return bus.publish(channel, m);
+      });
 }
 
 Status DcLink::writeEvents() {

@@ -10,6 +10,7 @@
 
 #include "cvslam/coop/coop_messages.h"
 #include "cvslam/core/status.h"
+#include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/message_types.h"
 
 namespace cvslam::transport {
@@ -27,5 +28,28 @@ coop::SharedRequest fromMessage(const cvslam::shared_request_t& msg, int to_agen
 /// they are all left out.
 Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& shared);
 coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks_t& msg, int to_agent);
+
+/// Converts each message of an outbox to its lcmtype, in a fixed order (summary, index,
+/// requests, shared landmarks), and calls `visit(channel, stream, to_agent, message)` with the
+/// channel it travels on; to_agent is −1 for the broadcasts (summary, index). `visit` returns a
+/// Status; the first error stops. The one place that maps an outbox to the wire, for
+/// cvslam_agent (publishes) and cvslam_run --mode dc (delivers in-process).
+template <typename Visit>
+Status forEachOutboxMessage(const coop::CoopOutbox& box, int self, Visit&& visit) {
+  auto one = [&](const auto& core, Stream stream, int to_agent) -> Status {
+    auto m = toMessage(core);
+    if (!m.ok()) return m.status();
+    return visit(channelName(stream, to_agent < 0 ? self : to_agent), stream, to_agent, *m);
+  };
+  if (box.summary)
+    if (Status s = one(*box.summary, Stream::kTeamSummary, -1); !s.ok()) return s;
+  if (box.index)
+    if (Status s = one(*box.index, Stream::kIndex, -1); !s.ok()) return s;
+  for (const coop::SharedRequest& r : box.requests)
+    if (Status s = one(r, Stream::kSharedReq, r.to_agent); !s.ok()) return s;
+  for (const coop::SharedLandmarks& l : box.shared)
+    if (Status s = one(l, Stream::kShared, l.to_agent); !s.ok()) return s;
+  return Status::Ok();
+}
 
 }  // namespace cvslam::transport
