@@ -78,16 +78,15 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
   node.get("confirm_gate_px", confirm_gate_px);
   node.get("tracked_landmarks", tracked_landmarks);
   node.get("drop_duplicate_points", drop_duplicate_points);
-  if (node.has("first_estimate_jacobians")) {
-    bool fej = true;
-    node.get("first_estimate_jacobians", fej);
-    first_estimate_jacobians = fej;
-  }
-  if (node.has("observability_constrained")) {
-    bool oc = true;
-    node.get("observability_constrained", oc);
-    observability_constrained = oc;
-  }
+  // Overrides of slam options: set only when the key is present.
+  auto override = [&node](const char* key, std::optional<bool>* out) {
+    if (!node.has(key)) return;
+    bool value = true;
+    node.get(key, value);
+    *out = value;
+  };
+  override("first_estimate_jacobians", &first_estimate_jacobians);
+  override("observability_constrained", &observability_constrained);
   node.check(confirm_gate_px > 0.0, "confirm_gate_px", "must be > 0");
   node.check(tracked_landmarks >= 0, "tracked_landmarks", "must be ≥ 0");
   node.check(max_hamming_distance > 0.0, "max_hamming_distance", "must be > 0");
