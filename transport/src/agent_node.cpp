@@ -345,6 +345,11 @@ Status AgentNode::publishSummary() {
   return bus_->publish(channels::teamSummary(), m);
 }
 
+double AgentNode::lastArrival() const {
+  std::lock_guard<std::mutex> lock(inbox_mutex_);
+  return std::max(last_arrival_s_, start_s_);
+}
+
 Status AgentNode::publishStatus() {
   cvslam::status_t m{};
   m.header.utime = std::max<int64_t>(processed_us_, 0);
@@ -354,12 +359,7 @@ Status AgentNode::publishStatus() {
   // (and, in DC mode, sent the cooperation messages of) its frame at t. So IMU/GT progress
   // counts up to t − 1 µs until the sensors have been quiet for a status period (an instant
   // without a frame for this agent, or the end of the data).
-  double quiet_s = 0.0;
-  {
-    std::lock_guard<std::mutex> lock(inbox_mutex_);
-    quiet_s = now() - std::max(last_arrival_s_, start_s_);
-  }
-  const bool unfinished = frame_may_follow_ && quiet_s < o_.status_period_s;
+  const bool unfinished = frame_may_follow_ && now() - lastArrival() < o_.status_period_s;
   m.processed_utime = unfinished ? processed_us_ - 1 : processed_us_;
   m.health = errors_ > 0 ? cvslam::status_t::HEALTH_DEGRADED : cvslam::status_t::HEALTH_OK;
   m.message = last_error_;
@@ -433,11 +433,10 @@ Status AgentNode::run(const std::atomic<bool>& stop) {
       last_flush = t;
       if (Status s = flushRecord(false); !s.ok()) return s;
     }
-    double last_arrival = 0.0;
+    const double last_arrival = lastArrival();
     bool inbox_empty = true;
     {
       std::lock_guard<std::mutex> lock(inbox_mutex_);
-      last_arrival = std::max(last_arrival_s_, start_s_);
       inbox_empty = inbox_.empty();
     }
     // Idle: nothing arrived for idle_exit_s and nothing waits (a slow agent working through a

@@ -100,6 +100,8 @@ class AgentNode {
   Status startPipeline(const AgentFilterSetup& setup);
   Status afterFrame(double arrival_s);
   Status publishStatus();
+  /// Wall time of the latest sensor message, or of the start [s].
+  double lastArrival() const;
   Status publishSummary();
   void fillCounters(cvslam::agent_summary_t& msg);
   Status flushRecord(bool final);
@@ -114,7 +116,7 @@ class AgentNode {
   AgentRunRecorder recorder_;
   SensorEventOrderer orderer_;
 
-  std::mutex inbox_mutex_;
+  mutable std::mutex inbox_mutex_;
   std::condition_variable inbox_cv_;
   std::vector<Inbound> inbox_;
   std::map<std::string, std::size_t> inbox_count_;  // per channel, in inbox_
