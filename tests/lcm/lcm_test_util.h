@@ -1,9 +1,15 @@
 #pragma once
 // Helpers shared by the LCM bus tests.
 
+#include <gtest/gtest.h>
+
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <thread>
+#include <vector>
+
+#include "cvslam/lcm/codec.h"
 
 namespace cvslam::transport::testing {
 
@@ -16,6 +22,16 @@ inline bool waitFor(const std::function<bool()>& done,
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   return true;
+}
+
+/// Encodes and decodes `msg` (an lcmtype) as a receiver would, expecting both to succeed.
+template <typename Msg>
+Msg throughWire(Msg msg) {
+  Expected<std::vector<uint8_t>> bytes = encodeMessage(msg);
+  EXPECT_TRUE(bytes.ok()) << bytes.status().message();
+  Expected<Msg> back = decodeMessage<Msg>(bytes->data(), bytes->size());
+  EXPECT_TRUE(back.ok()) << back.status().message();
+  return *back;
 }
 
 }  // namespace cvslam::transport::testing

@@ -5,18 +5,12 @@
 #include "cvslam/lcm/codec.h"
 #include "cvslam/lcm/features_convert.h"
 #include "cvslam/lcm/imu_convert.h"
+#include "lcm_test_util.h"
 
 namespace cvslam::transport {
 namespace {
 
-template <typename Msg>
-Msg throughWire(Msg msg) {
-  Expected<std::vector<uint8_t>> bytes = encodeMessage(msg);
-  EXPECT_TRUE(bytes.ok()) << bytes.status().message();
-  Expected<Msg> back = decodeMessage<Msg>(bytes->data(), bytes->size());
-  EXPECT_TRUE(back.ok()) << back.status().message();
-  return *back;
-}
+using testing::throughWire;
 
 TEST(Convert, ImuSampleRoundTrip) {
   ImuSample s;

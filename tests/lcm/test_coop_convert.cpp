@@ -8,18 +8,12 @@
 #include <cmath>
 
 #include "cvslam/lcm/codec.h"
+#include "lcm_test_util.h"
 
 namespace cvslam::transport {
 namespace {
 
-template <typename Msg>
-Msg throughWire(Msg msg) {
-  Expected<std::vector<uint8_t>> bytes = encodeMessage(msg);
-  EXPECT_TRUE(bytes.ok()) << bytes.status().message();
-  Expected<Msg> back = decodeMessage<Msg>(bytes->data(), bytes->size());
-  EXPECT_TRUE(back.ok()) << back.status().message();
-  return *back;
-}
+using testing::throughWire;
 
 TEST(CoopConvert, SummaryRoundTrip) {
   coop::CoopSummary s;
