@@ -173,10 +173,6 @@ int main(int argc, char** argv) {
       if (wait) {
         Status s = waitForAcks(lockstep, args.lockstep_timeout);
         if (!s.ok()) return fail(s.message());
-        if (!first && args.lockstep_settle_ms > 0.0) {
-          std::this_thread::sleep_for(
-              std::chrono::duration<double, std::milli>(args.lockstep_settle_ms));
-        }
       }
     }
     if (first) {

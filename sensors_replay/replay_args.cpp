@@ -26,9 +26,6 @@ pace (one of):
                         STATUS to announce themselves
   --participants LIST   lockstep participants, e.g. 1,2,3,0 (default: the UAVs played)
   --lockstep-timeout S  give up (exit 2) after S s without acknowledgement (default 60)
-  --lockstep-settle-ms M  after an epoch's last acknowledgement wait M ms before the next
-                        epoch, so that messages agents sent each other first arrive first
-                        (default 2)
 options:
   --lcm-url URL         LCM provider (default udpm://239.255.76.67:7667?ttl=0)
   --start S             skip the first S s of play time
@@ -106,11 +103,6 @@ Status parseArgs(int argc, char** argv, Args& a, bool& help) {
         if (!s.ok()) return s;
       } else if (arg == "--lockstep-timeout") {
         a.lockstep_timeout = std::stod(v);
-      } else if (arg == "--lockstep-settle-ms") {
-        a.lockstep_settle_ms = std::stod(v);
-        if (!(a.lockstep_settle_ms >= 0.0 && a.lockstep_settle_ms <= 1000.0)) {
-          return Status::Error("--lockstep-settle-ms must be in [0, 1000]");
-        }
       } else if (arg == "--lcm-url") {
         a.lcm_url = v;
       } else if (arg == "--start") {

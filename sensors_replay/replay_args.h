@@ -21,10 +21,6 @@ struct Args {
   bool lockstep = false;
   std::vector<int> participants;   ///< lockstep participants; empty = the replayed agents
   double lockstep_timeout = 60.0;  ///< [s]
-  /// After the last acknowledgement of an epoch, wait this long before publishing the next
-  /// [ms]: datagrams that agents sent each other before acknowledging (DC cooperation) travel
-  /// through per-CPU kernel queues and are not ordered against the acknowledgement itself.
-  double lockstep_settle_ms = 2.0;
   std::string lcm_url = transport::kDefaultLcmUrl;
   double duration = 0.0;  ///< ≤ 0: everything
   double start = 0.0;
