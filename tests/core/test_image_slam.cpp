@@ -149,6 +149,7 @@ class MapPredictionTest : public ::testing::Test {
     VisualInertialSlamOptions o;
     o.ins.estimate_imu_bias = false;
     o.map.k = 1;
+    o.slam.reactivation_min_age_s = 0.0;
     slam_ = std::make_unique<VisualInertialSlam>(o, camera_);
     Eigen::VectorXd x0 = Eigen::VectorXd::Zero(9);
     x0.head<3>() = Eigen::Vector3d(0, 0, -10);
@@ -223,6 +224,53 @@ TEST_F(MapPredictionTest, PredictsStateAndArchivedLandmarksWithCovariance) {
   o.max_range_m = 1.0;
   ASSERT_TRUE(predictMapObservations(*slam_, 100000, o, &preds).ok());
   EXPECT_TRUE(preds.empty());
+}
+
+// An archived landmark the filter would not re-activate yet (archived less than
+// slam.reactivation_min_age_s ago) is not predicted: an association to it would be unused.
+TEST(MapPrediction, SkipsArchivedLandmarksUntilTheyMayBeReactivated) {
+  const StereoCamera camera{StereoCameraOptions()};
+  VisualInertialSlamOptions o;
+  o.ins.estimate_imu_bias = false;
+  o.map.k = 1;
+  o.slam.reactivation_min_age_s = 0.15;
+  VisualInertialSlam slam(o, camera);
+  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(9);
+  x0.head<3>() = Eigen::Vector3d(0, 0, -10);
+  ASSERT_TRUE(slam.initialize(0, x0, Eigen::VectorXd::Constant(9, 0.01).asDiagonal()).ok());
+  auto observe = [&](const Eigen::Vector3d& p_LinN, int64_t id) {
+    StereoObservation obs;
+    obs.z = camera.project(x0.head<9>(), p_LinN);
+    obs.landmark_id = id;
+    obs.descriptor.assign(32, static_cast<uint8_t>(id));
+    return obs;
+  };
+  const Eigen::Vector3d p1(0.5, 0.3, 0.0), p2(-0.5, -0.4, 0.2);
+  StereoFrameObservations f;
+  f.observations = {observe(p1, 7), observe(p2, 9)};
+  ASSERT_TRUE(slam.processFrame(f).ok());
+  f.t_us = 100000;
+  f.observations = {observe(p1, 7)};
+  ASSERT_TRUE(slam.processFrame(f).ok());
+  ASSERT_TRUE(slam.archive().contains(9));
+  const int64_t archived_us = slam.archive().find(9)->archived_us;
+  for (int64_t t = 110000; t <= 400000; t += 10000) {
+    ImuSample imu;
+    imu.t_us = t;
+    imu.accel_B = Eigen::Vector3d(0, 0, -9.81);
+    ASSERT_TRUE(slam.addImu(imu).ok());
+  }
+  std::vector<PredictedObservation> preds;
+  auto predictedIds = [&](int64_t t_us) {
+    std::vector<int64_t> ids;
+    EXPECT_TRUE(predictMapObservations(slam, t_us, MapPredictionOptions(), &preds).ok());
+    for (const PredictedObservation& p : preds) ids.push_back(p.landmark_id);
+    return ids;
+  };
+  const int64_t t0 = std::max<int64_t>(archived_us, 100000);
+  EXPECT_EQ(predictedIds(t0), std::vector<int64_t>{7});
+  EXPECT_EQ(predictedIds(archived_us + 140000), std::vector<int64_t>{7});
+  EXPECT_EQ(predictedIds(archived_us + 160000), (std::vector<int64_t>{7, 9}));
 }
 
 TEST_F(MapPredictionTest, Errors) {

@@ -74,8 +74,16 @@ Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
     predict(static_cast<int64_t>(v.key.id), state.value(v), state.covarianceOf(v), &P_vL, false);
   }
   if (options.include_archived) {
-    for (const auto& [id, a] : slam.archive().all())
+    // Landmarks archived less than reactivation_min_age_s ago stay out of the state
+    // (VisualInertialSlam::manageMap), so an association to one would never be used; and with
+    // their correlation to the vehicle dropped (P_vL = 0) their gate is too wide for a
+    // landmark that was in the state a moment ago. Only the ones the filter can re-activate
+    // are predicted.
+    const auto min_age_us = static_cast<int64_t>(slam.options().slam.reactivation_min_age_s * 1e6);
+    for (const auto& [id, a] : slam.archive().all()) {
+      if (t_us - a.archived_us < min_age_us) continue;
       predict(id, a.p_LinN, a.covariance, nullptr, true);
+    }
   }
   std::sort(predictions->begin(), predictions->end(),
             [](const PredictedObservation& a, const PredictedObservation& b) {

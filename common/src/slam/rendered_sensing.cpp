@@ -32,6 +32,11 @@ double RenderedSensingStats::associationPrecision() const {
   return ratio(associated_correct, associated_checked);
 }
 
+double RenderedSensingStats::usedAssociationPrecision() const {
+  return ratio(associated_correct - associated_unused_correct,
+               associated_checked - associated_unused_checked);
+}
+
 double RenderedSensingStats::disparityBias() const {
   return stereo_correct > 0 ? disparity_error_sum / static_cast<double>(stereo_correct)
                             : std::numeric_limits<double>::quiet_NaN();
@@ -72,11 +77,11 @@ Status RenderedSensing::processFrame(const sim::SimEvent& event, VisualInertialS
   stats_.front_end_ms += result_.front_end_ms;
   stats_.association_ms += result_.association_ms;
   stats_.filter_ms += result_.filter_ms;
-  checkFrame();
+  checkFrame(slam);
   return Status::Ok();
 }
 
-void RenderedSensing::checkFrame() {
+void RenderedSensing::checkFrame(const VisualInertialSlam& slam) {
   const std::vector<StereoObservation>& obs = result_.frame.observations;
   // Stereo matches against the renderer's ground truth.
   for (const StereoObservation& o : obs) {
@@ -100,9 +105,12 @@ void RenderedSensing::checkFrame() {
     auto it = truth_.find(o.landmark_id);
     if (it == truth_.end()) continue;
     ++stats_.associated_checked;
+    const bool used = slam.state().has(VariableKey::landmark(static_cast<uint64_t>(o.landmark_id)));
+    if (!used) ++stats_.associated_unused_checked;
     const std::optional<Eigen::Vector2d> left = projectInto(rendering_.left, it->second);
     if (left && (*left - o.z.head<2>()).norm() <= o_.association_tolerance_px) {
       ++stats_.associated_correct;
+      if (!used) ++stats_.associated_unused_correct;
       stats_.reobservation_error_sq_sum += (*left - o.z.head<2>()).squaredNorm();
     }
   }

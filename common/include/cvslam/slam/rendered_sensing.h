@@ -40,6 +40,10 @@ struct RenderedSensingStats {
   long associated = 0;          ///< type-1 observations
   long associated_checked = 0;  ///< … whose landmark has a known true position
   long associated_correct = 0;
+  /// … of the checked ones, those to a landmark that is not in the filter state after the
+  /// frame (archived and not re-activated): proposed by the front end, unused by the filter.
+  long associated_unused_checked = 0;
+  long associated_unused_correct = 0;
   /// Σ |z_L − true projection|² over correct associations [px²]: how well a keypoint is
   /// found again in another view (the filter's pixel σ should match this, per coordinate).
   double reobservation_error_sq_sum = 0.0;
@@ -50,8 +54,10 @@ struct RenderedSensingStats {
 
   double stereoPrecision() const;       ///< stereo_correct / stereo_checked (NaN if none)
   double associationPrecision() const;  ///< associated_correct / associated_checked
-  double disparityBias() const;         ///< mean disparity error of correct matches [px]
-  double disparityRms() const;          ///< RMS disparity error of correct matches [px]
+  /// Precision of the associations the filter used (to landmarks in its state).
+  double usedAssociationPrecision() const;
+  double disparityBias() const;  ///< mean disparity error of correct matches [px]
+  double disparityRms() const;   ///< RMS disparity error of correct matches [px]
   /// RMS per pixel coordinate of the left pixel of correct associations [px].
   double reobservationRms() const;
 };
@@ -73,7 +79,7 @@ class RenderedSensing : public FrameSensing {
   const VisualSlamPipeline& pipeline() const { return pipeline_; }
 
  private:
-  void checkFrame();
+  void checkFrame(const VisualInertialSlam& slam);
 
   StereoRenderer renderer_;
   VisualSlamPipeline pipeline_;
