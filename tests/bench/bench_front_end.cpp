@@ -5,10 +5,13 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <memory>
+#include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "../core/vision_test_data.h"
+#include "cvslam/vision/adaptive_sift.h"
 #include "cvslam/vision/descriptor_matcher.h"
 #include "cvslam/vision/stereo_front_end.h"
 #include "cvslam/vision/stereo_rectifier.h"
@@ -58,6 +61,7 @@ void frontEnd(benchmark::State& state) {
   }
   StereoFrontEndOptions o;
   o.detector.type = type;
+  o.detector.adaptive_sift.upsample_first_octave = state.range(2) == 0;
   o.stereo.focal_px = p.f;
   o.stereo.baseline_m = p.baseline;
   std::shared_ptr<const Vocabulary> vocab;
@@ -83,15 +87,81 @@ void frontEnd(benchmark::State& state) {
   state.counters["stereo_matches"] = static_cast<double>(obs.size());
 }
 
-// Args: {0: 320×240, 1: 752×480}, {detector: 0 adaptive SIFT, 1 SIFT, 2 ORB}.
+// Args: {0: 320×240, 1: 752×480}, {detector: 0 adaptive SIFT, 1 SIFT, 2 ORB}, {adaptive SIFT
+// with upsample_first_octave: 0 true (default), 1 false}.
 BENCHMARK(frontEnd)
-    ->ArgNames({"size752", "detector"})
-    ->Args({0, 2})
-    ->Args({1, 2})
-    ->Args({0, 0})
-    ->Args({1, 0})
+    ->ArgNames({"size752", "detector", "no_upsample"})
+    ->Args({0, 2, 0})
+    ->Args({1, 2, 0})
+    ->Args({0, 0, 0})
+    ->Args({1, 0, 0})
+    ->Args({0, 0, 1})
+    ->Args({1, 0, 1})
     ->Unit(benchmark::kMillisecond)
     ->MinTime(1.0);
+
+// The adaptive-SIFT front end's stages on the left image (or the pair), single thread, for the
+// profile split: 0 DoG energy + eq. 4.6 (adaptScaleFactor), 1 whole detectAdaptiveSift,
+// 2 OpenCV SIFT detect only (adapted parameters), 3 stereo matching of the pair, 4 word ids of
+// the left features; third argument as in frontEnd (1: upsample_first_octave false).
+void adaptiveSiftStage(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const bool small = state.range(0) == 0;
+  const int stage = static_cast<int>(state.range(1));
+  const Pair p = loadPair(small);
+  if (p.left.empty()) {
+    state.SkipWithError("EuRoC micro data missing");
+    return;
+  }
+  AdaptiveSiftOptions a;
+  a.upsample_first_octave = state.range(2) == 0;
+  // What OpenCV's SIFT is given (adaptive_sift.cpp): the image or its 2× area-downsampled copy.
+  cv::Mat sift_input = p.left;
+  if (!a.upsample_first_octave)
+    cv::resize(p.left, sift_input, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  Features fl, fr;
+  if (!detectAdaptiveSift(p.left, a, &fl).ok() || !detectAdaptiveSift(p.right, a, &fr).ok()) {
+    state.SkipWithError("detection failed");
+    return;
+  }
+  StereoMatchOptions so;
+  so.focal_px = p.f;
+  so.baseline_m = p.baseline;
+  auto v = Vocabulary::load(std::string(CVSLAM_SOURCE_DIR) + "/config/vocabulary_sift.cvoc");
+  if (!v.ok()) {
+    state.SkipWithError(v.status().message().c_str());
+    return;
+  }
+  const ScaleFactorChoice c = adaptScaleFactor(p.left, a);
+  for (auto _ : state) {
+    if (stage == 0) {
+      benchmark::DoNotOptimize(adaptScaleFactor(p.left, a).k);
+    } else if (stage == 1) {
+      Features f;
+      benchmark::DoNotOptimize(detectAdaptiveSift(p.left, a, &f).ok());
+    } else if (stage == 2) {
+      const double dog = std::max(a.min_contrast, a.contrast_gain * std::sqrt(c.energy));
+      auto sift = cv::SIFT::create(a.max_features, c.octave_layers, dog * c.octave_layers / 255.0,
+                                   a.edge_threshold, a.sigma0, CV_8U);
+      std::vector<cv::KeyPoint> kp;
+      sift->detect(sift_input, kp);
+      benchmark::DoNotOptimize(kp.data());
+    } else if (stage == 3) {
+      const auto m = matchStereo(fl, fr, so);
+      benchmark::DoNotOptimize(m.data());
+    } else {
+      const auto w = v->words(fl);
+      benchmark::DoNotOptimize(w.data());
+    }
+  }
+  state.counters["octave_layers"] = c.octave_layers;
+  state.counters["features_left"] = static_cast<double>(fl.size());
+}
+
+BENCHMARK(adaptiveSiftStage)
+    ->ArgNames({"size752", "stage", "no_upsample"})
+    ->ArgsProduct({{0, 1}, {0, 1, 2, 3, 4}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 
 // Brute-force matching of one 752×480 image's features against another's (all pairs, DistRatio
 // test, mutual check): criterion 0 L∞, 1 L2, 2 angle (SIFT), 3 Hamming (ORB).
