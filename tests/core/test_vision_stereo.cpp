@@ -110,13 +110,17 @@ TEST(VisionStereoSyntheticNoUpsample, PrecisionAgainstKnownDisparity) {
   EXPECT_LE(fast.left_features, full.left_features);
 }
 
-TEST(VisionStereoReal, RectifiedEurocPairHasRowAlignedPlausibleMatches) {
+// Parameter: adaptive SIFT's upsample_first_octave (true: default).
+class VisionStereoReal : public ::testing::TestWithParam<bool> {};
+
+TEST_P(VisionStereoReal, RectifiedEurocPairHasRowAlignedPlausibleMatches) {
   StereoCalibration calib;
   ASSERT_TRUE(test::eurocCalibration(&calib));
   auto rect = StereoRectifier::create(calib);
   ASSERT_TRUE(rect.ok()) << rect.status().message();
   const RectifiedStereo& r = rect->rectified();
   DetectorOptions d;
+  d.adaptive_sift.upsample_first_octave = GetParam();
   auto det = makeFeatureDetector(d);
   ASSERT_TRUE(det.ok());
   StereoMatchOptions o;
@@ -151,11 +155,17 @@ TEST(VisionStereoReal, RectifiedEurocPairHasRowAlignedPlausibleMatches) {
                    row_err.end());
   const double median = row_err[row_err.size() / 2];
   const double precision = static_cast<double>(good) / total;
-  std::cout << "[figures] real rectified EuRoC stereo: " << total << " matches in 3 pairs, "
+  std::cout << "[figures] real rectified EuRoC stereo"
+            << (GetParam() ? "" : " (first octave not upsampled)") << ": " << total
+            << " matches in 3 pairs, "
             << "median row error " << median << " px, plausible " << precision << "\n";
   EXPECT_LT(median, 0.5);  // rectification: epipolar lines are rows
-  EXPECT_GE(precision, 0.98);
+  // Without the doubled octave: ≈ 18 % fewer matches and 96.7 % plausible against 98.2 %
+  // (measured; docs/image_sensing.md), hence the option is off by default.
+  EXPECT_GE(precision, GetParam() ? 0.98 : 0.95);
 }
+
+INSTANTIATE_TEST_SUITE_P(UpsampleFirstOctave, VisionStereoReal, ::testing::Bool());
 
 // Hand-made features: one left feature and one right candidate with the same descriptor; the
 // candidate is moved through the constraints of §4.2.8 and §4.2.7.
