@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
+#include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "cvslam/io/config_node.h"
@@ -151,10 +154,83 @@ TEST(VisionDetector, KeypointGridSpreadsTheBudget) {
   for (std::size_t i = 0; i < kept.size(); ++i) EXPECT_EQ(kept[i].pt, again[i].pt);
 }
 
+// The default path is OpenCV's SIFT with the adapted parameters, bit for bit (keypoints and
+// descriptors): a guard for any rework of detectAdaptiveSift's plumbing.
+TEST(VisionDetector, AdaptiveSiftIsOpenCvSiftWithAdaptedParameters) {
+  const cv::Mat img = realFrame();
+  ASSERT_FALSE(img.empty());
+  const AdaptiveSiftOptions o;
+  Features f;
+  ScaleFactorChoice c;
+  ASSERT_TRUE(detectAdaptiveSift(img, o, &f, &c).ok());
+  const double dog = std::max(o.min_contrast, o.contrast_gain * std::sqrt(c.energy));
+  auto sift = cv::SIFT::create(o.max_features, c.octave_layers, dog * c.octave_layers / 255.0,
+                               o.edge_threshold, o.sigma0, CV_8U);
+  std::vector<cv::KeyPoint> kps;
+  cv::Mat desc;
+  sift->detectAndCompute(img, cv::noArray(), kps, desc);
+  ASSERT_GE(kps.size(), static_cast<std::size_t>(o.min_features));  // no retry on this frame
+  kps.resize(std::min(kps.size(), static_cast<std::size_t>(o.max_features)));
+  ASSERT_EQ(f.size(), kps.size());
+  for (std::size_t i = 0; i < kps.size(); ++i) {
+    EXPECT_EQ(f.keypoints[i].pt, kps[i].pt) << i;
+    EXPECT_EQ(f.keypoints[i].size, kps[i].size) << i;
+    EXPECT_EQ(f.keypoints[i].angle, kps[i].angle) << i;
+    EXPECT_EQ(f.keypoints[i].octave, kps[i].octave) << i;
+  }
+  EXPECT_EQ(cv::norm(f.descriptors, desc.rowRange(0, static_cast<int>(kps.size())), cv::NORM_INF),
+            0.0);
+}
+
+// Without the doubled first octave the keypoints are mapped back to the input's pixel grid:
+// blobs at known sub-pixel positions are found there (±0.1 px), at the scale of the default
+// pyramid (±5 %), and the packed octave is never the doubled one (−1). The default (OpenCV
+// 4.6) reports doubled-image pixel x at x/2, but that pixel's centre is at x/2 − 1/4 of the
+// input: its keypoints sit +0.25 px off in u and v (stereo disparities are unaffected).
+TEST(VisionDetector, NoUpsampleKeepsKeypointCoordinates) {
+  cv::Mat img(240, 320, CV_32F, cv::Scalar(60.0));
+  std::vector<cv::Point2f> centres;
+  for (int by = 0; by < 2; ++by)
+    for (int bx = 0; bx < 3; ++bx) {
+      const cv::Point2f c(60.0f + 100.3f * bx, 65.0f + 110.35f * by);
+      centres.push_back(c);
+      const double sigma = 4.0 + bx;  // blob scales: all above the doubled octave
+      for (int v = 0; v < img.rows; ++v)
+        for (int u = 0; u < img.cols; ++u) {
+          const double r2 = (u - c.x) * (u - c.x) + (v - c.y) * (v - c.y);
+          img.at<float>(v, u) += static_cast<float>(150.0 * std::exp(-r2 / (2 * sigma * sigma)));
+        }
+    }
+  cv::Mat gray;
+  img.convertTo(gray, CV_8U);
+  AdaptiveSiftOptions o;
+  o.min_features = 1;
+  auto nearest = [&](const Features& f, const cv::Point2f& c) {
+    const cv::KeyPoint* best = nullptr;
+    for (const cv::KeyPoint& kp : f.keypoints)
+      if (!best || cv::norm(kp.pt - c) < cv::norm(best->pt - c)) best = &kp;
+    return best;
+  };
+  Features full, fast;
+  ASSERT_TRUE(detectAdaptiveSift(gray, o, &full).ok());
+  o.upsample_first_octave = false;
+  ASSERT_TRUE(detectAdaptiveSift(gray, o, &fast).ok());
+  ASSERT_EQ(fast.descriptors.rows, static_cast<int>(fast.size()));
+  for (const cv::KeyPoint& kp : fast.keypoints) EXPECT_NE(kp.octave & 0xFF, 0xFF);
+  for (const cv::Point2f& c : centres) {
+    const cv::KeyPoint* a = nearest(full, c);
+    const cv::KeyPoint* b = nearest(fast, c);
+    ASSERT_TRUE(a && b);
+    EXPECT_LT(cv::norm(a->pt - c - cv::Point2f(0.25f, 0.25f)), 0.1) << c << " " << a->pt;
+    EXPECT_LT(cv::norm(b->pt - c), 0.1) << c << " " << b->pt;
+    EXPECT_NEAR(b->size / a->size, 1.0, 0.05) << c;
+  }
+}
+
 TEST(VisionDetector, OptionsLoad) {
   auto cfg = ConfigNode::fromString(
       "detector: {type: orb, orb_max_features: 300, adaptive_sift: {sigma_max: 16, "
-      "min_features: 50, max_features: 400}}",
+      "min_features: 50, max_features: 400, upsample_first_octave: false}}",
       "fe.yaml");
   ASSERT_TRUE(cfg.ok());
   DetectorOptions o;
@@ -163,9 +239,11 @@ TEST(VisionDetector, OptionsLoad) {
   EXPECT_EQ(o.orb_max_features, 300);
   EXPECT_DOUBLE_EQ(o.adaptive_sift.sigma_max, 16.0);
   EXPECT_EQ(o.adaptive_sift.max_features, 400);
+  EXPECT_FALSE(o.adaptive_sift.upsample_first_octave);
   EXPECT_TRUE(cfg->finish().ok()) << cfg->finish().message();
   DetectorOptions defaults;
-  EXPECT_DOUBLE_EQ(defaults.adaptive_sift.sigma_max, 20.0);  // σmax of §4.2.5
+  EXPECT_DOUBLE_EQ(defaults.adaptive_sift.sigma_max, 20.0);   // σmax of §4.2.5
+  EXPECT_TRUE(defaults.adaptive_sift.upsample_first_octave);  // Lowe's / OpenCV's pyramid
 
   auto bad = ConfigNode::fromString(
       "detector: {adaptive_sift: {min_features: 500, max_features: 100}}", "fe.yaml");

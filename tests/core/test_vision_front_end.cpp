@@ -106,6 +106,8 @@ TEST(VisionFrontEnd, ShippedConfigMatchesDefaults) {
   EXPECT_DOUBLE_EQ(o.detector.adaptive_sift.energy_low, d.detector.adaptive_sift.energy_low);
   EXPECT_DOUBLE_EQ(o.detector.adaptive_sift.energy_high, d.detector.adaptive_sift.energy_high);
   EXPECT_EQ(o.detector.adaptive_sift.max_features, d.detector.adaptive_sift.max_features);
+  EXPECT_EQ(o.detector.adaptive_sift.upsample_first_octave,
+            d.detector.adaptive_sift.upsample_first_octave);
   EXPECT_EQ(o.detector.orb_max_features, d.detector.orb_max_features);
   EXPECT_DOUBLE_EQ(o.stereo.min_depth_m, d.stereo.min_depth_m);
   EXPECT_DOUBLE_EQ(o.stereo.match.dist_ratio, d.stereo.match.dist_ratio);

@@ -20,13 +20,21 @@ double trueDisparity(double v, int rows) {
   return 6.0 + 30.0 * v / rows;
 }
 
-class VisionStereoSynthetic : public ::testing::TestWithParam<DetectorType> {};
+struct SyntheticResult {
+  std::size_t left_features = 0, right_features = 0, matches = 0;
+  double precision = 0.0;
+};
 
-TEST_P(VisionStereoSynthetic, PrecisionAgainstKnownDisparity) {
+// The real left image shifted by trueDisparity(): detect, match, count the matches whose
+// disparity and row are right within the localisation tolerance.
+SyntheticResult syntheticStereo(const DetectorOptions& d) {
+  SyntheticResult res;
   const auto stamps = test::eurocStereoStamps();
   cv::Mat left, unused;
-  ASSERT_TRUE(stamps.size() > 20 && test::loadEurocPair(stamps[20], &left, &unused))
-      << "EuRoC micro data missing under " << test::sharedDataDir();
+  if (!(stamps.size() > 20 && test::loadEurocPair(stamps[20], &left, &unused))) {
+    ADD_FAILURE() << "EuRoC micro data missing under " << test::sharedDataDir();
+    return res;
+  }
   // right(u, v) = left(u + d(v), v): a left pixel (u, v) appears at u − d(v) on the right.
   cv::Mat map_x(left.size(), CV_32F), map_y(left.size(), CV_32F);
   for (int v = 0; v < left.rows; ++v)
@@ -37,13 +45,12 @@ TEST_P(VisionStereoSynthetic, PrecisionAgainstKnownDisparity) {
   cv::Mat right;
   cv::remap(left, right, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
 
-  DetectorOptions d;
-  d.type = GetParam();
   auto det = makeFeatureDetector(d);
-  ASSERT_TRUE(det.ok());
+  EXPECT_TRUE(det.ok());
+  if (!det.ok()) return res;
   Features fl, fr;
-  ASSERT_TRUE((*det)->detect(left, &fl).ok());
-  ASSERT_TRUE((*det)->detect(right, &fr).ok());
+  EXPECT_TRUE((*det)->detect(left, &fl).ok());
+  EXPECT_TRUE((*det)->detect(right, &fr).ok());
   StereoMatchOptions o;
   o.focal_px = 450.0;
   o.baseline_m = 0.11;
@@ -60,30 +67,60 @@ TEST_P(VisionStereoSynthetic, PrecisionAgainstKnownDisparity) {
     // Localisation tolerance grows with the pyramid level (keypoint coordinates of level l
     // are quantised to the level's pixel, 1.2^l px for ORB).
     const int octave = fl.keypoints[static_cast<std::size_t>(m.left)].octave & 0xFF;
-    const double tol = GetParam() == DetectorType::kOrb ? 1.5 * std::pow(1.2, octave) : 1.5;
+    const double tol = d.type == DetectorType::kOrb ? 1.5 * std::pow(1.2, octave) : 1.5;
     const double err = std::abs(disparity - trueDisparity(pl.y, left.rows));
     if (err < tol && std::abs(pl.y - pr.y) < tol) ++correct;
   }
-  const double precision = matches.empty() ? 0.0 : static_cast<double>(correct) / matches.size();
-  std::cout << "[figures] synthetic stereo (" << static_cast<int>(GetParam()) << "): " << fl.size()
-            << "/" << fr.size() << " features, " << matches.size() << " matches, precision "
-            << precision << "\n";
-  EXPECT_GE(matches.size(), 100u);
+  res.left_features = fl.size();
+  res.right_features = fr.size();
+  res.matches = matches.size();
+  res.precision = matches.empty() ? 0.0 : static_cast<double>(correct) / matches.size();
+  std::cout << "[figures] synthetic stereo (" << static_cast<int>(d.type)
+            << (d.adaptive_sift.upsample_first_octave ? "" : ", first octave not upsampled")
+            << "): " << fl.size() << "/" << fr.size() << " features, " << matches.size()
+            << " matches, precision " << res.precision << "\n";
+  return res;
+}
+
+class VisionStereoSynthetic : public ::testing::TestWithParam<DetectorType> {};
+
+TEST_P(VisionStereoSynthetic, PrecisionAgainstKnownDisparity) {
+  DetectorOptions d;
+  d.type = GetParam();
+  const SyntheticResult r = syntheticStereo(d);
+  EXPECT_GE(r.matches, 100u);
   // Both detectors must reach 98 %. (Without the keypoint grid, ORB spends its budget on the
   // calibration checkerboard of this scene and falls to ≈ 92 %.)
-  EXPECT_GE(precision, 0.98);
+  EXPECT_GE(r.precision, 0.98);
 }
 
 INSTANTIATE_TEST_SUITE_P(Detectors, VisionStereoSynthetic,
                          ::testing::Values(DetectorType::kAdaptiveSift, DetectorType::kOrb));
 
-TEST(VisionStereoReal, RectifiedEurocPairHasRowAlignedPlausibleMatches) {
+// The faster adaptive SIFT without the doubled first octave (adaptive_sift.h, item 4): its
+// keypoints are mapped back to the input's pixel grid exactly (a coordinate error would show
+// as a disparity or row error here), at the cost of fewer features.
+TEST(VisionStereoSyntheticNoUpsample, PrecisionAgainstKnownDisparity) {
+  DetectorOptions d;
+  const SyntheticResult full = syntheticStereo(d);
+  d.adaptive_sift.upsample_first_octave = false;
+  const SyntheticResult fast = syntheticStereo(d);
+  EXPECT_GE(fast.matches, 100u);
+  EXPECT_GE(fast.precision, 0.98);
+  EXPECT_LE(fast.left_features, full.left_features);
+}
+
+// Parameter: adaptive SIFT's upsample_first_octave (true: default).
+class VisionStereoReal : public ::testing::TestWithParam<bool> {};
+
+TEST_P(VisionStereoReal, RectifiedEurocPairHasRowAlignedPlausibleMatches) {
   StereoCalibration calib;
   ASSERT_TRUE(test::eurocCalibration(&calib));
   auto rect = StereoRectifier::create(calib);
   ASSERT_TRUE(rect.ok()) << rect.status().message();
   const RectifiedStereo& r = rect->rectified();
   DetectorOptions d;
+  d.adaptive_sift.upsample_first_octave = GetParam();
   auto det = makeFeatureDetector(d);
   ASSERT_TRUE(det.ok());
   StereoMatchOptions o;
@@ -118,11 +155,17 @@ TEST(VisionStereoReal, RectifiedEurocPairHasRowAlignedPlausibleMatches) {
                    row_err.end());
   const double median = row_err[row_err.size() / 2];
   const double precision = static_cast<double>(good) / total;
-  std::cout << "[figures] real rectified EuRoC stereo: " << total << " matches in 3 pairs, "
+  std::cout << "[figures] real rectified EuRoC stereo"
+            << (GetParam() ? "" : " (first octave not upsampled)") << ": " << total
+            << " matches in 3 pairs, "
             << "median row error " << median << " px, plausible " << precision << "\n";
   EXPECT_LT(median, 0.5);  // rectification: epipolar lines are rows
-  EXPECT_GE(precision, 0.98);
+  // Without the doubled octave: ≈ 18 % fewer matches and 96.7 % plausible against 98.2 %
+  // (measured; docs/image_sensing.md), hence the option is off by default.
+  EXPECT_GE(precision, GetParam() ? 0.98 : 0.95);
 }
+
+INSTANTIATE_TEST_SUITE_P(UpsampleFirstOctave, VisionStereoReal, ::testing::Bool());
 
 // Hand-made features: one left feature and one right candidate with the same descriptor; the
 // candidate is moved through the constraints of §4.2.8 and §4.2.7.

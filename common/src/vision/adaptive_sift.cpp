@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -21,6 +22,7 @@ Status AdaptiveSiftOptions::load(const ConfigNode& node) {
   node.get("min_features", min_features);
   node.get("max_features", max_features);
   node.get("retries", retries);
+  node.get("upsample_first_octave", upsample_first_octave);
   node.check(sigma0 > 0, "sigma0", "must be > 0");
   node.check(energy_low > 0 && energy_high > energy_low, "energy_high",
              "need 0 < energy_low < energy_high");
@@ -76,12 +78,43 @@ ScaleFactorChoice adaptScaleFactor(const cv::Mat& gray, const AdaptiveSiftOption
   return c;
 }
 
+namespace {
+
+// OpenCV's SIFT always doubles its input before the first octave. For a pyramid that starts
+// at the input resolution it is given a 2× area-downsampled copy: the doubled copy then lies on
+// the input's pixel grid (upsampled pixel x ≡ input pixel x) and, with the 2×2 box (σ ≈ 0.58
+// px), the linear upsampling (σ ≈ 0.41 px) and OpenCV's base blur √(σ0² − 1) on top of the
+// input's assumed 0.5 px, its base blur is ≈ 1.5 px ≈ σ0: close to Lowe's first octave at
+// the input resolution. Odd last rows/columns are dropped (one pixel, no keypoint lives there).
+cv::Mat halfResolution(const cv::Mat& gray) {
+  const cv::Rect even(0, 0, gray.cols & ~1, gray.rows & ~1);
+  cv::Mat half;
+  cv::resize(gray(even), half, cv::Size(even.width / 2, even.height / 2), 0, 0, cv::INTER_AREA);
+  return half;
+}
+
+// Keypoints of the half-resolution copy back to the input: OpenCV reports a doubled-octave
+// keypoint at half its upsampled coordinate, so the input coordinate is 2·pt exactly; the
+// packed octave (low byte, signed) is one higher.
+void toInputResolution(std::vector<cv::KeyPoint>* keypoints) {
+  for (cv::KeyPoint& kp : *keypoints) {
+    kp.pt *= 2.0f;
+    kp.size *= 2.0f;
+    const int octave = static_cast<int8_t>(kp.octave & 0xFF);
+    kp.octave = (kp.octave & ~0xFF) | ((octave + 1) & 0xFF);
+  }
+}
+
+}  // namespace
+
 Status detectAdaptiveSift(const cv::Mat& gray, const AdaptiveSiftOptions& o, Features* out,
                           ScaleFactorChoice* choice) {
   if (gray.empty() || gray.type() != CV_8UC1)
     return Status::Error("adaptive SIFT: expected a non-empty 8-bit grey image");
   const ScaleFactorChoice c = adaptScaleFactor(gray, o);
   if (choice) *choice = c;
+  const bool half = !o.upsample_first_octave && gray.cols >= 2 && gray.rows >= 2;
+  const cv::Mat input = half ? halfResolution(gray) : gray;
   // DoG threshold in grey levels, relative to the DoG energy at the adapted k. The DoG of
   // OpenCV's pyramid (levels k apart) has the same energy scale E(k); OpenCV applies
   // contrastThreshold·255/nOctaveLayers as the DoG threshold, hence the conversion.
@@ -92,12 +125,13 @@ Status detectAdaptiveSift(const cv::Mat& gray, const AdaptiveSiftOptions& o, Fea
     cv::Ptr<cv::SIFT> sift = cv::SIFT::create(o.max_features, c.octave_layers, contrast,
                                               o.edge_threshold, o.sigma0, CV_8U);
     out->keypoints.clear();
-    sift->detectAndCompute(gray, cv::noArray(), out->keypoints, out->descriptors);
+    sift->detectAndCompute(input, cv::noArray(), out->keypoints, out->descriptors);
     if (static_cast<int>(out->keypoints.size()) >= o.min_features || attempt >= o.retries ||
         dog_threshold <= o.min_contrast)
       break;
     dog_threshold = std::max(o.min_contrast, 0.5 * dog_threshold);
   }
+  if (half) toInputResolution(&out->keypoints);
   // OpenCV's nfeatures keeps ties, so the count can exceed the cap by a few.
   if (static_cast<int>(out->keypoints.size()) > o.max_features) {
     out->keypoints.resize(static_cast<std::size_t>(o.max_features));

@@ -16,7 +16,12 @@
 //     absolute threshold and so loses almost every feature when the texture is weak (blur,
 //     haze, low contrast); an energy-relative threshold is the thesis's point — "detect a
 //     suitable number of features" (§4.2.5) — made explicit.
-//  4. A band on the count: at most max_features (strongest DoG responses); below
+//  4. Resolution of the first octave: OpenCV (like Lowe) doubles the image before the first
+//     octave; that octave is ≈ 3/4 of the pyramid and extremum search and ≈ 75 % of the
+//     detector's time. With upsample_first_octave = false the pyramid starts at the input
+//     resolution instead (no octave below σ0 at the input's pixel size; features are coarser
+//     and fewer at small images, ≈ 2× faster; docs/image_sensing.md has the figures).
+//  5. A band on the count: at most max_features (strongest DoG responses); below
 //     min_features the threshold is halved and detection repeated (at most `retries` times),
 //     the count-level counterpart of the k ← k² step.
 // The thesis's thresholds (E_th = 30, 50, 80 in §4.2.5, §5.10) are in units it does not
@@ -35,17 +40,18 @@ class ConfigNode;
 namespace cvslam::vision {
 
 struct AdaptiveSiftOptions {
-  double sigma0 = 1.6;           ///< σ0, scale of the first level (Lowe)
-  double energy_low = 0.5;       ///< S1: E below this → k ← k² (eq. 4.6) [grey²]
-  double energy_high = 20.0;     ///< S2: E above this → k ← √k (eq. 4.6) [grey²]
-  double sigma_max = 20.0;       ///< σmax: k is not raised beyond σ0·k > σmax (§4.2.5)
-  int max_octave_layers = 6;     ///< smallest k = 2^(1/max_octave_layers)
-  double contrast_gain = 1.2;    ///< DoG threshold = contrast_gain·√E(k) [grey levels]
-  double min_contrast = 0.15;    ///< floor of the DoG threshold [grey levels] (noise)
-  double edge_threshold = 10.0;  ///< principal-curvature ratio r (Lowe; Fig. 4.7.b)
-  int min_features = 150;        ///< lower end of the band (retry with half the threshold)
-  int max_features = 600;        ///< upper end of the band (strongest kept)
-  int retries = 2;               ///< threshold halvings when below min_features
+  double sigma0 = 1.6;                ///< σ0, scale of the first level (Lowe)
+  double energy_low = 0.5;            ///< S1: E below this → k ← k² (eq. 4.6) [grey²]
+  double energy_high = 20.0;          ///< S2: E above this → k ← √k (eq. 4.6) [grey²]
+  double sigma_max = 20.0;            ///< σmax: k is not raised beyond σ0·k > σmax (§4.2.5)
+  int max_octave_layers = 6;          ///< smallest k = 2^(1/max_octave_layers)
+  double contrast_gain = 1.2;         ///< DoG threshold = contrast_gain·√E(k) [grey levels]
+  double min_contrast = 0.15;         ///< floor of the DoG threshold [grey levels] (noise)
+  double edge_threshold = 10.0;       ///< principal-curvature ratio r (Lowe; Fig. 4.7.b)
+  int min_features = 150;             ///< lower end of the band (retry with half the threshold)
+  int max_features = 600;             ///< upper end of the band (strongest kept)
+  int retries = 2;                    ///< threshold halvings when below min_features
+  bool upsample_first_octave = true;  ///< false: the pyramid starts at the input resolution
 
   Status load(const ConfigNode& node);
 };
