@@ -60,8 +60,8 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.check(max_peers >= 1, "max_peers", "must be ≥ 1");
   node.check(coop_sigma > 0.0, "coop_sigma", "must be > 0");
   node.check(min_semi_axis_m > 0.0, "min_semi_axis_m", "must be > 0");
-  node.check(summary_period_s > 0.0 && exchange_period_s > 0.0, "summary_period_s",
-             "summary_period_s and exchange_period_s must be > 0");
+  node.check(summary_period_s > 0.0, "summary_period_s", "must be > 0");
+  node.check(exchange_period_s >= 0.0, "exchange_period_s", "must be ≥ 0 (0: every frame)");
   node.check(peer_timeout_s > 0.0 && request_timeout_s > 0.0 && max_message_age_s > 0.0,
              "peer_timeout_s", "peer_timeout_s, request_timeout_s, max_message_age_s must be > 0");
   node.check(max_landmarks_per_message >= 1, "max_landmarks_per_message", "must be ≥ 1");
