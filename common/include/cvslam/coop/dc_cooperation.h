@@ -50,7 +50,7 @@ struct DcCooperationOptions {
   bool include_vehicle_uncertainty =
       true;                        ///< floor of the semi-axes (one feature, planar sets) [m]
   double summary_period_s = 0.5;   ///< summary/heartbeat period [s]
-  double exchange_period_s = 1.0;  ///< at most one index broadcast per period [s]
+  double exchange_period_s = 0.0;  ///< at most one index broadcast per period [s]; 0: every frame
   double peer_timeout_s = 5.0;     ///< a silent peer is forgotten after this [s]
   double request_timeout_s = 2.0;  ///< an unanswered request is abandoned after this [s]
   double max_message_age_s = 2.0;  ///< older messages (dataset time) are dropped as stale [s]
