@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -46,7 +47,9 @@ options:
                           mailbox, configuration section `coop:`, docs/cooperation.md)
   --ci METHOD             dc: overrides coop.ci_method (adaptive | fast |
                           optimal_trace | optimal_determinant | optimal_vehicle)
-  --both-ways             dc: overrides coop.both_ways to true
+  --both-ways             dc: overrides coop.both_ways to true (the default)
+  --one-way               dc: overrides coop.both_ways to false (thesis §6.6.5: only the
+                          UAV that receives the indices fuses)
   --sensing KIND          features: feature-level simulation with true landmark ids;
                           images: stereo pairs rendered at the true pose (the scenario's
                           `render:` world, default aerial) through the real front end and
@@ -68,7 +71,7 @@ options:
 struct Args {
   std::string scenario, out, config, mode = "single", sensing = "features", filter, map;
   std::string pixel_noise, world, detector, ci, agents;
-  bool both_ways = false;
+  std::optional<bool> both_ways;
   int passes = 0;
   long long seed = -1;
   double duration = -1.0;
@@ -117,8 +120,11 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
       if (!value(&a->pixel_noise)) return false;
     } else if (arg == "--ci") {
       if (!value(&a->ci)) return false;
-    } else if (arg == "--both-ways") {
-      a->both_ways = true;
+    } else if (arg == "--both-ways" || arg == "--one-way") {
+      if (a->both_ways && *a->both_ways != (arg == "--both-ways")) {
+        return (*error = "--both-ways and --one-way exclude each other"), false;
+      }
+      a->both_ways = arg == "--both-ways";
     } else if (arg == "--agents") {
       if (!value(&a->agents)) return false;
     } else if (arg == "--quiet") {
@@ -152,7 +158,7 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
     return (*error = "--mode " + a->mode + " is not available (single or dc)"), false;
   }
   if (a->mode != "dc" && (!a->ci.empty() || a->both_ways)) {
-    return (*error = "--ci and --both-ways need --mode dc"), false;
+    return (*error = "--ci, --both-ways and --one-way need --mode dc"), false;
   }
   if (a->sensing != "features" && a->sensing != "images") {
     return (*error = "--sensing must be features or images, not '" + a->sensing + "'"), false;
@@ -255,7 +261,7 @@ int main(int argc, char** argv) {
     if (!method.ok()) return fail(method.status().message());
     coop_options.ci_method = *method;
   }
-  if (args.both_ways) coop_options.both_ways = true;
+  if (args.both_ways) coop_options.both_ways = *args.both_ways;
   coop_options.true_ids = args.sensing == "features";
   if (auto p = options.filter.policy(); !p.ok()) return fail(p.status().message());
 

@@ -150,7 +150,9 @@ TEST(DcCooperation, GateRejectsLandmarksOffsetBy50m) {
 }
 
 TEST(DcCooperation, BothWaysReturnsEstimates) {
-  const TeamResult& one = cooperative();
+  TeamOptions one_way;
+  one_way.coop.both_ways = false;
+  const TeamResult one = runTeam(kDuration, kSeed, one_way);
   TeamOptions o;
   o.coop.both_ways = true;
   const TeamResult r = runTeam(kDuration, kSeed, o);
@@ -251,13 +253,13 @@ TEST(DcCooperation, ForgedPeerFloodIsBounded) {
 }
 
 TEST(DcCooperation, OptionsLoadAndValidate) {
-  auto node = ConfigNode::fromString("ci_method: optimal_trace\nboth_ways: true\ncoop_sigma: 3\n",
+  auto node = ConfigNode::fromString("ci_method: optimal_trace\nboth_ways: false\ncoop_sigma: 3\n",
                                      "coop.yaml");
   ASSERT_TRUE(node.ok());
   coop::DcCooperationOptions o;
   ASSERT_TRUE(o.load(*node).ok());
   EXPECT_EQ(o.ci_method, coop::CiMethod::kOptimalTrace);
-  EXPECT_TRUE(o.both_ways);
+  EXPECT_FALSE(o.both_ways);
   EXPECT_EQ(o.coop_sigma, 3.0);
   auto bad = ConfigNode::fromString("ci_method: best\n", "coop.yaml");
   ASSERT_TRUE(bad.ok());

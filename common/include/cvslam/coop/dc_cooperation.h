@@ -56,7 +56,7 @@ struct DcCooperationOptions {
   double max_message_age_s = 2.0;  ///< older messages (dataset time) are dropped as stale [s]
   CiMethod ci_method = CiMethod::kAdaptive;  ///< adaptive | fast | optimal_trace |
                                              ///< optimal_determinant | optimal_vehicle
-  bool both_ways = false;  ///< the receiver also returns its estimates to the sender
+  bool both_ways = true;  ///< the receiver also returns its estimates to the sender
   int max_landmarks_per_message =
       50;  ///< landmarks per request / SharedLandmarks (sent and accepted)
   int max_indices_per_message = 2000;  ///< indices per FeatureIndexList (sent and accepted)
