@@ -411,10 +411,8 @@ int main(int argc, char** argv) {
           "        images: %.1f observations/frame; per frame: render %.1f ms, front end %.1f ms, "
           "association %.2f ms, filter %.2f ms; stereo precision %.4f (%ld checked), map "
           "association precision %.4f (%ld of %ld type-1 checked; %.4f of the %ld the filter "
-          "used); "
-          "disparity error of right "
-          "matches "
-          "mean %.3f px, RMS %.3f px; re-observed left pixel error RMS %.3f px\n",
+          "used); disparity error of right matches mean %.3f px, RMS %.3f px; re-observed left "
+          "pixel error RMS %.3f px\n",
           static_cast<double>(s.observations) / n, s.render_ms / n, s.front_end_ms / n,
           s.association_ms / n, s.filter_ms / n, s.stereoPrecision(), s.stereo_checked,
           s.associationPrecision(), s.associated_checked, s.associated,
