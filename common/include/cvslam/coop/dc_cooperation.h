@@ -43,12 +43,12 @@ namespace cvslam::coop {
 /// Config section `coop:` of agent.yaml.
 struct DcCooperationOptions {
   double coop_sigma = 2.0;  ///< ellipsoid semi-axes = coop_sigma · std (§6.6.2)
+  /// Floor of the semi-axes (one feature, planar sets) [m].
   double min_semi_axis_m = 1.0;
   /// Widen both ellipsoids by the agents' vehicle position variance (trace/3 per axis):
   /// the features' estimated positions are off by the vehicle error. false: the thesis's
   /// ellipsoid of the feature spread only.
-  bool include_vehicle_uncertainty =
-      true;                        ///< floor of the semi-axes (one feature, planar sets) [m]
+  bool include_vehicle_uncertainty = true;
   double summary_period_s = 0.5;   ///< summary/heartbeat period [s]
   double exchange_period_s = 0.0;  ///< at most one index broadcast per period [s]; 0: every frame
   double peer_timeout_s = 5.0;     ///< a silent peer is forgotten after this [s]
