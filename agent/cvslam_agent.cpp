@@ -17,6 +17,7 @@
 #include <random>
 #include <string>
 
+#include "cvslam/io/command_line.h"
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/agent_node.h"
@@ -77,24 +78,10 @@ struct Args {
   bool verbose = false;
 };
 
-bool number(const std::string& opt, const std::string& v, double* x, std::string* error) {
-  char* end = nullptr;
-  *x = std::strtod(v.c_str(), &end);
-  if (end == v.c_str() || *end != '\0' || !std::isfinite(*x)) {
-    *error = opt + ": not a number: '" + v + "'";
-    return false;
-  }
-  return true;
-}
-
 bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    auto value = [&](std::string* out) {
-      if (i + 1 >= argc) return (*error = arg + " needs a value"), false;
-      *out = argv[++i];
-      return true;
-    };
+    auto value = [&](std::string* out) { return cvslam::nextArgValue(argc, argv, &i, out, error); };
     std::string v;
     double x = 0.0;
     if (arg == "-h" || arg == "--help") {
@@ -121,7 +108,7 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
     } else if (arg == "--verbose") {
       a->verbose = true;
     } else if (arg == "--id" || arg == "--seed" || arg == "--duration" || arg == "--idle-exit") {
-      if (!value(&v) || !number(arg, v, &x, error)) return false;
+      if (!value(&v) || !cvslam::parseNumberArg(arg, v, &x, error)) return false;
       if (arg == "--id") {
         if (x < 1 || x != std::floor(x) || x > 1e6)
           return (*error = "--id must be an integer ≥ 1"), false;

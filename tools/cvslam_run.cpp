@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cvslam/geometry/euler.h"
+#include "cvslam/io/command_line.h"
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/sim/scenario.h"
@@ -86,14 +87,7 @@ int fail(const std::string& message) {
 bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    auto value = [&](std::string* out) {
-      if (i + 1 >= argc) {
-        *error = arg + " needs a value";
-        return false;
-      }
-      *out = argv[++i];
-      return true;
-    };
+    auto value = [&](std::string* out) { return cvslam::nextArgValue(argc, argv, &i, out, error); };
     std::string v;
     if (arg == "-h" || arg == "--help") {
       std::fputs(kUsage, stdout);
@@ -130,13 +124,8 @@ bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
     } else if (arg == "--quiet") {
       a->quiet = true;
     } else if (arg == "--passes" || arg == "--seed" || arg == "--duration") {
-      if (!value(&v)) return false;
-      char* end = nullptr;
-      const double x = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end != '\0' || !std::isfinite(x)) {
-        *error = arg + ": not a number: '" + v + "'";
-        return false;
-      }
+      double x = 0.0;
+      if (!value(&v) || !cvslam::parseNumberArg(arg, v, &x, error)) return false;
       if (arg == "--passes") {
         if (x < 1 || x != std::floor(x)) return (*error = "--passes must be an integer ≥ 1"), false;
         a->passes = static_cast<int>(x);
