@@ -11,6 +11,7 @@ PACKAGES=(
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless libjchart2d-java
   libeigen3-dev libopencv-dev libceres-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  nlohmann-json3-dev libcli11-dev libboost-math-dev clang-tidy
   python3-matplotlib python3-numpy
   iproute2 procps xvfb
 )
