@@ -63,25 +63,16 @@ std::vector<std::size_t> consensus(const std::vector<Candidate>& c, const LoopAl
   return in;
 }
 
-}  // namespace
-
-double AppearanceLoopDetector::searchRadius(double position_sigma_m) const {
-  return std::clamp(o_.search_sigma_scale * position_sigma_m, o_.min_search_radius_m,
-                    o_.max_offset_m);
-}
-
-LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation>& observations,
-                                             const StereoCamera& camera,
-                                             const LandmarkArchive& archive,
-                                             const LoopQuery& query) const {
-  LoopDetection out;
-  if (!o_.enabled || archive.size() == 0) return out;
+/// Stage 1: appearance candidates — per observation, the closest archived descriptor of the
+/// same word within the search radius (ratio-tested), plus observations the projection gate
+/// already associated to a loop landmark; one observation per landmark, the closest kept.
+std::vector<Candidate> appearanceCandidates(const std::vector<StereoObservation>& observations,
+                                            const StereoCamera& camera,
+                                            const LandmarkArchive& archive, const LoopQuery& query,
+                                            const LoopDetectionOptions& o, double radius) {
   const auto min_seen_us = static_cast<int64_t>(query.min_last_seen_age_s * 1e6);
   const auto min_archived_us = static_cast<int64_t>(query.min_archived_age_s * 1e6);
-  const double radius = searchRadius(query.position_sigma_m);
   const double max_offset2 = radius * radius;
-
-  // 1. Appearance candidates: the closest archived descriptor of the same word.
   std::vector<Candidate> candidates;
   auto loopAge = [&](const ArchivedLandmark& a) {
     return query.t_us - a.last_seen_us >= min_seen_us &&
@@ -101,7 +92,7 @@ LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation
     }
     if (obs.descriptor.empty()) continue;
     const std::vector<int64_t>& bucket = archive.withIndex(obs.index);
-    if (bucket.empty() || static_cast<int>(bucket.size()) > o_.max_word_landmarks) continue;
+    if (bucket.empty() || static_cast<int>(bucket.size()) > o.max_word_landmarks) continue;
     Eigen::Vector3d p_observed;
     if (!camera.triangulate(obs.z, query.x_v, &p_observed).ok()) continue;
     const int bytes = static_cast<int>(obs.descriptor.size());
@@ -124,8 +115,8 @@ LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation
         d2 = d;
       }
     }
-    if (best_landmark == nullptr || d1 > o_.max_descriptor_distance) continue;
-    if (std::isfinite(d2) && !(d1 < o_.dist_ratio * d2)) continue;
+    if (best_landmark == nullptr || d1 > o.max_descriptor_distance) continue;
+    if (std::isfinite(d2) && !(d1 < o.dist_ratio * d2)) continue;
     candidates.push_back({i, best, d1, {p_observed, best_landmark->p_LinN}});
   }
   // One observation per landmark: the closest descriptor keeps it.
@@ -139,14 +130,17 @@ LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation
                                  return a.landmark_id == b.landmark_id;
                                }),
                    candidates.end());
-  out.candidates = static_cast<int>(candidates.size());
-  if (static_cast<int>(candidates.size()) < o_.min_inliers) return out;
+  return candidates;
+}
 
-  // 2. RANSAC over pairs (a yaw + translation needs two points), rotating about the vehicle.
-  const Eigen::Vector3d pivot = query.x_v.head<3>();
+/// Stage 2: RANSAC over pairs (a yaw + translation needs two points), rotating about the
+/// vehicle; returns the largest consensus set.
+std::vector<std::size_t> ransacConsensus(const std::vector<Candidate>& candidates,
+                                         const Eigen::Vector3d& pivot,
+                                         const LoopDetectionOptions& o) {
   const std::size_t n = candidates.size();
   const std::size_t all_pairs = n * (n - 1) / 2;
-  const double min_sep2 = o_.min_pair_separation_m * o_.min_pair_separation_m;
+  const double min_sep2 = o.min_pair_separation_m * o.min_pair_separation_m;
   std::vector<std::size_t> best_set;
   auto tryPair = [&](std::size_t a, std::size_t b) {
     const LoopPair& pa = candidates[a].pair;
@@ -154,22 +148,46 @@ LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation
     if ((pa.p_observed_N - pb.p_observed_N).head<2>().squaredNorm() < min_sep2) return;
     Expected<LoopAlignment> fit = alignLoop({pa, pb}, pivot);
     if (!fit.ok()) return;
-    std::vector<std::size_t> in = consensus(candidates, *fit, o_.inlier_distance_m);
+    std::vector<std::size_t> in = consensus(candidates, *fit, o.inlier_distance_m);
     if (in.size() > best_set.size()) best_set.swap(in);
   };
-  if (all_pairs <= static_cast<std::size_t>(o_.ransac_iterations)) {
+  if (all_pairs <= static_cast<std::size_t>(o.ransac_iterations)) {
     for (std::size_t a = 0; a < n; ++a) {
       for (std::size_t b = a + 1; b < n; ++b) tryPair(a, b);
     }
   } else {
     std::mt19937 rng(static_cast<uint32_t>(n));  // seeded by the input: deterministic
-    for (int t = 0; t < o_.ransac_iterations; ++t) {
+    for (int t = 0; t < o.ransac_iterations; ++t) {
       const std::size_t a = rng() % n;
       std::size_t b = rng() % (n - 1);
       if (b >= a) ++b;
       tryPair(a, b);
     }
   }
+  return best_set;
+}
+
+}  // namespace
+
+double AppearanceLoopDetector::searchRadius(double position_sigma_m) const {
+  return std::clamp(o_.search_sigma_scale * position_sigma_m, o_.min_search_radius_m,
+                    o_.max_offset_m);
+}
+
+LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation>& observations,
+                                             const StereoCamera& camera,
+                                             const LandmarkArchive& archive,
+                                             const LoopQuery& query) const {
+  LoopDetection out;
+  if (!o_.enabled || archive.size() == 0) return out;
+  // 1. Appearance candidates.
+  const std::vector<Candidate> candidates = appearanceCandidates(
+      observations, camera, archive, query, o_, searchRadius(query.position_sigma_m));
+  out.candidates = static_cast<int>(candidates.size());
+  if (static_cast<int>(candidates.size()) < o_.min_inliers) return out;
+  // 2. Geometric consensus.
+  const Eigen::Vector3d pivot = query.x_v.head<3>();
+  std::vector<std::size_t> best_set = ransacConsensus(candidates, pivot, o_);
   out.inliers = static_cast<int>(best_set.size());
   if (static_cast<int>(best_set.size()) < o_.min_inliers) return out;
 
