@@ -24,6 +24,7 @@
 #include "cvslam/lcm/dc_link.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/slam/agent_calibration.h"
+#include "cvslam/simrun/scenario_calibration.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
 #include "cvslam/vision/vocabulary.h"
 

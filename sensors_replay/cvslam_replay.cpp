@@ -24,8 +24,8 @@
 #include "cvslam/sensors/euroc_sensor_stream.h"
 #include "cvslam/sensors/lockstep_tracker.h"
 #include "cvslam/sensors/merged_sensor_source.h"
-#include "cvslam/sensors/render_world_choice.h"
-#include "cvslam/sensors/simulated_sensor_stream.h"
+#include "cvslam/simrun/render_world_choice.h"
+#include "cvslam/simrun/simulated_sensor_stream.h"
 #include "replay_args.h"
 
 namespace {

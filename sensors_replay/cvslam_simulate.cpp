@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "cvslam/io/euroc_dataset_writer.h"
+#include "cvslam/dataset/euroc_dataset_writer.h"
 #include "cvslam/sensors/merged_sensor_source.h"
-#include "cvslam/sensors/render_world_choice.h"
-#include "cvslam/sensors/simulated_sensor_stream.h"
+#include "cvslam/simrun/render_world_choice.h"
+#include "cvslam/simrun/simulated_sensor_stream.h"
 #include "cvslam/sim/scenario.h"
 
 namespace {

@@ -22,8 +22,8 @@
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/sim/scenario.h"
-#include "cvslam/slam/rendered_sensing.h"
-#include "cvslam/slam/simulated_team_run.h"
+#include "cvslam/simrun/rendered_sensing.h"
+#include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 #include "dc_team_link.h"
 

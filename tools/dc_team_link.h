@@ -17,7 +17,7 @@
 #include "cvslam/coop/dc_cooperation.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/message_types.h"
-#include "cvslam/slam/simulated_team_run.h"
+#include "cvslam/simrun/simulated_team_run.h"
 
 namespace cvslam {
 

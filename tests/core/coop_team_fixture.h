@@ -14,7 +14,7 @@
 
 #include "cvslam/coop/dc_cooperation.h"
 #include "cvslam/sim/scenario.h"
-#include "cvslam/slam/simulated_team_run.h"
+#include "cvslam/simrun/simulated_team_run.h"
 
 namespace cvslam::cooptest {
 

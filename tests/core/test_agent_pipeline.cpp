@@ -4,14 +4,15 @@
 #include <gtest/gtest.h>
 
 #include "cvslam/io/config_node.h"
-#include "cvslam/io/euroc_sensor_yaml.h"
+#include "cvslam/dataset/euroc_sensor_yaml.h"
 #include "cvslam/io/json.h"
 #include "cvslam/io/run_reader.h"
 #include "cvslam/sensors/sensor_event_orderer.h"
 #include "cvslam/slam/agent_calibration.h"
+#include "cvslam/simrun/scenario_calibration.h"
 #include "cvslam/slam/agent_pipeline.h"
 #include "cvslam/slam/agent_run_recorder.h"
-#include "cvslam/slam/simulated_team_run.h"
+#include "cvslam/simrun/simulated_team_run.h"
 #include "euroc_test_folder.h"
 #include "replay/small_scenario.h"
 
@@ -129,7 +130,7 @@ TEST(AgentCalibration, EurocFolderGivesTheRectifiedCameraAndImuNoise) {
 TEST(AgentSetup, KnownPoseStartsAtTheGroundTruth) {
   VisualInertialSlamOptions options;
   options.ins.estimate_imu_bias = true;
-  sim::InitialUncertainty sigma;
+  InitialUncertainty sigma;
   const Eigen::Vector3d euler(0.0, 0.0, M_PI / 2);  // heading east
   const AgentFilterSetup s =
       knownPoseSetup(5, Eigen::Vector3d(1, 2, -3), Eigen::Vector3d(0, 2, 0), euler, sigma, options);
@@ -189,14 +190,8 @@ TEST(AgentRunRecorder, RecordReadableWhileRunningAndAfter) {
       EXPECT_EQ(run->stats.frames.size(), 10u);
     }
   }
-  const auto& truth_of = calibration->simulator->landmarks();
-  ASSERT_TRUE(recorder
-                  .writeMap((*agent)->slam(),
-                            [&](int64_t id, Eigen::Vector3d* p) {
-                              *p = truth_of[static_cast<std::size_t>(id)].p_LinN;
-                              return true;
-                            })
-                  .ok());
+  ASSERT_TRUE(calibration->landmark_truth);
+  ASSERT_TRUE(recorder.writeMap((*agent)->slam(), calibration->landmark_truth).ok());
   ASSERT_TRUE(recorder.close().ok());
   auto run = readAgentRun(dir.path(), 1);
   ASSERT_TRUE(run.ok());

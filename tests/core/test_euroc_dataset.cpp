@@ -1,4 +1,4 @@
-#include "cvslam/io/euroc_dataset.h"
+#include "cvslam/dataset/euroc_dataset.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "cvslam/io/euroc_dataset_writer.h"
+#include "cvslam/dataset/euroc_dataset_writer.h"
 #include "euroc_test_folder.h"
 #include "test_paths.h"
 

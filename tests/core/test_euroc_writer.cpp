@@ -1,11 +1,11 @@
-#include "cvslam/io/euroc_dataset_writer.h"
+#include "cvslam/dataset/euroc_dataset_writer.h"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <sstream>
 
-#include "cvslam/io/euroc_dataset.h"
+#include "cvslam/dataset/euroc_dataset.h"
 #include "cvslam/render/stereo_renderer.h"
 #include "euroc_test_folder.h"
 

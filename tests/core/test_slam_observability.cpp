@@ -10,7 +10,7 @@
 #include "cvslam/geometry/euler.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/slam/observability_constraint.h"
-#include "cvslam/slam/simulated_team_run.h"
+#include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
 namespace cvslam {

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <mutex>
 
-#include "cvslam/io/euroc_dataset.h"
+#include "cvslam/dataset/euroc_dataset.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/lcm_bus.h"
 #include "cvslam/lcm/sensor_convert.h"

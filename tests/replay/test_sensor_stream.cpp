@@ -7,11 +7,11 @@
 #include <map>
 
 #include "cvslam/geometry/euler.h"
-#include "cvslam/io/euroc_dataset_writer.h"
+#include "cvslam/dataset/euroc_dataset_writer.h"
 #include "cvslam/sensors/euroc_sensor_stream.h"
 #include "cvslam/sensors/merged_sensor_source.h"
-#include "cvslam/sensors/render_world_choice.h"
-#include "cvslam/sensors/simulated_sensor_stream.h"
+#include "cvslam/simrun/render_world_choice.h"
+#include "cvslam/simrun/simulated_sensor_stream.h"
 #include "euroc_test_folder.h"
 #include "small_scenario.h"
 #include "test_paths.h"

@@ -10,10 +10,10 @@
 #include <sstream>
 
 #include "core/sim_test_helpers.h"
-#include "cvslam/io/euroc_dataset.h"
+#include "cvslam/dataset/euroc_dataset.h"
 #include "cvslam/sensors/merged_sensor_source.h"
-#include "cvslam/sensors/render_world_choice.h"
-#include "cvslam/sensors/simulated_sensor_stream.h"
+#include "cvslam/simrun/render_world_choice.h"
+#include "cvslam/simrun/simulated_sensor_stream.h"
 #include "cvslam/sim/imu_recording.h"
 #include "euroc_test_folder.h"
 #include "process_util.h"

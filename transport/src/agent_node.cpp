@@ -383,16 +383,10 @@ Status AgentNode::flushRecord(bool final) {
   for (const auto& [stream, n] : by_stream) w.setBytesSent(stream, n);
   w.setBytesSentTotal(coop);
   if (agent_) {
+    // The true landmarks are known only for a simulated world with feature-level frames
+    // (named by true id); image frames name them by visual word.
     LandmarkTruthFn truth;
-    // Feature-level frames name their landmarks by true id: the simulated world knows them.
-    if (calibration_.simulator && feature_frames_ > 0 && image_frames_ == 0) {
-      const auto* landmarks = &calibration_.simulator->landmarks();
-      truth = [landmarks](int64_t id, Eigen::Vector3d* p) {
-        if (id < 0 || id >= static_cast<int64_t>(landmarks->size())) return false;
-        *p = (*landmarks)[static_cast<std::size_t>(id)].p_LinN;
-        return true;
-      };
-    }
+    if (feature_frames_ > 0 && image_frames_ == 0) truth = calibration_.landmark_truth;
     if (Status s = recorder_.writeMap(agent_->slam(), truth); !s.ok()) return s;
   }
   return final ? recorder_.close() : recorder_.flush();

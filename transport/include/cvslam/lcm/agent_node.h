@@ -44,7 +44,7 @@ struct AgentNodeOptions {
   std::size_t frame_queue = 64;
   int64_t boot_id = 0;  ///< random per process start (summary)
   /// Initial 1σ when the filter starts at the first ground truth (EuRoC calibration).
-  sim::InitialUncertainty initial_sigma;
+  InitialUncertainty initial_sigma;
   bool verbose = false;
 
   /// agent.yaml section `agent:` (status_period_s, summary_period_s, flush_period_s,

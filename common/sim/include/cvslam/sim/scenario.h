@@ -1,0 +1,61 @@
+#pragma once
+// A simulation scenario (config/scenarios/*.yaml): seed, duration, world and a team of agents,
+// each with its trajectory, initial-state uncertainty, IMU, stereo camera and pixel noise
+// (thesis §5.9, §6.4). Loaded with the options pattern: every key has a default, errors name
+// the file and the key, unknown keys are errors.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cvslam/camera/stereo_camera.h"
+#include "cvslam/core/status.h"
+#include "cvslam/ins/initial_uncertainty.h"
+#include "cvslam/render/stereo_renderer.h"
+#include "cvslam/render/world.h"
+#include "cvslam/sim/imu_simulator.h"
+#include "cvslam/sim/observation_simulator.h"
+#include "cvslam/sim/trajectory_spec.h"
+#include "cvslam/sim/world.h"
+
+namespace cvslam {
+class ConfigNode;
+}
+
+namespace cvslam::sim {
+
+struct AgentSpec {
+  int id = 1;  ///< agent id (> 0, unique), also selects the agent's RNG streams
+  TrajectorySpec trajectory;
+  InitialUncertainty initial;
+  ImuOptions imu;
+  StereoCameraOptions camera;
+  double camera_rate_hz = 10.0;  ///< stereo frame rate [Hz]
+  PixelNoiseOptions pixel_noise;
+
+  Status load(const ConfigNode& node, const std::string& base_dir);
+};
+
+struct Scenario {
+  std::string name;        ///< free text
+  std::string source;      ///< file it came from
+  uint64_t seed = 1;       ///< master seed: world and every agent stream derive from it
+  double duration = 60.0;  ///< simulated time [s]
+  WorldOptions world;
+  /// Section `render:` — the textured world and renderer options for image sensing
+  /// (`cvslam_run --sensing images`): `render: {world: {kind: aerial, ...}, options: {...}}`
+  /// (cvslam/render/world.h, stereo_renderer.h). Defaults: the `aerial` world, seed 1.
+  ::cvslam::WorldOptions render_world;
+  ::cvslam::RenderOptions render;
+  std::vector<AgentSpec> agents;
+
+  /// Loads and validates a scenario file (also checks that open trajectories last long enough).
+  static Expected<Scenario> loadFile(const std::string& path);
+  /// Same from YAML text; `base_dir` resolves relative file names.
+  static Expected<Scenario> fromString(const std::string& yaml, const std::string& source,
+                                       const std::string& base_dir = ".");
+  Status load(const ConfigNode& node, const std::string& base_dir);
+};
+
+}  // namespace cvslam::sim

@@ -1,0 +1,25 @@
+#pragma once
+// An agent's calibration and filter start taken from a simulated scenario: the agent's
+// camera, its IMU's noise densities, the scenario's initial estimate (the truth, or a sample
+// around it, thesis §6.3.1) and the simulated world's true landmarks. SimulatedTeamRun
+// (cvslam_run) and a scenario-driven cvslam_agent both start their filters through here, so
+// that the in-process and the process paths begin identically.
+
+#include "cvslam/core/status.h"
+#include "cvslam/sim/scenario.h"
+#include "cvslam/sim/simulator.h"
+#include "cvslam/slam/agent_calibration.h"
+#include "cvslam/slam/agent_setup.h"
+
+namespace cvslam {
+
+/// A simulated agent: the IMU's datasheet noise replaces the configured densities when the
+/// simulated IMU is noisy; the state starts at the scenario's initial estimate.
+AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
+                                     const VisualInertialSlamOptions& options);
+
+/// The agent `agent_id` of the scenario (error if it has none by that id).
+Expected<AgentCalibration> calibrationFromScenario(const sim::Scenario& scenario, int agent_id,
+                                                   const VisualInertialSlamOptions& options);
+
+}  // namespace cvslam

@@ -1,0 +1,76 @@
+#pragma once
+// Drives every UAV of a simulated scenario through its own VisualInertialSlam, in dataset-time
+// order and deterministically (DESIGN.md §1: cvslam_run's core, no transport). Each agent also
+// dead-reckons the same IMU data (INS only) for comparison. A callback sees every processed
+// frame; the caller decides what to record.
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "cvslam/core/status.h"
+#include "cvslam/sim/scenario.h"
+#include "cvslam/sim/simulator.h"
+#include "cvslam/slam/agent_pipeline.h"
+#include "cvslam/simrun/frame_sensing.h"
+#include "cvslam/slam/visual_inertial_slam.h"
+
+namespace cvslam {
+
+/// What the callback sees after each processed stereo frame.
+struct SimulatedFrame {
+  int agent_id = 0;
+  int64_t t_us = 0;
+  const sim::GroundTruth* truth = nullptr;   ///< true state at the frame
+  const VisualInertialSlam* slam = nullptr;  ///< the agent's filter after the frame
+  const FrameReport* report = nullptr;       ///< what the frame did
+  const Eigen::VectorXd* x_ins = nullptr;    ///< INS-only state at the frame
+  double time_ms = 0.0;                      ///< wall time of the frame's sensing [ms]
+  const FrameSensing* sensing = nullptr;     ///< the agent's sensing (stats, truth)
+  /// The same filter, writable: cooperation (cvslam_run --mode dc) fuses peer estimates
+  /// into it right after the frame (coop/dc_cooperation.h).
+  VisualInertialSlam* mutable_slam = nullptr;
+};
+
+class SimulatedTeamRun {
+ public:
+  using FrameCallback = std::function<Status(const SimulatedFrame&)>;
+  /// Makes an agent's sensing (frame_sensing.h); null in create(): FeatureSensing.
+  using SensingFactory =
+      std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>;
+
+  /// Builds the simulator and one filter per agent, started at the scenario's initial
+  /// estimate. The filter is told each IMU's datasheet noise (as from a sensor.yaml).
+  /// `sensing` makes each agent's sensing; empty: feature-level (true landmark ids).
+  static Expected<std::unique_ptr<SimulatedTeamRun>> create(
+      const sim::Scenario& scenario, const VisualInertialSlamOptions& options,
+      const SensingFactory& sensing = {});
+
+  /// Runs to the end of the scenario, calling `on_frame` after every frame (a non-ok Status
+  /// from it stops the run and is returned).
+  Status run(const FrameCallback& on_frame);
+
+  std::size_t agentCount() const { return agents_.size(); }
+  const VisualInertialSlam& slam(std::size_t i) const { return agents_[i].pipeline->slam(); }
+  AgentPipeline& pipeline(std::size_t i) { return *agents_[i].pipeline; }
+  const FrameSensing& sensing(std::size_t i) const { return *agents_[i].sensing; }
+  int agentId(std::size_t i) const { return agents_[i].id; }
+  const sim::Simulator& simulator() const { return simulator_; }
+
+ private:
+  // Filter and dead reckoning are the agent process's (agent_pipeline.h), so that
+  // cvslam_agent reproduces this run; only the sensing is simulation's.
+  struct Agent {
+    int id = 0;
+    std::unique_ptr<AgentPipeline> pipeline;
+    std::unique_ptr<FrameSensing> sensing;
+  };
+  SimulatedTeamRun(sim::Simulator simulator) : simulator_(std::move(simulator)) {}
+
+  sim::Simulator simulator_;
+  std::vector<Agent> agents_;
+  std::vector<int> slot_of_id_;  // agent id -> index into agents_ (−1: none)
+};
+
+}  // namespace cvslam

@@ -1,0 +1,47 @@
+#include "cvslam/simrun/scenario_calibration.h"
+
+#include <memory>
+
+namespace cvslam {
+
+AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
+                                     const VisualInertialSlamOptions& options) {
+  VisualInertialSlamOptions agent_options = options;
+  const sim::ImuOptions& imu = agent.spec().imu;
+  if (imu.noise) {
+    agent_options.ins.gyro_noise_density = imu.gyro_noise_density;
+    agent_options.ins.accel_noise_density = imu.accel_noise_density;
+    agent_options.ins.gyro_random_walk = imu.gyro_random_walk;
+    agent_options.ins.accel_random_walk = imu.accel_random_walk;
+  }
+  const sim::InitialEstimate& init = agent.initialEstimate();
+  return initialEstimateSetup(init.state.t_us, init.state.p_BinN, init.state.v_B, init.state.euler, init.sigma,
+                 agent_options);
+}
+
+Expected<AgentCalibration> calibrationFromScenario(const sim::Scenario& scenario, int agent_id,
+                                                   const VisualInertialSlamOptions& options) {
+  auto simulator = sim::Simulator::create(scenario);
+  if (!simulator.ok()) return simulator.status();
+  auto shared = std::make_shared<const sim::Simulator>(std::move(*simulator));
+  const sim::AgentSimulator* agent = shared->agentById(agent_id);
+  if (agent == nullptr) {
+    return Status::Error("scenario " + scenario.source + " has no agent with id " +
+                         std::to_string(agent_id));
+  }
+  AgentCalibration c;
+  c.source = scenario.source + " (agent " + std::to_string(agent_id) + ")";
+  c.camera = agent->camera();
+  c.setup = simulatedAgentSetup(*agent, options);
+  c.options = c.setup->options;
+  // Feature-level frames name their landmarks by true id: the simulated world knows them.
+  c.landmark_truth = [shared](int64_t id, Eigen::Vector3d* p) {
+    const auto& landmarks = shared->landmarks();
+    if (id < 0 || id >= static_cast<int64_t>(landmarks.size())) return false;
+    *p = landmarks[static_cast<std::size_t>(id)].p_LinN;
+    return true;
+  };
+  return c;
+}
+
+}  // namespace cvslam

@@ -1,0 +1,68 @@
+#include "cvslam/simrun/simulated_team_run.h"
+#include "cvslam/simrun/scenario_calibration.h"
+
+#include "cvslam/slam/agent_setup.h"
+
+namespace cvslam {
+
+Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
+    const sim::Scenario& scenario, const VisualInertialSlamOptions& options,
+    const SensingFactory& sensing) {
+  if (auto p = options.filter.policy(); !p.ok()) return p.status();
+  auto simulator = sim::Simulator::create(scenario);
+  if (!simulator.ok()) return simulator.status();
+  std::unique_ptr<SimulatedTeamRun> run(new SimulatedTeamRun(std::move(*simulator)));
+
+  for (std::size_t i = 0; i < run->simulator_.agentCount(); ++i) {
+    const sim::AgentSimulator& as = run->simulator_.agent(i);
+    std::unique_ptr<FrameSensing> agent_sensing;
+    if (sensing) {
+      auto made = sensing(as);
+      if (!made.ok()) {
+        return Status::Error("agent " + std::to_string(as.id()) + ": " + made.status().message());
+      }
+      agent_sensing = std::move(made.value());
+    } else {
+      agent_sensing = std::make_unique<FeatureSensing>(&run->simulator_.landmarks());
+    }
+    auto pipeline = AgentPipeline::create(as.id(), simulatedAgentSetup(as, options), as.camera());
+    if (!pipeline.ok()) return pipeline.status();
+    Agent a{as.id(), std::move(pipeline.value()), std::move(agent_sensing)};
+    if (a.id >= static_cast<int>(run->slot_of_id_.size())) run->slot_of_id_.resize(a.id + 1, -1);
+    run->slot_of_id_[static_cast<std::size_t>(a.id)] = static_cast<int>(run->agents_.size());
+    run->agents_.push_back(std::move(a));
+  }
+  return run;
+}
+
+Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
+  sim::SimEvent ev;
+  while (simulator_.next(ev)) {
+    Agent& a =
+        agents_[static_cast<std::size_t>(slot_of_id_[static_cast<std::size_t>(ev.agent_id)])];
+    AgentPipeline& p = *a.pipeline;
+    if (ev.type == sim::SimEventType::kImu) {
+      if (Status s = p.addImu(ev.imu); !s.ok()) return s;
+      continue;
+    }
+    FrameSensing& sensing = *a.sensing;
+    if (Status s = p.processWith(
+            ev.t_us,
+            [&](VisualInertialSlam& slam, FrameReport* report) {
+              return sensing.processFrame(ev, slam, report);
+            },
+            &sensing.lastObservations());
+        !s.ok()) {
+      return s;
+    }
+    const AgentFrame& last = p.lastFrame();
+    SimulatedFrame f{a.id,          ev.t_us,      &ev.truth,       &p.slam(), &last.report,
+                     &p.insState(), last.time_ms, a.sensing.get(), &p.slam()};
+    if (on_frame) {
+      if (Status s = on_frame(f); !s.ok()) return s;
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace cvslam

@@ -1,0 +1,40 @@
+#pragma once
+// How one agent's filter is set up from its calibration (DESIGN.md §3, §6), shared by
+// cvslam_run (SimulatedTeamRun) and cvslam_agent, so that both start every filter alike:
+//  - options: the agent configuration with the IMU's datasheet noise (as from a sensor.yaml);
+//  - initial state and covariance: the scenario's initial estimate (simulation), or the first
+//    ground-truth pose (thesis §6.3.1: initial poses known in the team's frame) with the
+//    configured initial 1σ (real or recorded data).
+
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "cvslam/core/status.h"
+#include "cvslam/ins/initial_uncertainty.h"
+#include "cvslam/slam/visual_inertial_slam.h"
+
+namespace cvslam {
+
+/// Everything VisualInertialSlam::initialize needs plus the options to construct it with.
+struct AgentFilterSetup {
+  VisualInertialSlamOptions options;
+  int64_t t0_us = 0;
+  Eigen::VectorXd x0;  ///< 9 or 15 entries (options.ins.estimate_imu_bias)
+  Eigen::MatrixXd P0;
+};
+
+/// An agent started at the estimate x0 = [p_BinN, v_B, euler] with P0 = diag(sigma²); the
+/// IMU bias states (options.ins.estimate_imu_bias) start at options.slam's priors.
+AgentFilterSetup initialEstimateSetup(int64_t t_us, const Eigen::Vector3d& p_BinN,
+                                      const Eigen::Vector3d& v_B, const Eigen::Vector3d& euler,
+                                      const InitialUncertainty& sigma,
+                                      const VisualInertialSlamOptions& options);
+
+/// An agent started at a known pose (first ground truth): x0 = [p_BinN, R_NtoB v_N, euler]
+/// with zero biases, P0 = diag(sigma²) (bias states from options.slam).
+AgentFilterSetup knownPoseSetup(int64_t t_us, const Eigen::Vector3d& p_BinN,
+                                const Eigen::Vector3d& v_N, const Eigen::Vector3d& euler,
+                                const InitialUncertainty& sigma,
+                                const VisualInertialSlamOptions& options);
+
+}  // namespace cvslam

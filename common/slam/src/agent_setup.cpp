@@ -1,0 +1,38 @@
+#include "cvslam/slam/agent_setup.h"
+
+#include "cvslam/geometry/euler.h"
+#include "cvslam/ins/vehicle_state_layout.h"
+
+namespace cvslam {
+AgentFilterSetup initialEstimateSetup(int64_t t_us, const Eigen::Vector3d& p, const Eigen::Vector3d& v_B,
+                         const Eigen::Vector3d& euler, const InitialUncertainty& init,
+                         const VisualInertialSlamOptions& options) {
+  AgentFilterSetup s;
+  s.options = options;
+  s.t0_us = t_us;
+  const bool with_bias = options.ins.estimate_imu_bias;
+  const int n = vehicle::size(with_bias);
+  s.x0 = Eigen::VectorXd::Zero(n);
+  s.x0 << p, v_B, euler, Eigen::VectorXd::Zero(n - 9);
+  Eigen::VectorXd sigma = Eigen::VectorXd::Zero(n);
+  sigma << init.position_sigma, init.velocity_sigma, init.attitude_sigma,
+      Eigen::VectorXd::Zero(n - 9);
+  if (with_bias) {
+    s.x0.segment<3>(vehicle::kAccelBias) = options.slam.initial_accel_bias;
+    s.x0.segment<3>(vehicle::kGyroBias) = options.slam.initial_gyro_bias;
+    sigma.segment<3>(vehicle::kAccelBias).setConstant(options.slam.initial_accel_bias_sigma);
+    sigma.segment<3>(vehicle::kGyroBias).setConstant(options.slam.initial_gyro_bias_sigma);
+  }
+  s.P0 = sigma.array().square().matrix().asDiagonal();
+  return s;
+}
+
+AgentFilterSetup knownPoseSetup(int64_t t_us, const Eigen::Vector3d& p_BinN,
+                                const Eigen::Vector3d& v_N, const Eigen::Vector3d& euler,
+                                const InitialUncertainty& sigma,
+                                const VisualInertialSlamOptions& options) {
+  const Eigen::Vector3d v_B = rotationBodyToNav<double>(euler).transpose() * v_N;
+  return initialEstimateSetup(t_us, p_BinN, v_B, euler, sigma, options);
+}
+
+}  // namespace cvslam
