@@ -104,7 +104,7 @@ std::string agentFolder(const std::string& out, int id) {
 
 // Corners of the rendered world's boxes (buildings, machines, pallets): exact 3-D points
 // that the images show, the natural ground truth for a rendered world.
-Status writeLandmarks(const std::string& path, const cvslam::World& world) {
+Status writeLandmarks(const std::string& path, const cvslam::render::World& world) {
   std::ofstream f(path);
   f << "# id, x [m], y [m], z [m]: corners of the rendered world's boxes, NED\n";
   f.precision(17);

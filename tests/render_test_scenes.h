@@ -11,15 +11,15 @@
 
 namespace cvslam::test {
 
-inline std::shared_ptr<const World> makeWorld(WorldKind kind,
-                                              TextureVariant variant = TextureVariant::kHigh,
+inline std::shared_ptr<const render::World> makeWorld(render::WorldKind kind,
+                                              render::TextureVariant variant = render::TextureVariant::kHigh,
                                               uint64_t seed = 1) {
-  WorldOptions o;
+  render::WorldOptions o;
   o.kind = kind;
   o.seed = seed;
   o.texture.seed = seed;
   o.texture.variant = variant;
-  auto world = World::create(o);
+  auto world = render::World::create(o);
   return world.ok() ? *world : nullptr;
 }
 

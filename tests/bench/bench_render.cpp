@@ -18,8 +18,8 @@ namespace {
 
 using cvslam::StereoCamera;
 using cvslam::StereoCameraOptions;
-using cvslam::StereoRenderer;
-using cvslam::WorldKind;
+using cvslam::render::StereoRenderer;
+using cvslam::render::WorldKind;
 
 StereoCamera aerialCamera(int width, int height) {
   StereoCameraOptions o;  // thesis Table 5.6: α = 560, 0.20 m baseline, looking down
@@ -59,7 +59,7 @@ void writeSample(const std::string& path, WorldKind kind, const StereoCamera& ca
   StereoRenderer renderer(cvslam::test::makeWorld(kind), cam);
   const auto [p, e] =
       kind == WorldKind::kAerial ? cvslam::test::aerialPose() : cvslam::test::hallPose();
-  const cvslam::StereoRendering out = renderer.render(p, e);
+  const cvslam::render::StereoRendering out = renderer.render(p, e);
   cv::Mat pair;
   cv::hconcat(out.left.image, out.right.image, pair);
   cv::imwrite(path, pair);

@@ -44,7 +44,7 @@ TEST(AgentPipeline, FeatureLevelEqualsSimulatedTeamRun) {
     sim::SimEvent ev;
     while (sim->next(ev)) {
       if (ev.agent_id != id) continue;
-      if (ev.type == sim::SimEventType::kImu) {
+      if (ev.type == SensorEventType::kImu) {
         ASSERT_TRUE((*agent)->addImu(ev.imu).ok());
       } else {
         ASSERT_TRUE((*agent)->processFeatures(ev.frame).ok());
@@ -172,7 +172,7 @@ TEST(AgentRunRecorder, RecordReadableWhileRunningAndAfter) {
   int frames = 0;
   while (sim->next(ev)) {
     if (ev.agent_id != 1) continue;
-    if (ev.type == sim::SimEventType::kImu) {
+    if (ev.type == SensorEventType::kImu) {
       ASSERT_TRUE((*agent)->addImu(ev.imu).ok());
       continue;
     }

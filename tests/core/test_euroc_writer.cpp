@@ -21,10 +21,10 @@ std::string readAll(const std::string& path) {
 
 TEST(EurocDatasetWriter, RenderedDatasetReadsBackEqual) {
   test::TempFolder tmp;
-  WorldOptions wo;
+  render::WorldOptions wo;
   wo.texture.tile_size = 256;
   wo.texture.tile_count = 2;
-  auto world = World::create(wo);
+  auto world = render::World::create(wo);
   ASSERT_TRUE(world.ok()) << world.status().message();
   StereoCameraOptions cam;
   cam.width = 160;
@@ -32,9 +32,9 @@ TEST(EurocDatasetWriter, RenderedDatasetReadsBackEqual) {
   cam.cx = 80;
   cam.cy = 60;
   cam.p_CinB = {0.1, -0.05, 0.02};
-  RenderOptions ro;
+  render::RenderOptions ro;
   ro.effects.noise_sigma = 2.0;
-  StereoRenderer renderer(*world, StereoCamera(cam), ro);
+  render::StereoRenderer renderer(*world, StereoCamera(cam), ro);
 
   EurocWriterOptions o;
   o.camera = cam;
@@ -42,7 +42,7 @@ TEST(EurocDatasetWriter, RenderedDatasetReadsBackEqual) {
   auto w = EurocDatasetWriter::create(tmp.path(), o);
   ASSERT_TRUE(w.ok()) << w.status().message();
 
-  std::vector<StereoRendering> frames;
+  std::vector<render::StereoRendering> frames;
   std::vector<ImuSample> imu;
   std::vector<EurocGroundTruth> gt;
   const int64_t t0_ns = 1700000000000000000;

@@ -338,7 +338,7 @@ TEST(ImageSlam, ScenarioRenderSectionErrors) {
   EXPECT_FALSE(sim::Scenario::fromString("render: {wrld: {}}\n" + agents, "t.yaml").ok());
   auto hall = sim::Scenario::fromString("render: {world: {kind: hall}}\n" + agents, "t.yaml");
   ASSERT_TRUE(hall.ok());
-  EXPECT_EQ(hall->render_world.kind, WorldKind::kHall);
+  EXPECT_EQ(hall->render_world.kind, render::WorldKind::kHall);
 }
 
 TEST(ImageSlam, ShippedFrontendConfigLoads) {

@@ -4,7 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cvslam/io/config_node.h"
-#include "cvslam/render/seeded_random.h"
+#include "cvslam/core/random.h"
 #include "cvslam/render/stereo_renderer.h"
 #include "render_test_scenes.h"
 
@@ -22,29 +22,29 @@ double meanOf(const cv::Mat& m) {
 
 TEST(StereoRenderer, SameSeedAndPoseGiveIdenticalImages) {
   const StereoCamera cam;
-  StereoRenderer a(makeWorld(WorldKind::kAerial), cam);
-  StereoRenderer b(makeWorld(WorldKind::kAerial), cam);
+  render::StereoRenderer a(makeWorld(render::WorldKind::kAerial), cam);
+  render::StereoRenderer b(makeWorld(render::WorldKind::kAerial), cam);
   const auto [p, e] = aerialPose();
-  const StereoRendering ra = a.render(p, e, 3), rb = b.render(p, e, 3);
+  const render::StereoRendering ra = a.render(p, e, 3), rb = b.render(p, e, 3);
   EXPECT_EQ(cv::norm(ra.left.image, rb.left.image, cv::NORM_INF), 0.0);
   EXPECT_EQ(cv::norm(ra.right.image, rb.right.image, cv::NORM_INF), 0.0);
   // And a different seed gives a different world.
-  StereoRenderer c(makeWorld(WorldKind::kAerial, TextureVariant::kHigh, 2), cam);
+  render::StereoRenderer c(makeWorld(render::WorldKind::kAerial, render::TextureVariant::kHigh, 2), cam);
   EXPECT_GT(cv::norm(ra.left.image, c.render(p, e, 3).left.image, cv::NORM_L1), 0.0);
 }
 
 TEST(StereoRenderer, NoisyRenderingIsDeterministicPerFrame) {
-  RenderOptions o;
+  render::RenderOptions o;
   o.effects.noise_sigma = 3.0;
-  StereoRenderer r(makeWorld(WorldKind::kAerial), StereoCamera(), o);
+  render::StereoRenderer r(makeWorld(render::WorldKind::kAerial), StereoCamera(), o);
   const auto [p, e] = aerialPose();
   EXPECT_EQ(cv::norm(r.render(p, e, 7).left.image, r.render(p, e, 7).left.image, cv::NORM_INF), 0);
   EXPECT_GT(cv::norm(r.render(p, e, 7).left.image, r.render(p, e, 8).left.image, cv::NORM_INF), 0);
 }
 
 TEST(StereoRenderer, AerialGroundIsTenMetresBelowAtTakeOff) {
-  StereoRenderer r(makeWorld(WorldKind::kAerial), StereoCamera());
-  const StereoRendering out = r.render({0, 0, -10}, {0, 0, 0});
+  render::StereoRenderer r(makeWorld(render::WorldKind::kAerial), StereoCamera());
+  const render::StereoRendering out = r.render({0, 0, -10}, {0, 0, 0});
   const auto centre = out.left.surfaceAt(160, 120);
   ASSERT_TRUE(centre.has_value());
   EXPECT_NEAR(centre->p_N.z(), 0.0, 1e-6);  // the terrain is shifted to D = 0 at the origin
@@ -54,10 +54,10 @@ TEST(StereoRenderer, AerialGroundIsTenMetresBelowAtTakeOff) {
 }
 
 // Pixel → 3-D ground truth must agree with StereoCamera's projection in both images.
-void checkGroundTruth(WorldKind kind, const StereoCamera& cam, const Eigen::Vector3d& p_BinN,
+void checkGroundTruth(render::WorldKind kind, const StereoCamera& cam, const Eigen::Vector3d& p_BinN,
                       const Eigen::Vector3d& euler) {
-  StereoRenderer r(makeWorld(kind), cam);
-  const StereoRendering out = r.render(p_BinN, euler);
+  render::StereoRenderer r(makeWorld(kind), cam);
+  const render::StereoRendering out = r.render(p_BinN, euler);
   int checked = 0, agreed = 0;
   double worst_px = 0.0;
   const int w = cam.options().width, h = cam.options().height;
@@ -85,18 +85,18 @@ void checkGroundTruth(WorldKind kind, const StereoCamera& cam, const Eigen::Vect
 
 TEST(StereoRenderer, GroundTruthMatchesProjectionAerial) {
   const auto [p, e] = aerialPose();
-  checkGroundTruth(WorldKind::kAerial, StereoCamera(), p, e);
+  checkGroundTruth(render::WorldKind::kAerial, StereoCamera(), p, e);
 }
 
 TEST(StereoRenderer, GroundTruthMatchesProjectionHall) {
   const auto [p, e] = hallPose();
-  checkGroundTruth(WorldKind::kHall, euroCCamera(), p, e);
+  checkGroundTruth(render::WorldKind::kHall, euroCCamera(), p, e);
 }
 
 TEST(StereoRenderer, HallIsClosedAndWithinItsWalls) {
-  StereoRenderer r(makeWorld(WorldKind::kHall), euroCCamera());
+  render::StereoRenderer r(makeWorld(render::WorldKind::kHall), euroCCamera());
   const auto [p, e] = hallPose();
-  const StereoRendering out = r.render(p, e);
+  const render::StereoRendering out = r.render(p, e);
   EXPECT_EQ(cv::countNonZero(out.left.triangle_ids < 0), 0);  // no sky indoors
   const cv::Mat1f depth = out.left.depthMap();
   double lo = 0, hi = 0;
@@ -112,11 +112,11 @@ int fastCount(const cv::Mat& image) {
 }
 
 TEST(StereoRenderer, LowTextureHasFarFewerFeatures) {
-  for (WorldKind kind : {WorldKind::kAerial, WorldKind::kHall}) {
-    const StereoCamera cam = kind == WorldKind::kAerial ? StereoCamera() : euroCCamera();
-    const auto pose = kind == WorldKind::kAerial ? aerialPose() : hallPose();
-    StereoRenderer high(makeWorld(kind, TextureVariant::kHigh), cam);
-    StereoRenderer low(makeWorld(kind, TextureVariant::kLow), cam);
+  for (render::WorldKind kind : {render::WorldKind::kAerial, render::WorldKind::kHall}) {
+    const StereoCamera cam = kind == render::WorldKind::kAerial ? StereoCamera() : euroCCamera();
+    const auto pose = kind == render::WorldKind::kAerial ? aerialPose() : hallPose();
+    render::StereoRenderer high(makeWorld(kind, render::TextureVariant::kHigh), cam);
+    render::StereoRenderer low(makeWorld(kind, render::TextureVariant::kLow), cam);
     const int n_high = fastCount(high.render(pose.first, pose.second).left.image);
     const int n_low = fastCount(low.render(pose.first, pose.second).left.image);
     EXPECT_GT(n_high, 100);
@@ -126,22 +126,22 @@ TEST(StereoRenderer, LowTextureHasFarFewerFeatures) {
 
 TEST(StereoRenderer, ExposureScalesBrightness) {
   const auto [p, e] = aerialPose();
-  RenderOptions dark;
+  render::RenderOptions dark;
   dark.effects.exposure = 0.5;
   const cv::Mat nominal =
-      StereoRenderer(makeWorld(WorldKind::kAerial), StereoCamera()).render(p, e).left.image;
+      render::StereoRenderer(makeWorld(render::WorldKind::kAerial), StereoCamera()).render(p, e).left.image;
   const cv::Mat darker =
-      StereoRenderer(makeWorld(WorldKind::kAerial), StereoCamera(), dark).render(p, e).left.image;
+      render::StereoRenderer(makeWorld(render::WorldKind::kAerial), StereoCamera(), dark).render(p, e).left.image;
   EXPECT_NEAR(meanOf(darker) / meanOf(nominal), 0.5, 0.02);
 }
 
 TEST(StereoRenderer, NoiseHasTheRequestedSigmaAndBlurSmooths) {
   const auto [p, e] = aerialPose();
-  auto world = makeWorld(WorldKind::kAerial);
-  const cv::Mat clean = StereoRenderer(world, StereoCamera()).render(p, e).left.image;
-  RenderOptions noisy;
+  auto world = makeWorld(render::WorldKind::kAerial);
+  const cv::Mat clean = render::StereoRenderer(world, StereoCamera()).render(p, e).left.image;
+  render::RenderOptions noisy;
   noisy.effects.noise_sigma = 4.0;
-  const cv::Mat n = StereoRenderer(world, StereoCamera(), noisy).render(p, e).left.image;
+  const cv::Mat n = render::StereoRenderer(world, StereoCamera(), noisy).render(p, e).left.image;
   cv::Mat diff;
   cv::subtract(n, clean, diff, cv::noArray(), CV_32F);
   cv::Scalar mean, stddev;
@@ -149,9 +149,9 @@ TEST(StereoRenderer, NoiseHasTheRequestedSigmaAndBlurSmooths) {
   EXPECT_NEAR(stddev[0], 4.0, 0.3);
   EXPECT_NEAR(mean[0], 0.0, 0.2);
 
-  RenderOptions blurred;
+  render::RenderOptions blurred;
   blurred.effects.blur_sigma = 1.5;
-  const cv::Mat b = StereoRenderer(world, StereoCamera(), blurred).render(p, e).left.image;
+  const cv::Mat b = render::StereoRenderer(world, StereoCamera(), blurred).render(p, e).left.image;
   auto sharpness = [](const cv::Mat& img) {
     cv::Mat lap;
     cv::Laplacian(img, lap, CV_32F);
@@ -169,13 +169,13 @@ TEST(StereoRenderer, OptionsLoadFromYaml) {
       "render: {far: 50, effects: {exposure: 0.8, noise_sigma: 2}}",
       "scene.yaml");
   ASSERT_TRUE(cfg.ok());
-  WorldOptions w;
-  RenderOptions r;
+  render::WorldOptions w;
+  render::RenderOptions r;
   ASSERT_TRUE(w.load(cfg->child("world")).ok()) << cfg->status().message();
   ASSERT_TRUE(r.load(cfg->child("render")).ok()) << cfg->status().message();
   EXPECT_TRUE(cfg->finish().ok()) << cfg->finish().message();
-  EXPECT_EQ(w.kind, WorldKind::kHall);
-  EXPECT_EQ(w.texture.variant, TextureVariant::kLow);
+  EXPECT_EQ(w.kind, render::WorldKind::kHall);
+  EXPECT_EQ(w.texture.variant, render::TextureVariant::kLow);
   EXPECT_EQ(w.texture.tile_size, 256);
   EXPECT_EQ(w.hall.tall_boxes, 3);
   EXPECT_DOUBLE_EQ(r.far, 50.0);
@@ -183,7 +183,7 @@ TEST(StereoRenderer, OptionsLoadFromYaml) {
 
   auto bad = ConfigNode::fromString("world: {kind: moon, texture: {tile_size: 1000}}", "b.yaml");
   ASSERT_TRUE(bad.ok());
-  WorldOptions wb;
+  render::WorldOptions wb;
   const Status s = wb.load(bad->child("world"));
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.message().find("b.yaml: world.kind"), std::string::npos) << s.message();
@@ -199,11 +199,11 @@ namespace {
 // coordinates from the material, tile and mirroring from the cell hash, mip level 0 (10 m
 // above ground with α = 560: 1.8 cm pixels on 1.5 cm texels).
 TEST(StereoRenderer, ShadingMatchesTheMaterialAtTheTruePoint) {
-  auto world = test::makeWorld(WorldKind::kAerial);
-  StereoRenderer r(world, StereoCamera());
+  auto world = test::makeWorld(render::WorldKind::kAerial);
+  render::StereoRenderer r(world, StereoCamera());
   const auto [p, e] = test::aerialPose();
-  const StereoRendering out = r.render(p, e);
-  const TextureBank& bank = world->textures();
+  const render::StereoRendering out = r.render(p, e);
+  const render::TextureBank& bank = world->textures();
   const double tile = bank.tileSize(), texel = world->texelSize();
   int checked = 0, agreed = 0;
   for (int v = 1; v < 240; v += 7) {
@@ -212,7 +212,7 @@ TEST(StereoRenderer, ShadingMatchesTheMaterialAtTheTruePoint) {
       ASSERT_GE(id, 0);
       const auto pt = out.left.surfaceAt(u, v);
       ASSERT_TRUE(pt.has_value());
-      const SurfaceMaterial& m =
+      const render::SurfaceMaterial& m =
           world->materials()[static_cast<std::size_t>(world->terrainMaterial())];
       const double s = (m.axis_s.dot(pt->p_N) + m.offset_s) / texel;
       const double t = (m.axis_t.dot(pt->p_N) + m.offset_t) / texel;

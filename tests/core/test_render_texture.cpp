@@ -4,7 +4,7 @@
 
 #include <opencv2/features2d.hpp>
 
-#include "cvslam/render/seeded_random.h"
+#include "cvslam/core/random.h"
 
 namespace cvslam {
 namespace {
@@ -24,15 +24,15 @@ float referenceSample(const cv::Mat& m, float s, float t, int level) {
 }
 
 TEST(TextureBank, BlockedSamplingMatchesTheMipImages) {
-  TextureOptions o;
+  render::TextureOptions o;
   o.tile_size = 256;
   o.tile_count = 2;
-  auto bank = TextureBank::create(o);
+  auto bank = render::TextureBank::create(o);
   ASSERT_TRUE(bank.ok());
   EXPECT_EQ(bank->levels(), 6);  // 256 … 8
-  SeededRandom rng(3);
+  Rng rng(3);
   for (int k = 0; k < 2000; ++k) {
-    const int tile = rng.index(2), level = rng.index(bank->levels());
+    const int tile = static_cast<int>(rng.below(2)), level = static_cast<int>(rng.below(bank->levels()));
     const auto s = static_cast<float>(rng.uniform(0, 256)),
                t = static_cast<float>(rng.uniform(0, 256));
     ASSERT_NEAR(bank->sample(tile, level, s, t),
@@ -42,12 +42,12 @@ TEST(TextureBank, BlockedSamplingMatchesTheMipImages) {
 }
 
 TEST(TextureBank, VariantsDifferInCornerCount) {
-  TextureOptions o;
+  render::TextureOptions o;
   o.tile_size = 512;
   o.tile_count = 1;
-  auto high = TextureBank::create(o);
-  o.variant = TextureVariant::kLow;
-  auto low = TextureBank::create(o);
+  auto high = render::TextureBank::create(o);
+  o.variant = render::TextureVariant::kLow;
+  auto low = render::TextureBank::create(o);
   ASSERT_TRUE(high.ok() && low.ok());
   std::vector<cv::KeyPoint> kh, kl;
   cv::FAST(high->tile(0, 0), kh, 20);

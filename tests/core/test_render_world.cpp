@@ -27,9 +27,9 @@ std::vector<Eigen::Vector3d> machineHallTrajectoryInN(const std::string& name) {
 }
 
 TEST(World, HallEnclosesEveryMachineHallTrajectoryWithoutCollisions) {
-  auto world = test::makeWorld(WorldKind::kHall);
+  auto world = test::makeWorld(render::WorldKind::kHall);
   ASSERT_TRUE(world);
-  const HallWorldOptions& h = world->options().hall;
+  const render::HallWorldOptions& h = world->options().hall;
   ASSERT_FALSE(world->boxes().empty());
   for (const char* seq : {"MH_01_easy", "MH_02_easy", "MH_03_medium"}) {
     const auto traj = machineHallTrajectoryInN(seq);
@@ -37,20 +37,20 @@ TEST(World, HallEnclosesEveryMachineHallTrajectoryWithoutCollisions) {
     for (const Eigen::Vector3d& p : traj) {
       ASSERT_TRUE(((p - h.min_N).array() > 1.0).all() && ((h.max_N - p).array() > 0.5).all())
           << seq << " leaves the hall at " << p.transpose();
-      for (const WorldBox& b : world->boxes())
+      for (const render::WorldBox& b : world->boxes())
         ASSERT_FALSE(b.contains(p, 0.2)) << seq << " hits a box at " << p.transpose();
     }
   }
 }
 
 TEST(World, AerialTerrainIsAtZeroUnderTheOriginAndBuildingsStandOnIt) {
-  auto world = test::makeWorld(WorldKind::kAerial);
+  auto world = test::makeWorld(render::WorldKind::kAerial);
   ASSERT_TRUE(world && world->terrain());
-  const Heightfield& t = *world->terrain();
+  const render::Heightfield& t = *world->terrain();
   EXPECT_NEAR(t.downAt(0, 0), 0.0, 1e-12);
   EXPECT_LT(t.maxDown() - t.minDown(), 20.0);
   EXPECT_EQ(world->boxes().size(), 60u);
-  for (const WorldBox& b : world->boxes()) {
+  for (const render::WorldBox& b : world->boxes()) {
     const Eigen::Vector3d c = 0.5 * (b.lo_N + b.hi_N);
     EXPECT_GT(c.head<2>().norm(), world->options().aerial.clear_radius);
     EXPECT_LT(b.lo_N.z(), t.downAt(c.x(), c.y()));  // top above the ground
@@ -60,7 +60,7 @@ TEST(World, AerialTerrainIsAtZeroUnderTheOriginAndBuildingsStandOnIt) {
 
 TEST(World, HeightfieldInterpolatesOnItsTriangles) {
   // Vertex heights 0, 1, 2, 3 at (0,0), (1,0), (0,1), (1,1): the split runs (0,0)–(1,1).
-  Heightfield h(0, 0, 1.0, 1, 1, {0.0, 1.0, 2.0, 3.0});
+  render::Heightfield h(0, 0, 1.0, 1, 1, {0.0, 1.0, 2.0, 3.0});
   EXPECT_DOUBLE_EQ(h.downAt(0.5, 0.5), 1.5);
   EXPECT_DOUBLE_EQ(h.downAt(0.75, 0.25), 0.75 * 1.0 + 0.25 * 2.0);  // lower: z00 + fx·1 + fy·2
   EXPECT_DOUBLE_EQ(h.downAt(0.25, 0.75), 0.75 * 2.0 + 0.25 * 1.0);  // upper: z00 + fy·2 + fx·1
@@ -68,7 +68,7 @@ TEST(World, HeightfieldInterpolatesOnItsTriangles) {
 }
 
 TEST(World, SameOptionsSameWorld) {
-  auto a = test::makeWorld(WorldKind::kHall), b = test::makeWorld(WorldKind::kHall);
+  auto a = test::makeWorld(render::WorldKind::kHall), b = test::makeWorld(render::WorldKind::kHall);
   ASSERT_EQ(a->triangles().size(), b->triangles().size());
   for (std::size_t i = 0; i < a->triangles().size(); ++i)
     for (int k = 0; k < 3; ++k) EXPECT_EQ(a->triangles()[i].p_N[k], b->triangles()[i].p_N[k]);

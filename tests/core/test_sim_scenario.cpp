@@ -117,15 +117,15 @@ TEST(SimSimulator, StreamIsOrderedAndComplete) {
   SimEvent e;
   int64_t last = -1;
   int imu = 0, frames = 0;
-  SimEventType last_type = SimEventType::kFrame;
+  SensorEventType last_type = SensorEventType::kFeatures;
   while (sim->next(e)) {
     EXPECT_GE(e.t_us, last);
     if (e.t_us == last) {
-      EXPECT_FALSE(e.type == SimEventType::kImu && last_type == SimEventType::kFrame);
+      EXPECT_FALSE(e.type == SensorEventType::kImu && last_type == SensorEventType::kFeatures);
     }
     last = e.t_us;
     last_type = e.type;
-    if (e.type == SimEventType::kImu) {
+    if (e.type == SensorEventType::kImu) {
       ++imu;
       EXPECT_EQ(e.imu.t_us, e.t_us);
     } else {
@@ -152,7 +152,7 @@ std::vector<double> digest(Simulator& sim, int agent_id) {
   SimEvent e;
   while (sim.next(e)) {
     if (e.agent_id != agent_id) continue;
-    if (e.type == SimEventType::kImu) {
+    if (e.type == SensorEventType::kImu) {
       for (int i = 0; i < 3; ++i) d.push_back(e.imu.accel_B(i) + e.imu.gyro_B(i));
     } else {
       for (const auto& o : e.frame.observations) d.push_back(o.index + o.z.sum());
@@ -197,7 +197,7 @@ TEST(SimSimulator, ThesisLoopSpeed) {
   SimEvent e;
   std::size_t obs = 0, frames = 0;
   while (sim->next(e)) {
-    if (e.type == SimEventType::kFrame) {
+    if (e.type == SensorEventType::kFeatures) {
       obs += e.frame.observations.size();
       ++frames;
     }
@@ -264,7 +264,7 @@ TEST(SimSimulator, ThesisLoopSharedAndReobservedLandmarks) {
   std::vector<double> uav1_loop_times, uav2_own_revisits, shared_times;
   SimEvent e;
   while (sim->next(e)) {
-    if (e.type != SimEventType::kFrame) continue;
+    if (e.type != SensorEventType::kFeatures) continue;
     const double t = 1e-6 * static_cast<double>(e.t_us);
     auto& mine = e.agent_id == 1 ? first1 : first2;
     for (const auto& o : e.frame.observations) {

@@ -61,7 +61,7 @@ TEST(ImuRecording, EurocHallScenarioPlaysTheRealMh03Imu) {
   int n = 0;
   double mean_norm = 0.0, mean_up = 0.0;
   while (uav3.next(e)) {
-    if (e.type != SimEventType::kImu) continue;
+    if (e.type != SensorEventType::kImu) continue;
     const ImuSample want = (*rec)->sampleAt(tum_start + 1e-6 * static_cast<double>(e.t_us), e.t_us);
     EXPECT_LT((e.imu.accel_B - want.accel_B).norm(), 1e-9) << e.t_us;
     EXPECT_LT((e.imu.gyro_B - want.gyro_B).norm(), 1e-9) << e.t_us;
@@ -76,7 +76,7 @@ TEST(ImuRecording, EurocHallScenarioPlaysTheRealMh03Imu) {
   // Synthesised UAV 1 is not the recording.
   SimEvent e1;
   ASSERT_TRUE(sim->agent(0).next(e1));
-  EXPECT_EQ(e1.type, SimEventType::kImu);
+  EXPECT_EQ(e1.type, SensorEventType::kImu);
 }
 
 TEST(ImuRecording, RecordingMustCoverTheRun) {

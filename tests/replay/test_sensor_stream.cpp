@@ -175,17 +175,17 @@ TEST(SensorStream, EurocStreamReportsBrokenImages) {
 TEST(RenderWorldChoice, OutdoorScenariosGoAerialTumScenariosGoToTheHall) {
   auto aerial = chooseRenderWorld(smallScenario(1.0), "");
   ASSERT_TRUE(aerial.ok());
-  EXPECT_EQ(aerial->options.kind, WorldKind::kAerial);
+  EXPECT_EQ(aerial->options.kind, render::WorldKind::kAerial);
   EXPECT_NE(aerial->reason.find("outdoor"), std::string::npos);
   auto hall = sim::Scenario::loadFile(test::sourceDir() + "/config/scenarios/euroc_mh03_hall.yaml");
   ASSERT_TRUE(hall.ok()) << hall.status().message();
   auto choice = chooseRenderWorld(*hall, "");
   ASSERT_TRUE(choice.ok());
-  EXPECT_EQ(choice->options.kind, WorldKind::kHall);
+  EXPECT_EQ(choice->options.kind, render::WorldKind::kHall);
   EXPECT_EQ(choice->options.seed, hall->seed);
   auto forced = chooseRenderWorld(*hall, "aerial");
   ASSERT_TRUE(forced.ok());
-  EXPECT_EQ(forced->options.kind, WorldKind::kAerial);
+  EXPECT_EQ(forced->options.kind, render::WorldKind::kAerial);
   auto bad = chooseRenderWorld(*hall, "moon");
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("moon"), std::string::npos);

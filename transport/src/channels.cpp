@@ -30,6 +30,16 @@ std::optional<int32_t> parseId(const std::string& text) {
 
 }  // namespace
 
+Stream channelStream(SensorEventType type) {
+  switch (type) {
+    case SensorEventType::kImu: return Stream::kImu;
+    case SensorEventType::kGroundTruth: return Stream::kGroundTruth;
+    case SensorEventType::kStereoImage: return Stream::kStereo;
+    case SensorEventType::kFeatures: return Stream::kFeatures;
+  }
+  return Stream::kImu;  // unreachable: every enumerator is handled above
+}
+
 bool isPerAgent(Stream stream) {
   return stream != Stream::kTeamSummary && stream != Stream::kGsMap;
 }

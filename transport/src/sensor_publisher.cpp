@@ -16,29 +16,30 @@ Status SensorPublisher::send(const std::string& channel, Msg& msg) {
 }
 
 Status SensorPublisher::publish(const SensorEvent& e) {
+  const std::string channel = channelName(channelStream(e.type), e.agent_id);
   switch (e.type) {
     case SensorEventType::kImu: {
       ImuSample sample = e.imu;
       sample.t_us = e.t_us;
       cvslam::imu_t msg = toMessage(sample, options_.sender_id);
-      return send(channels::imu(e.agent_id), msg);
+      return send(channel, msg);
     }
     case SensorEventType::kGroundTruth: {
       if (!options_.ground_truth) return Status::Ok();
       cvslam::pose_t msg = toPoseMessage(e.truth, e.t_us, options_.sender_id);
-      return send(channels::groundTruth(e.agent_id), msg);
+      return send(channel, msg);
     }
     case SensorEventType::kStereoImage: {
       auto msg = toStereoMessage(e.left, e.right, e.t_us, options_.sender_id, options_.png);
       if (!msg.ok()) return msg.status();
-      return send(channels::stereo(e.agent_id), *msg);
+      return send(channel, *msg);
     }
     case SensorEventType::kFeatures: {
       StereoFrameObservations frame = e.features;
       frame.t_us = e.t_us;
       auto msg = toMessage(frame, options_.sender_id);
       if (!msg.ok()) return msg.status();
-      return send(channels::features(e.agent_id), *msg);
+      return send(channel, *msg);
     }
   }
   return Status::Error("unknown sensor event type");

@@ -4,14 +4,14 @@
 
 #include <cmath>
 
-#include "cvslam/render/seeded_random.h"
+#include "cvslam/core/random.h"
 #include "world_builders.h"
 
-namespace cvslam::detail {
+namespace cvslam::render::detail {
 namespace {
 
 // Smooth random field over an (n+1)×(n+1) vertex grid with about `waves` periods across it.
-cv::Mat1d smoothField(SeededRandom& rng, int n, double waves) {
+cv::Mat1d smoothField(Rng& rng, int n, double waves) {
   const int cells = std::max(2, static_cast<int>(std::ceil(waves)) + 1);
   cv::Mat1d small(cells, cells);
   for (int r = 0; r < cells; ++r)
@@ -25,7 +25,7 @@ cv::Mat1d smoothField(SeededRandom& rng, int n, double waves) {
 
 Status buildAerialWorld(const WorldOptions& options, World& world) {
   const AerialWorldOptions& o = options.aerial;
-  SeededRandom rng(mixBits(options.seed ^ 0xAE121A1ull));
+  Rng rng(mixBits(options.seed ^ 0xAE121A1ull));
   const int n = std::max(1, static_cast<int>(std::lround(o.size / o.cell)));
   const double half = 0.5 * n * o.cell;
 
@@ -45,7 +45,7 @@ Status buildAerialWorld(const WorldOptions& options, World& world) {
 
   SurfaceMaterial ground;
   ground.brightness = 0.9f;
-  ground.salt = rng.next();
+  ground.salt = rng.nextU64();
   world.setTerrain(terrain, world.addMaterial(ground));
 
   for (int b = 0; b < o.buildings; ++b) {
@@ -69,9 +69,9 @@ Status buildAerialWorld(const WorldOptions& options, World& world) {
         low = std::max(low, z);
       }
     world.addBox({c.x() - 0.5 * w, c.y() - 0.5 * d, high - h},
-                 {c.x() + 0.5 * w, c.y() + 0.5 * d, low + 0.5}, rng.next());
+                 {c.x() + 0.5 * w, c.y() + 0.5 * d, low + 0.5}, rng.nextU64());
   }
   return Status::Ok();
 }
 
-}  // namespace cvslam::detail
+}  // namespace cvslam::render::detail

@@ -3,9 +3,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cvslam/io/config_node.h"
-#include "cvslam/render/seeded_random.h"
+#include "cvslam/core/random.h"
 
-namespace cvslam {
+namespace cvslam::render {
 
 Status ImageEffectsOptions::load(const ConfigNode& node) {
   node.get("exposure", exposure);
@@ -32,4 +32,4 @@ void applyImageEffects(const ImageEffectsOptions& o, uint64_t stream, cv::Mat& i
   }
 }
 
-}  // namespace cvslam
+}  // namespace cvslam::render

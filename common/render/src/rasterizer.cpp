@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace cvslam {
+namespace cvslam::render {
 
 Rasterizer::Rasterizer(const PinholeIntrinsics& k, double near, double far)
     : k_(k), near_(near), far_(far), inv_depth_(k.height, k.width), ids_(k.height, k.width) {
@@ -122,4 +122,4 @@ void Rasterizer::fillConvexPolygon(const Eigen::Vector2d* q, int n, const Eigen:
   }
 }
 
-}  // namespace cvslam
+}  // namespace cvslam::render

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-namespace cvslam {
+namespace cvslam::render {
 
 std::optional<SurfacePoint> RenderedImage::surfaceAt(double u, double v) const {
   const int i = static_cast<int>(std::lround(u));
@@ -31,4 +31,4 @@ cv::Mat1f RenderedImage::depthMap() const {
   return depth;
 }
 
-}  // namespace cvslam
+}  // namespace cvslam::render

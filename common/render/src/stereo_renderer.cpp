@@ -7,9 +7,9 @@
 
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/config_node.h"
-#include "cvslam/render/seeded_random.h"
+#include "cvslam/core/random.h"
 
-namespace cvslam {
+namespace cvslam::render {
 namespace {
 
 // Texture mapping of one material in the current camera, in texels:
@@ -279,4 +279,4 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
   }
 }
 
-}  // namespace cvslam
+}  // namespace cvslam::render

@@ -5,9 +5,9 @@
 #include <array>
 
 #include "cvslam/io/config_node.h"
-#include "cvslam/render/seeded_random.h"
+#include "cvslam/core/random.h"
 
-namespace cvslam {
+namespace cvslam::render {
 namespace {
 
 struct VariantParams {
@@ -22,7 +22,7 @@ VariantParams paramsFor(TextureVariant v) {
   return {{0.05, 0.025, 0.01, 0.0}, 0.015, 0.10};
 }
 
-void addValueNoise(SeededRandom& rng, int cells, double amplitude, cv::Mat1f& img) {
+void addValueNoise(Rng& rng, int cells, double amplitude, cv::Mat1f& img) {
   if (amplitude <= 0.0) return;
   cv::Mat1f small(cells, cells);
   for (int r = 0; r < cells; ++r)
@@ -33,14 +33,14 @@ void addValueNoise(SeededRandom& rng, int cells, double amplitude, cv::Mat1f& im
 }
 
 // One opaque shape: a disk, a rotated rectangle or a triangle of radius ~r texels.
-void addShape(SeededRandom& rng, int n, double r, double contrast, cv::Mat1f& img) {
+void addShape(Rng& rng, int n, double r, double contrast, cv::Mat1f& img) {
   const cv::Point2d centre(rng.uniform(0, n), rng.uniform(0, n));
   const double radius = r * rng.uniform(0.5, 1.0);
   const cv::Scalar grey(0.5 + contrast * rng.uniform(-1.0, 1.0));
   // Shapes are drawn with 4 bits of sub-pixel precision so their corners are not snapped.
   constexpr int kShift = 4;
   constexpr double kScale = 1 << kShift;
-  const int kind = rng.index(3);
+  const int kind = static_cast<int>(rng.below(3));
   if (kind == 0) {
     cv::circle(img, cv::Point(cvRound(centre.x * kScale), cvRound(centre.y * kScale)),
                cvRound(radius * kScale), grey, cv::FILLED, cv::LINE_AA, kShift);
@@ -60,7 +60,7 @@ void addShape(SeededRandom& rng, int n, double r, double contrast, cv::Mat1f& im
 }
 
 cv::Mat makeTile(uint64_t seed, int n, const VariantParams& p) {
-  SeededRandom rng(seed);
+  Rng rng(seed);
   cv::Mat1f img(n, n, 0.5f);
   const std::array<int, 4> cells = {4, 16, 64, 256};
   for (std::size_t k = 0; k < cells.size(); ++k)
@@ -133,4 +133,4 @@ Expected<TextureBank> TextureBank::create(const TextureOptions& o) {
   return bank;
 }
 
-}  // namespace cvslam
+}  // namespace cvslam::render

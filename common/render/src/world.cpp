@@ -3,10 +3,10 @@
 #include <Eigen/Geometry>
 
 #include "cvslam/io/config_node.h"
-#include "cvslam/render/seeded_random.h"
+#include "cvslam/core/random.h"
 #include "world_builders.h"
 
-namespace cvslam {
+namespace cvslam::render {
 
 Status AerialWorldOptions::load(const ConfigNode& node) {
   node.get("size", size);
@@ -78,7 +78,7 @@ void World::setTerrain(Heightfield terrain, int material) {
 void World::addBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, uint64_t salt,
                    bool inward) {
   if (!inward) boxes_.push_back({lo, hi});
-  SeededRandom rng(salt);
+  Rng rng(salt);
   for (int axis = 0; axis < 3; ++axis) {
     for (int side = 0; side < 2; ++side) {
       Eigen::Vector3d n = Eigen::Vector3d::Zero();
@@ -94,7 +94,7 @@ void World::addBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, uint64_
       m.offset_s = rng.uniform(0.0, 1000.0);
       m.offset_t = rng.uniform(0.0, 1000.0);
       m.brightness = sunShading(inward ? Eigen::Vector3d(-n) : n);
-      m.salt = rng.next();
+      m.salt = rng.nextU64();
       const int mat = addMaterial(m);
       const double c = side == 0 ? lo(axis) : hi(axis);
       auto corner = [&](double u, double v) {
@@ -126,4 +126,4 @@ Expected<std::shared_ptr<const World>> World::create(const WorldOptions& options
   return std::shared_ptr<const World>(std::move(world));
 }
 
-}  // namespace cvslam
+}  // namespace cvslam::render

@@ -4,9 +4,9 @@
 #include "cvslam/core/status.h"
 #include "cvslam/render/world.h"
 
-namespace cvslam::detail {
+namespace cvslam::render::detail {
 
 Status buildAerialWorld(const WorldOptions& options, World& world);
 Status buildHallWorld(const WorldOptions& options, World& world);
 
-}  // namespace cvslam::detail
+}  // namespace cvslam::render::detail

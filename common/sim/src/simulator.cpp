@@ -90,13 +90,13 @@ bool AgentSimulator::next(SimEvent& event) {
   event.agent_id = spec_.id;
   event.t_us = t;
   if (next_imu_us_ <= next_cam_us_) {  // IMU first at equal times
-    event.type = SimEventType::kImu;
+    event.type = SensorEventType::kImu;
     event.imu = imu_.sample(t);
     event.frame = StereoFrameObservations();
     next_imu_us_ += imu_period_us_;
     return true;
   }
-  event.type = SimEventType::kFrame;
+  event.type = SensorEventType::kFeatures;
   const TrajectoryState s =
       trajectory_->state(1e-6 * static_cast<double>(t) + spec_.trajectory.time_offset);
   event.frame = observer_.observe(t, s, *world_);

@@ -7,7 +7,7 @@ Expected<RenderWorldChoice> chooseRenderWorld(const sim::Scenario& scenario,
   RenderWorldChoice choice;
   choice.options.seed = scenario.seed;
   if (requested == "aerial" || requested == "hall") {
-    choice.options.kind = requested == "hall" ? WorldKind::kHall : WorldKind::kAerial;
+    choice.options.kind = requested == "hall" ? render::WorldKind::kHall : render::WorldKind::kAerial;
     choice.reason = requested + " (requested)";
     return choice;
   }
@@ -16,7 +16,7 @@ Expected<RenderWorldChoice> chooseRenderWorld(const sim::Scenario& scenario,
   bool indoor = !scenario.agents.empty();
   for (const auto& agent : scenario.agents)
     indoor = indoor && agent.trajectory.kind == sim::TrajectoryKind::kTum;
-  choice.options.kind = indoor ? WorldKind::kHall : WorldKind::kAerial;
+  choice.options.kind = indoor ? render::WorldKind::kHall : render::WorldKind::kAerial;
   choice.reason = indoor ? "hall (every agent flies a recorded TUM trajectory: indoor)"
                          : "aerial (outdoor scenario)";
   return choice;

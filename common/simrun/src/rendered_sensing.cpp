@@ -10,10 +10,10 @@ namespace cvslam {
 namespace {
 
 /// Pixel of a point in N in a rendered camera image; empty behind the camera.
-std::optional<Eigen::Vector2d> projectInto(const RenderedImage& image, const Eigen::Vector3d& p_N) {
+std::optional<Eigen::Vector2d> projectInto(const render::RenderedImage& image, const Eigen::Vector3d& p_N) {
   const Eigen::Vector3d p_C = image.R_NtoC * (p_N - image.p_CinN);
   if (p_C.z() <= 1e-9) return std::nullopt;
-  const PinholeIntrinsics& k = image.intrinsics;
+  const render::PinholeIntrinsics& k = image.intrinsics;
   return Eigen::Vector2d(k.fx * p_C.x() / p_C.z() + k.cx, k.fy * p_C.y() / p_C.z() + k.cy);
 }
 
@@ -54,8 +54,8 @@ double RenderedSensingStats::disparityRms() const {
              : std::numeric_limits<double>::quiet_NaN();
 }
 
-RenderedSensing::RenderedSensing(std::shared_ptr<const World> world, const StereoCamera& camera,
-                                 const RenderOptions& render, VisualSlamPipeline pipeline,
+RenderedSensing::RenderedSensing(std::shared_ptr<const render::World> world, const StereoCamera& camera,
+                                 const render::RenderOptions& render, VisualSlamPipeline pipeline,
                                  const RenderedSensingOptions& options)
     : renderer_(std::move(world), camera, render), pipeline_(std::move(pipeline)), o_(options) {}
 
@@ -85,13 +85,13 @@ void RenderedSensing::checkFrame(const VisualInertialSlam& slam) {
   const std::vector<StereoObservation>& obs = result_.frame.observations;
   // Stereo matches against the renderer's ground truth.
   for (const StereoObservation& o : obs) {
-    const std::optional<SurfacePoint> s = rendering_.left.surfaceAt(o.z(0), o.z(1));
+    const std::optional<render::SurfacePoint> s = rendering_.left.surfaceAt(o.z(0), o.z(1));
     if (!s) continue;
     const std::optional<Eigen::Vector2d> right = projectInto(rendering_.right, s->p_N);
     ++stats_.stereo_checked;
     if (right && (*right - o.z.tail<2>()).norm() <= o_.stereo_tolerance_px) {
       ++stats_.stereo_correct;
-      const PinholeIntrinsics& k = rendering_.left.intrinsics;
+      const render::PinholeIntrinsics& k = rendering_.left.intrinsics;
       const double baseline = (rendering_.right.p_CinN - rendering_.left.p_CinN).norm();
       const double e = (o.z(0) - o.z(2)) - k.fx * baseline / s->depth;
       stats_.disparity_error_sum += e;
@@ -117,7 +117,7 @@ void RenderedSensing::checkFrame(const VisualInertialSlam& slam) {
   // Ground truth of the landmarks this frame created: the surface at their left pixel.
   for (const auto& [i, id] : result_.initialised) {
     const StereoObservation& o = obs[i];
-    if (const std::optional<SurfacePoint> s = rendering_.left.surfaceAt(o.z(0), o.z(1))) {
+    if (const std::optional<render::SurfacePoint> s = rendering_.left.surfaceAt(o.z(0), o.z(1))) {
       truth_[id] = s->p_N;
     }
   }
@@ -134,10 +134,10 @@ Expected<std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentS
 makeRenderedSensingFactory(const sim::Scenario& scenario, const VisualFrontEndOptions& front_end,
                            std::shared_ptr<const vision::Vocabulary> vocabulary,
                            const RenderedSensingOptions& options) {
-  auto world = World::create(scenario.render_world);
+  auto world = render::World::create(scenario.render_world);
   if (!world.ok()) return world.status();
-  std::shared_ptr<const World> shared = *world;
-  const RenderOptions render = scenario.render;
+  std::shared_ptr<const render::World> shared = *world;
+  const render::RenderOptions render = scenario.render;
   return std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>(
       [shared, render, front_end, vocabulary,
        options](const sim::AgentSimulator& agent) -> Expected<std::unique_ptr<FrameSensing>> {

@@ -11,7 +11,7 @@ namespace {
 class SimulatedAgentStream final : public AgentSensorStream {
  public:
   SimulatedAgentStream(std::shared_ptr<sim::Simulator> simulator, std::size_t index,
-                       std::shared_ptr<const StereoRenderer> renderer, bool ground_truth,
+                       std::shared_ptr<const render::StereoRenderer> renderer, bool ground_truth,
                        int64_t start_us)
       : simulator_(std::move(simulator)),
         agent_(simulator_->agent(index)),
@@ -37,7 +37,7 @@ class SimulatedAgentStream final : public AgentSensorStream {
       event.agent_id = agent_.id();
       event.t_us = e.t_us;
       event.play_us = e.t_us;
-      if (e.type == sim::SimEventType::kImu) {
+      if (e.type == SensorEventType::kImu) {
         event.type = SensorEventType::kImu;
         event.imu = e.imu;
         if (ground_truth_) {
@@ -51,7 +51,7 @@ class SimulatedAgentStream final : public AgentSensorStream {
         }
       } else if (renderer_) {
         event.type = SensorEventType::kStereoImage;
-        StereoRendering r =
+        render::StereoRendering r =
             renderer_->render(e.truth.p_BinN, e.truth.euler, static_cast<uint64_t>(e.t_us / 1000));
         event.left = r.left.image;
         event.right = r.right.image;
@@ -67,7 +67,7 @@ class SimulatedAgentStream final : public AgentSensorStream {
  private:
   std::shared_ptr<sim::Simulator> simulator_;
   sim::AgentSimulator& agent_;
-  std::shared_ptr<const StereoRenderer> renderer_;
+  std::shared_ptr<const render::StereoRenderer> renderer_;
   bool ground_truth_;
   int64_t start_us_;
   int64_t end_us_;
@@ -95,15 +95,15 @@ Expected<SimulatedTeam> simulateTeam(const sim::Scenario& scenario,
   SimulatedTeam team;
   team.simulator = std::make_shared<sim::Simulator>(std::move(*simulator));
   if (options.render) {
-    auto world = World::create(options.render_world);
+    auto world = render::World::create(options.render_world);
     if (!world.ok()) return world.status();
     team.render_world = *world;
   }
   const int64_t start_us = std::llround(options.start * 1e6);
   for (std::size_t i = 0; i < team.simulator->agentCount(); ++i) {
-    std::shared_ptr<const StereoRenderer> renderer;
+    std::shared_ptr<const render::StereoRenderer> renderer;
     if (options.render) {
-      renderer = std::make_shared<StereoRenderer>(
+      renderer = std::make_shared<render::StereoRenderer>(
           team.render_world, team.simulator->agent(i).camera(), options.rendering);
     }
     team.streams.push_back(std::make_unique<SimulatedAgentStream>(

@@ -41,7 +41,7 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
     Agent& a =
         agents_[static_cast<std::size_t>(slot_of_id_[static_cast<std::size_t>(ev.agent_id)])];
     AgentPipeline& p = *a.pipeline;
-    if (ev.type == sim::SimEventType::kImu) {
+    if (ev.type == SensorEventType::kImu) {
       if (Status s = p.addImu(ev.imu); !s.ok()) return s;
       continue;
     }

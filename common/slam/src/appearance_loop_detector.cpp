@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <random>
 
+#include "cvslam/core/random.h"
 #include "cvslam/io/config_node.h"
 
 namespace cvslam {
@@ -156,10 +156,10 @@ std::vector<std::size_t> ransacConsensus(const std::vector<Candidate>& candidate
       for (std::size_t b = a + 1; b < n; ++b) tryPair(a, b);
     }
   } else {
-    std::mt19937 rng(static_cast<uint32_t>(n));  // seeded by the input: deterministic
+    Rng rng(n);  // seeded by the input: deterministic
     for (int t = 0; t < o.ransac_iterations; ++t) {
-      const std::size_t a = rng() % n;
-      std::size_t b = rng() % (n - 1);
+      const std::size_t a = rng.below(n);
+      std::size_t b = rng.below(n - 1);
       if (b >= a) ++b;
       tryPair(a, b);
     }

@@ -27,12 +27,6 @@ namespace {
 
 constexpr char kMagic[8] = {'C', 'V', 'S', 'L', 'V', 'O', 'C', '\0'};
 
-// Uniform in [0, 1) from the standard-fixed mt19937 sequence (portable, unlike the
-// <random> distributions).
-double uniform(std::mt19937* rng) {
-  return (*rng)() * (1.0 / 4294967296.0);
-}
-
 void putU32(std::ostream& os, uint32_t v) {
   const unsigned char b[4] = {static_cast<unsigned char>(v), static_cast<unsigned char>(v >> 8),
                               static_cast<unsigned char>(v >> 16),
@@ -56,7 +50,7 @@ int Vocabulary::distance(const uint8_t* a, const uint8_t* b) const {
 }
 
 void Vocabulary::build(int node, const cv::Mat& data, const std::vector<int>& rows, int level,
-                       const VocabularyOptions& o, std::mt19937* rng) {
+                       const VocabularyOptions& o, Rng* rng) {
   const int k = o.branching;
   const std::size_t un = static_cast<std::size_t>(node);
   if (level >= o.depth || static_cast<int>(rows.size()) <= k) {
@@ -69,7 +63,7 @@ void Vocabulary::build(int node, const cv::Mat& data, const std::vector<int>& ro
   // k-means++ seeding.
   std::vector<uint8_t> centres(static_cast<std::size_t>(k) * B);
   std::vector<double> d2(n, std::numeric_limits<double>::max());
-  std::size_t pick = static_cast<std::size_t>(uniform(rng) * static_cast<double>(n));
+  std::size_t pick = static_cast<std::size_t>(rng->uniform() * static_cast<double>(n));
   for (int c = 0; c < k; ++c) {
     std::memcpy(&centres[static_cast<std::size_t>(c) * B], row(pick), B);
     double total = 0;
@@ -78,7 +72,7 @@ void Vocabulary::build(int node, const cv::Mat& data, const std::vector<int>& ro
       d2[i] = std::min(d2[i], d * (type_ == DescriptorType::kOrb ? d : 1.0));
       total += d2[i];
     }
-    const double target = uniform(rng) * total;
+    const double target = rng->uniform() * total;
     double acc = 0;
     pick = n - 1;
     for (std::size_t i = 0; i < n; ++i) {
@@ -172,7 +166,7 @@ Expected<Vocabulary> Vocabulary::train(const cv::Mat& descriptors, DescriptorTyp
   const int keep = std::min(n, o.max_descriptors);
   for (int i = 0; i < keep; ++i)
     rows.push_back(static_cast<int>(static_cast<int64_t>(i) * n / keep));
-  std::mt19937 rng(o.seed);
+  Rng rng(o.seed);
   v.build(0, descriptors, rows, 0, o, &rng);
   return v;
 }

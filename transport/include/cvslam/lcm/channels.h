@@ -8,6 +8,8 @@
 #include <optional>
 #include <string>
 
+#include "cvslam/core/sensor_event_type.h"
+
 namespace cvslam::transport {
 
 /// Every kind of channel. Per-agent streams first, then the broadcasts.
@@ -26,6 +28,10 @@ enum class Stream {
   kTeamSummary,  ///< TEAM/SUMMARY        agent_summary_t (broadcast)
   kGsMap,        ///< GS/MAP              map_t (broadcast)
 };
+
+/// The per-agent stream that carries a kind of sensor data (UAV<id>/IMU, /GT, /STEREO,
+/// /FEATURES).
+Stream channelStream(SensorEventType type);
 
 /// A channel name taken apart. agent_id is empty for the broadcasts.
 struct ChannelId {

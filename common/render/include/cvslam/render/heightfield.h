@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-namespace cvslam {
+namespace cvslam::render {
 
 class Heightfield {
  public:
@@ -60,4 +60,4 @@ class Heightfield {
   double min_down_ = 0.0, max_down_ = 0.0;
 };
 
-}  // namespace cvslam
+}  // namespace cvslam::render

@@ -13,8 +13,10 @@
 #include "cvslam/core/status.h"
 
 namespace cvslam {
-
 class ConfigNode;
+}  // namespace cvslam
+
+namespace cvslam::render {
 
 struct ImageEffectsOptions {
   double exposure = 1.0;     ///< gain on scene radiance (1 = nominal; 0.5 = one stop darker)
@@ -29,4 +31,4 @@ struct ImageEffectsOptions {
 /// Blur then noise, in place, on a CV_8UC1 image. `stream` distinguishes cameras/frames.
 void applyImageEffects(const ImageEffectsOptions& options, uint64_t stream, cv::Mat& image);
 
-}  // namespace cvslam
+}  // namespace cvslam::render

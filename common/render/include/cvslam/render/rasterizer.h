@@ -14,7 +14,7 @@
 
 #include <vector>
 
-namespace cvslam {
+namespace cvslam::render {
 
 struct PinholeIntrinsics {
   double fx = 1.0, fy = 1.0, cx = 0.0, cy = 0.0;
@@ -50,4 +50,4 @@ class Rasterizer {
   std::vector<Eigen::Vector3d> planes_;
 };
 
-}  // namespace cvslam
+}  // namespace cvslam::render

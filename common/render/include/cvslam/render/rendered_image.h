@@ -9,7 +9,7 @@
 
 #include "cvslam/render/rasterizer.h"
 
-namespace cvslam {
+namespace cvslam::render {
 
 /// The surface point a pixel sees.
 struct SurfacePoint {
@@ -32,4 +32,4 @@ struct RenderedImage {
   cv::Mat1f depthMap() const;
 };
 
-}  // namespace cvslam
+}  // namespace cvslam::render

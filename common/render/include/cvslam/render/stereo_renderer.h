@@ -29,8 +29,10 @@
 #include "cvslam/render/world.h"
 
 namespace cvslam {
-
 class ConfigNode;
+}  // namespace cvslam
+
+namespace cvslam::render {
 
 struct RenderOptions {
   double near = 0.05;           ///< near clipping distance along z_C [m]
@@ -75,4 +77,4 @@ class StereoRenderer {
   PinholeIntrinsics intrinsics_;
 };
 
-}  // namespace cvslam
+}  // namespace cvslam::render

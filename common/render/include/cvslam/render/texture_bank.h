@@ -21,8 +21,10 @@
 #include "cvslam/core/status.h"
 
 namespace cvslam {
-
 class ConfigNode;
+}  // namespace cvslam
+
+namespace cvslam::render {
 
 enum class TextureVariant { kLow, kHigh };
 
@@ -100,4 +102,4 @@ class TextureBank {
   std::vector<Level> blocked_;              // [tile * levels_ + level], for sampling
 };
 
-}  // namespace cvslam
+}  // namespace cvslam::render

@@ -36,8 +36,10 @@
 #include "cvslam/render/texture_bank.h"
 
 namespace cvslam {
-
 class ConfigNode;
+}  // namespace cvslam
+
+namespace cvslam::render {
 
 enum class WorldKind { kAerial, kHall };
 
@@ -137,4 +139,4 @@ class World {
 /// Fixed face shading: brightness of a surface with outward normal n_N under our sun.
 float sunShading(const Eigen::Vector3d& n_N);
 
-}  // namespace cvslam
+}  // namespace cvslam::render

@@ -16,17 +16,11 @@
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include "cvslam/camera/stereo_observation.h"
+#include "cvslam/core/sensor_event_type.h"
 #include "cvslam/core/status.h"
 #include "cvslam/ins/imu_sample.h"
 
 namespace cvslam {
-
-enum class SensorEventType : uint8_t {
-  kImu,          ///< imu valid
-  kGroundTruth,  ///< truth valid
-  kStereoImage,  ///< left, right valid (CV_8UC1, rectified)
-  kFeatures,     ///< features valid (feature-only simulation: index = true landmark id)
-};
 
 /// True pose and velocity of the body in the stream's world frame (NED for our simulated
 /// datasets; whatever the recording uses for real EuRoC folders).

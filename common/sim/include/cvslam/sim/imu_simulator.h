@@ -17,7 +17,7 @@
 #include "cvslam/ins/imu_sample.h"
 #include "cvslam/sim/imu_recording.h"
 #include "cvslam/sim/noise_model.h"
-#include "cvslam/sim/rng.h"
+#include "cvslam/core/random.h"
 #include "cvslam/sim/trajectory.h"
 
 namespace cvslam {

@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "cvslam/sim/rng.h"
+#include "cvslam/core/random.h"
 
 namespace cvslam::sim {
 

@@ -21,7 +21,7 @@
 #include "cvslam/camera/stereo_observation.h"
 #include "cvslam/core/status.h"
 #include "cvslam/sim/noise_model.h"
-#include "cvslam/sim/rng.h"
+#include "cvslam/core/random.h"
 #include "cvslam/sim/trajectory.h"
 #include "cvslam/sim/world.h"
 

@@ -46,8 +46,8 @@ struct Scenario {
   /// Section `render:` — the textured world and renderer options for image sensing
   /// (`cvslam_run --sensing images`): `render: {world: {kind: aerial, ...}, options: {...}}`
   /// (cvslam/render/world.h, stereo_renderer.h). Defaults: the `aerial` world, seed 1.
-  ::cvslam::WorldOptions render_world;
-  ::cvslam::RenderOptions render;
+  render::WorldOptions render_world;
+  render::RenderOptions render;
   std::vector<AgentSpec> agents;
 
   /// Loads and validates a scenario file (also checks that open trajectories last long enough).

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cvslam/camera/stereo_observation.h"
+#include "cvslam/core/sensor_event_type.h"
 #include "cvslam/core/status.h"
 #include "cvslam/ins/imu_sample.h"
 #include "cvslam/sim/imu_simulator.h"
@@ -44,15 +45,13 @@ struct InitialEstimate {
   InitialUncertainty sigma;  ///< the 1σ to initialise the covariance with
 };
 
-enum class SimEventType : uint8_t { kImu, kFrame };
-
 struct SimEvent {
-  SimEventType type = SimEventType::kImu;
+  SensorEventType type = SensorEventType::kImu;
   int agent_id = 0;
   int64_t t_us = 0;
   ImuSample imu;                  ///< valid for kImu
-  StereoFrameObservations frame;  ///< valid for kFrame (index = true landmark id)
-  GroundTruth truth;              ///< valid for kFrame: the true state at the frame
+  StereoFrameObservations frame;  ///< valid for kFeatures (index = true landmark id)
+  GroundTruth truth;              ///< valid for kFeatures: the true state at the frame
 };
 
 class AgentSimulator {

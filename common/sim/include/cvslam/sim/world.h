@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "cvslam/core/status.h"
-#include "cvslam/sim/rng.h"
+#include "cvslam/core/random.h"
 
 namespace cvslam {
 class ConfigNode;

@@ -13,7 +13,7 @@
 namespace cvslam {
 
 struct RenderWorldChoice {
-  WorldOptions options;  ///< kind chosen, seed = the scenario's seed
+  render::WorldOptions options;  ///< kind chosen, seed = the scenario's seed
   std::string reason;    ///< one line for the user, e.g. "aerial (outdoor scenario)"
 };
 

@@ -64,8 +64,8 @@ struct RenderedSensingStats {
 
 class RenderedSensing : public FrameSensing {
  public:
-  RenderedSensing(std::shared_ptr<const World> world, const StereoCamera& camera,
-                  const RenderOptions& render, VisualSlamPipeline pipeline,
+  RenderedSensing(std::shared_ptr<const render::World> world, const StereoCamera& camera,
+                  const render::RenderOptions& render, VisualSlamPipeline pipeline,
                   const RenderedSensingOptions& options = {});
 
   Status processFrame(const sim::SimEvent& event, VisualInertialSlam& slam,
@@ -75,17 +75,17 @@ class RenderedSensing : public FrameSensing {
 
   const RenderedSensingStats& stats() const { return stats_; }
   const VisualFrameResult& lastResult() const { return result_; }
-  const StereoRendering& lastRendering() const { return rendering_; }
+  const render::StereoRendering& lastRendering() const { return rendering_; }
   const VisualSlamPipeline& pipeline() const { return pipeline_; }
 
  private:
   void checkFrame(const VisualInertialSlam& slam);
 
-  StereoRenderer renderer_;
+  render::StereoRenderer renderer_;
   VisualSlamPipeline pipeline_;
   RenderedSensingOptions o_;
   RenderedSensingStats stats_;
-  StereoRendering rendering_;
+  render::StereoRendering rendering_;
   VisualFrameResult result_;
   std::unordered_map<int64_t, Eigen::Vector3d> truth_;  // landmark id -> true p_LinN
   uint64_t frame_index_ = 0;

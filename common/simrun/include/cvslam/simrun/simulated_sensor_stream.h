@@ -15,8 +15,8 @@ namespace cvslam {
 
 struct SimulatedSensorOptions {
   bool render = true;         ///< true: rendered images; false: feature observations
-  WorldOptions render_world;  ///< the textured world the images show (aerial | hall)
-  RenderOptions rendering;    ///< renderer options (clipping, effects)
+  render::WorldOptions render_world;  ///< the textured world the images show (aerial | hall)
+  render::RenderOptions rendering;    ///< renderer options (clipping, effects)
   bool ground_truth = true;   ///< emit ground truth at every IMU sample
   double start = 0.0;         ///< skip (without rendering) everything before this [s]
 };
@@ -25,7 +25,7 @@ struct SimulatedSensorOptions {
 /// one stream per agent, all sharing them.
 struct SimulatedTeam {
   std::shared_ptr<sim::Simulator> simulator;
-  std::shared_ptr<const World> render_world;  ///< null when not rendering
+  std::shared_ptr<const render::World> render_world;  ///< null when not rendering
   std::vector<std::unique_ptr<AgentSensorStream>> streams;
 };
 

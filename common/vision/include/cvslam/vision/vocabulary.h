@@ -4,8 +4,8 @@
 // ("visual word") its descriptor falls into, so the same physical feature gets the same
 // 32-bit index on every UAV that loads the same vocabulary file.
 //
-// Determinism: training uses a seeded std::mt19937 (whose output sequence the C++ standard
-// fixes) with its own integer-to-real conversion; centres are rounded to bytes after every
+// Determinism: training uses the project's seeded Rng (core/random.h, identical on every
+// platform); centres are rounded to bytes after every
 // Lloyd iteration so that all assignments are exact integer comparisons (ties → lowest
 // index). Word lookup is integer-only: identical inputs give identical word ids anywhere.
 //
@@ -15,10 +15,10 @@
 // centre's bytes. Node 0 is the root (no centre meaning).
 
 #include <cstdint>
-#include <random>
 #include <string>
 #include <vector>
 
+#include "cvslam/core/random.h"
 #include "cvslam/core/status.h"
 #include "cvslam/vision/features.h"
 
@@ -68,7 +68,7 @@ class Vocabulary {
   Vocabulary() = default;
   int distance(const uint8_t* a, const uint8_t* b) const;
   void build(int node, const cv::Mat& data, const std::vector<int>& rows, int level,
-             const VocabularyOptions& o, std::mt19937* rng);
+             const VocabularyOptions& o, Rng* rng);
 
   DescriptorType type_ = DescriptorType::kSift;
   int bytes_ = 128;

@@ -1,17 +1,20 @@
 #pragma once
-// Seeded random streams for the simulator (no global RNG state: several simulations, agents
-// and sensors coexist in one process, each with its own stream).
+// The project's one random number generator, for everything that must be reproducible:
+// the simulator's noise, the rendered worlds and textures, RANSAC sampling and vocabulary
+// training. No global state: several simulations, agents and sensors coexist in one process,
+// each with its own seeded stream.
 //
 // The generator is xoshiro256** seeded through splitmix64, and the normal variates come from
 // Box–Muller, so that a stream is bit-identical on every platform and standard library
-// (std::normal_distribution is implementation-defined).
+// (<random>'s distributions are implementation-defined). mixBits/hashCell are the same
+// splitmix64 finaliser used as a stateless hash (per-cell randomness without a stream).
 
 #include <cmath>
 #include <cstdint>
 
-namespace cvslam::sim {
+namespace cvslam {
 
-/// Stream tags: one independent stream per agent and sensor (see deriveSeed).
+/// Stream tags of the simulator: one independent stream per agent and sensor (deriveSeed).
 enum class RngStream : uint64_t {
   kWorld = 1,
   kImu = 2,
@@ -25,6 +28,14 @@ inline uint64_t splitmix64(uint64_t& state) {
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
   return z ^ (z >> 31);
+}
+
+/// splitmix64 finaliser of `x` without a state: a well-mixed 64-bit hash.
+inline uint64_t mixBits(uint64_t x) { return splitmix64(x); }
+
+/// Hash of an integer cell (i, j) and a salt.
+inline uint64_t hashCell(int64_t i, int64_t j, uint64_t salt) {
+  return mixBits(static_cast<uint64_t>(i) ^ mixBits(static_cast<uint64_t>(j) ^ mixBits(salt)));
 }
 
 /// Seed of the stream `stream` of agent `agent_id` in a scenario seeded with `seed`.
@@ -85,4 +96,4 @@ class Rng {
   bool has_spare_ = false;
 };
 
-}  // namespace cvslam::sim
+}  // namespace cvslam
