@@ -1,4 +1,4 @@
-// cvslam_agent — one UAV's cooperative VSLAM as a process (DESIGN.md §2, §6): subscribes its
+// cvslam_agent — one UAV's cooperative VSLAM as a process (docs/architecture.md, docs/run_format.md): subscribes its
 // sensor streams over LCM, runs the agent pipeline (front end + filter), publishes its pose,
 // heartbeat and lockstep status, cooperates with its peers in DC mode, writes its run record.
 // A thin shell: calibration and filter in common/ (AgentPipeline), LCM in transport/

@@ -1,5 +1,5 @@
 # Locates Debian's LCM 1.3.1 (no CMake package, and `pkg-config lcm` fails without
-# glib's -dev package; DESIGN.md §7) and defines:
+# glib's -dev package; docs/architecture.md) and defines:
 #   LCM::lcm          imported library target (headers + liblcm)
 #   LCM_GEN_EXECUTABLE  the lcm-gen code generator
 #   LCM_JAR             /usr/share/java/lcm.jar (for Java types and lcm-spy), if found

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Starts lcm-spy with cvslam's message types so it decodes our channels (DESIGN.md §7).
+# Starts lcm-spy with cvslam's message types so it decodes our channels (docs/architecture.md).
 # /usr/bin/lcm-spy cannot be used: it passes -Xincgc, which Java 17 rejects, and it does
 # not put our type jar on the class path.
 #

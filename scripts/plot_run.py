@@ -14,7 +14,7 @@ Writes PNGs into DIR/plots/ (or --out):
   state_size.png            filter state length over time
   nees.png                  NEES per step against the 95 % χ² band (when states+truth exist)
 
-Uses Debian's python3-matplotlib and python3-numpy (DESIGN.md §8). Exit status 1 with a
+Uses Debian's python3-matplotlib and python3-numpy (docs/architecture.md). Exit status 1 with a
 one-line error on a missing folder or malformed file.
 """
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs cvslam's Debian packages and prepares this host for LCM over loopback multicast
-# (DESIGN.md §7). Idempotent and quick when everything is in place.
+# (docs/architecture.md). Idempotent and quick when everything is in place.
 #
 #   scripts/setup.sh            install what is missing, configure multicast (as root)
 #   scripts/setup.sh --check    only report what is missing; exit 1 if anything is
@@ -61,7 +61,7 @@ if ! ip route show 239.0.0.0/8 2>/dev/null | grep -q "dev lo"; then
   $check_only || as_root ip route add 239.0.0.0/8 dev lo 2>/dev/null ||
     as_root ip route replace 239.0.0.0/8 dev lo || net_ok=false
 fi
-# Stereo images are large datagrams: raise the socket receive buffers (DESIGN.md §7).
+# Stereo images are large datagrams: raise the socket receive buffers (docs/architecture.md).
 want_rmem=16777216
 for key in net.core.rmem_max net.core.rmem_default; do
   cur=$(sysctl -n "$key" 2>/dev/null || echo 0)

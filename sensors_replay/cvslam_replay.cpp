@@ -1,5 +1,5 @@
 // cvslam_replay — publishes EuRoC folders, or a scenario simulated (and rendered) live, over
-// LCM on UAV<id>/IMU, UAV<id>/STEREO (or UAV<id>/FEATURES), UAV<id>/GT (DESIGN.md §2, §6).
+// LCM on UAV<id>/IMU, UAV<id>/STEREO (or UAV<id>/FEATURES), UAV<id>/GT (docs/architecture.md, docs/run_format.md).
 // Real time, scaled, as fast as possible, or in lockstep with the subscribers' STATUS.
 //
 //   cvslam_replay --scenario config/scenarios/team3_aerial.yaml --rate 1

@@ -1,4 +1,4 @@
-// cvslam_simulate — writes a simulated team as EuRoC ASL folders (DESIGN.md §6): per UAV
+// cvslam_simulate — writes a simulated team as EuRoC ASL folders (docs/run_format.md): per UAV
 // DIR/uav<id>/mav0/{cam0,cam1,imu0,state_groundtruth_estimate0} with rendered images, the
 // simulator's IMU and ground truth, plus DIR/landmarks.csv and DIR/sensors.yaml.
 //

@@ -1,4 +1,4 @@
-// cvslam_build_vocabulary — builds the visual vocabulary of the feature index (DESIGN.md §3,
+// cvslam_build_vocabulary — builds the visual vocabulary of the feature index (docs/conventions.md
 // thesis §6.6.3) from a folder of images: detect features with the front end's detector, then
 // hierarchical k-means (vision/vocabulary.h). Every agent must load the same output file.
 

@@ -1,4 +1,4 @@
-// cvslam_eval — evaluates a run folder (DESIGN.md §6): per-agent table on stdout and the
+// cvslam_eval — evaluates a run folder (docs/run_format.md): per-agent table on stdout and the
 // summary JSON. A thin shell: parsing and metrics live in common/ (eval/, io/).
 
 #include <cstdlib>

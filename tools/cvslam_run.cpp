@@ -1,5 +1,5 @@
 // cvslam_run — runs every UAV of a scenario in one process, deterministically, without any
-// transport (DESIGN.md §1, §6), and writes the run record of docs/run_format.md.
+// transport (docs/architecture.md, docs/run_format.md), and writes the run record of docs/run_format.md.
 //
 //   cvslam_run --scenario config/scenarios/thesis_loop.yaml --mode single --out runs/loop
 

@@ -1,4 +1,4 @@
-// cvslam_agent --mode dc as real processes (DESIGN.md §2, §3; thesis §6.6.5): a lockstep run
+// cvslam_agent --mode dc as real processes (docs/architecture.md, docs/conventions.md; thesis §6.6.5): a lockstep run
 // reproduces cvslam_run --mode dc (same trajectories, same cooperation log), and a peer that
 // sends non-finite or absurd landmarks is rejected and counted. Ports 27810–27819.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// cvslam_agent on EuRoC-format folders (DESIGN.md §6): calibration from the folder's
+// cvslam_agent on EuRoC-format folders (docs/run_format.md): calibration from the folder's
 // sensor.yaml files, start at the first ground-truth pose, rendered images through the real
 // front end; and a clean end on SIGTERM. Ports 27820–27829.
 #include <gtest/gtest.h>

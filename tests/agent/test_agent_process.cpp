@@ -1,4 +1,4 @@
-// cvslam_agent as real processes with cvslam_replay over loopback multicast (DESIGN.md §2,
+// cvslam_agent as real processes with cvslam_replay over loopback multicast (docs/architecture.md
 // §6, §7): a lockstep run reproduces cvslam_run; agents survive a peer's death and its
 // restart; floods of junk are counted, never fatal; bad command lines fail in one line.
 // Ports 27800–27849 (docs/agent.md), one per test.

@@ -1,6 +1,6 @@
 // Whole stereo front end per pair (detect + describe both images + stereo match + word ids),
 // single thread, on the real rectified EuRoC V1_01 pair at 752×480 and a 320×240 version
-// (half-size, centre crop). Targets (DESIGN.md §5 brief): ORB ≤ 15 ms / ≤ 40 ms.
+// (half-size, centre crop). Targets (docs/front_end.md brief): ORB ≤ 15 ms / ≤ 40 ms.
 //   ./build/tests/bench_front_end --benchmark_repetitions=3
 
 #include <benchmark/benchmark.h>

@@ -1,4 +1,4 @@
-// VisualInertialSlam::fuseCovarianceIntersection (DESIGN §3): the CI-consistent update on a
+// VisualInertialSlam::fuseCovarianceIntersection (docs/cooperation.md): the CI-consistent update on a
 // small feature-level filter whose start was offset. Fusing accurate external estimates of
 // its landmarks keeps the joint covariance PSD, moves the vehicle towards the truth through
 // the vehicle–landmark correlations, and ω1 = 1 changes nothing.

@@ -58,7 +58,7 @@ TEST_P(InsPropagatorBias, StepJacobiansMatchCentralDifferences) {
 }
 
 TEST(InsPropagator, DynamicsMatchEquation25WithCorrectedGravitySign) {
-  // Thesis eq. 2.5 written out per component, with the gravity sign of DESIGN §3
+  // Thesis eq. 2.5 written out per component, with the gravity sign of docs/conventions.md
   // (the thesis prints +g sinθ, −g cosθ sinφ, −g cosθ cosφ).
   Eigen::Matrix<double, 9, 1> x;
   x << 1.0, -2.0, -10.0, 2.0, 0.5, -0.3, 0.1, -0.05, 0.3;
@@ -79,7 +79,7 @@ TEST(InsPropagator, DynamicsMatchEquation25WithCorrectedGravitySign) {
 INSTANTIATE_TEST_SUITE_P(WithAndWithoutBias, InsPropagatorBias, ::testing::Bool());
 
 TEST(InsPropagator, LevelAtRestStaysAtRest) {
-  // DESIGN §3 sign convention: a level IMU at rest reads f_B = [0 0 −g].
+  // docs/conventions.md sign convention: a level IMU at rest reads f_B = [0 0 −g].
   const InsPropagator ins;
   std::vector<ImuSample> samples(101);
   for (std::size_t k = 0; k < samples.size(); ++k) {

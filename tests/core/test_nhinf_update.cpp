@@ -1,4 +1,4 @@
-// Nonlinear H∞ update (thesis §3.6.5, DESIGN §3) against the EKF and the dense formulas.
+// Nonlinear H∞ update (thesis §3.6.5, docs/conventions.md) against the EKF and the dense formulas.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>

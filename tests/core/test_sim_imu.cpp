@@ -1,4 +1,4 @@
-// IMU synthesis (cvslam/sim/imu_simulator.h): sign conventions (DESIGN.md §3), integration of
+// IMU synthesis (cvslam/sim/imu_simulator.h): sign conventions (docs/conventions.md), integration of
 // the noise-free IMU back to the trajectory, white-noise and bias random-walk statistics.
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Trajectories (cvslam/sim): analytic derivatives against central finite differences,
-// Euler-rate / body-rate consistency (thesis eq. 2.4), body-velocity dynamics (DESIGN.md §3),
+// Euler-rate / body-rate consistency (thesis eq. 2.4), body-velocity dynamics (docs/conventions.md),
 // TUM loading with the z-up → NED conversion.
 
 #include <gtest/gtest.h>

@@ -205,7 +205,7 @@ TEST(StereoCamera, TriangulationCovarianceMatchesMonteCarlo) {
   EXPECT_NEAR(nees, 3.0, 0.15);
 }
 
-// Landmark augmentation with an uncertain vehicle (DESIGN.md §3): the sampled landmark
+// Landmark augmentation with an uncertain vehicle (docs/conventions.md): the sampled landmark
 // covariance and its cross-covariance with the vehicle match
 //   P_LL = J_x P_vv J_xᵀ + J_z R J_zᵀ,  P_Lx = J_x P_vv.
 TEST(StereoCamera, AugmentationCovarianceMatchesMonteCarlo) {

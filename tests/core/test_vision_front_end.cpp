@@ -1,4 +1,4 @@
-// StereoFrontEnd (DESIGN.md §5) on the real rectified EuRoC pair, and association of its
+// StereoFrontEnd (docs/front_end.md) on the real rectified EuRoC pair, and association of its
 // observations to predicted landmarks (descriptor + Mahalanobis gate).
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Visual vocabulary of the feature index (DESIGN.md §3): same input ⇒ same word ids on every
+// Visual vocabulary of the feature index (docs/conventions.md): same input ⇒ same word ids on every
 // agent; save/load round trip; the shipped file; corrupt files are reported.
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Channel names (DESIGN.md §4): built in one place, parsed back, regex-safe.
+// Channel names (docs/architecture.md): built in one place, parsed back, regex-safe.
 
 #include <gtest/gtest.h>
 

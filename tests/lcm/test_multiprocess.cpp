@@ -1,7 +1,7 @@
 // Two processes over real loopback multicast: cvslam_lcm_test_peer publishes ≥ 1000 mixed
 // messages (IMU at 200 Hz, 2 × 300 KB stereo images and ground truth at 20 Hz) and this
 // process must receive every one, intact and in order. Each test has its own port so
-// ctest -j can run the suites in parallel (DESIGN.md §7).
+// ctest -j can run the suites in parallel (docs/architecture.md).
 
 #include <gtest/gtest.h>
 #include <signal.h>

@@ -1,5 +1,5 @@
 // cvslam_replay as a real process over loopback multicast, each test on its own port
-// (DESIGN.md §7): every message arrives, in order, with the dataset's timestamps; lockstep
+// (docs/architecture.md): every message arrives, in order, with the dataset's timestamps; lockstep
 // waits for the subscribers' STATUS; bad datasets give one clear line and status 2.
 
 #include <gtest/gtest.h>

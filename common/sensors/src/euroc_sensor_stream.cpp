@@ -9,7 +9,7 @@
 namespace cvslam {
 namespace {
 
-// EuRoC stores nanoseconds; messages carry microseconds (DESIGN.md §4).
+// EuRoC stores nanoseconds; messages carry microseconds (docs/architecture.md).
 int64_t nsToUs(int64_t t_ns) {
   return t_ns >= 0 ? (t_ns + 500) / 1000 : -((-t_ns + 500) / 1000);
 }

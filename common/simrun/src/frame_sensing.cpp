@@ -7,7 +7,7 @@ namespace cvslam {
 Status FeatureSensing::processFrame(const sim::SimEvent& event, VisualInertialSlam& slam,
                                     FrameReport* report) {
   frame_ = event.frame;
-  // Feature-level sensing: the simulator's index is the true landmark id (DESIGN.md §3).
+  // Feature-level sensing: the simulator's index is the true landmark id (docs/conventions.md).
   useTrueLandmarkIds(&frame_);
   return slam.processFrame(frame_, report);
 }

@@ -1,4 +1,4 @@
-// VisualInertialSlam's hooks for decentralised cooperation (thesis §6.6, DESIGN.md §3): the
+// VisualInertialSlam's hooks for decentralised cooperation (thesis §6.6, docs/conventions.md): the
 // in-state landmarks with their feature index, and the covariance-intersection update.
 
 #include <algorithm>
@@ -52,7 +52,7 @@ Status VisualInertialSlam::fuseCovarianceIntersection(const std::vector<int64_t>
   if (omega1 >= 1.0) return Status::Ok();
   const double omega2 = 1.0 - omega1;
   // P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H  ⇔  scale the prior by 1/ω1, then an EKF update with R/ω2
-  // (DESIGN §3). H selects the landmarks, the residual is y − p_L. Ungated: the caller has
+  // (docs/cooperation.md). H selects the landmarks, the residual is y − p_L. Ungated: the caller has
   // confirmed every landmark with its own gate on the two estimates.
   Eigen::VectorXd r(3 * m);
   for (Eigen::Index i = 0; i < m; ++i)

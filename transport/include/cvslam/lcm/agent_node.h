@@ -1,5 +1,5 @@
 #pragma once
-// The LCM side of one agent process (cvslam_agent, DESIGN.md §2, §6): subscribes the agent's
+// The LCM side of one agent process (cvslam_agent, docs/architecture.md, docs/run_format.md): subscribes the agent's
 // sensor streams, puts them back in dataset-time order (sensor_event_orderer.h) and feeds
 // its AgentPipeline; publishes UAV<id>/POSE (agent_state_t) after every frame, TEAM/SUMMARY
 // as heartbeat with the per-channel receive counters, and UAV<id>/STATUS (processed-up-to

@@ -1,7 +1,7 @@
 #pragma once
 // A fixed-capacity, thread-safe FIFO between the LCM receive thread (producer) and a
 // consumer. When full, push fails and the *new* item is dropped (the caller counts it):
-// the receive thread must never block, or LCM's own queues overflow instead (DESIGN.md §7).
+// the receive thread must never block, or LCM's own queues overflow instead (docs/architecture.md).
 
 #include <chrono>
 #include <condition_variable>

@@ -1,5 +1,5 @@
 #pragma once
-// The one place LCM channel names are built and parsed (DESIGN.md §4): per-agent streams
+// The one place LCM channel names are built and parsed (docs/architecture.md): per-agent streams
 // `UAV<id>/<STREAM>` and the broadcasts `TEAM/SUMMARY`, `GS/MAP`. LCM treats a
 // subscription name as a regex, so names are restricted to [A-Za-z0-9_/] and can be
 // subscribed to verbatim.
@@ -46,7 +46,7 @@ bool isPerAgent(Stream stream);
 const char* streamName(Stream stream);
 
 /// Builds the name of a channel. For a per-agent stream agent_id must be ≥ 0 (the ground
-/// station is 0, DESIGN.md §4); for a broadcast it is ignored.
+/// station is 0, docs/architecture.md); for a broadcast it is ignored.
 std::string channelName(Stream stream, int32_t agent_id = 0);
 
 /// Parses a channel name built by channelName(); empty for anything else (including

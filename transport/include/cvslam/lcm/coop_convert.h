@@ -1,6 +1,6 @@
 #pragma once
 // Conversions between the core's cooperation messages (coop/coop_messages.h) and their
-// lcmtypes (DESIGN.md §4; thesis §6.6): CoopSummary ↔ agent_summary_t (the per-channel
+// lcmtypes (docs/architecture.md; thesis §6.6): CoopSummary ↔ agent_summary_t (the per-channel
 // counters are left empty for the caller to fill), FeatureIndexList ↔ feature_index_t,
 // SharedRequest ↔ shared_request_t and SharedLandmarks ↔ shared_landmarks_t. The directed
 // messages do not carry their addressee: it is the agent whose channel they travel on, so

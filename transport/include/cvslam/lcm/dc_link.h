@@ -1,5 +1,5 @@
 #pragma once
-// Decentralised cooperation of an agent process over LCM (DESIGN.md §2, §3; thesis §6.6.5):
+// Decentralised cooperation of an agent process over LCM (docs/architecture.md, docs/conventions.md; thesis §6.6.5):
 // the CooperationLink of cvslam_agent --mode dc. Subscribes TEAM/SUMMARY, every agent's
 // INDEX (the pattern UAV[0-9]+/INDEX: peers may appear with any id), and its own
 // UAV<id>/SHARED_REQ and UAV<id>/SHARED; converts with coop_convert.h (the same converters and

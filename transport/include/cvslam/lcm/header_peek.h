@@ -3,7 +3,7 @@
 //
 // LCM encodes a message as its 8-byte fingerprint followed by the fields in order; nested
 // structs are encoded inline without their own fingerprint. Every cvslam message begins
-// with `header_t header` (DESIGN.md §4), so bytes 8..15 are header.utime, 16..23
+// with `header_t header` (docs/architecture.md), so bytes 8..15 are header.utime, 16..23
 // header.seq and 24..27 header.agent_id, all big-endian. The fingerprint tells whether the
 // buffer is one of our types at all; foreign messages yield no header.
 #include <cstddef>

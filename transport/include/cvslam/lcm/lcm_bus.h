@@ -1,5 +1,5 @@
 #pragma once
-// Typed publish/subscribe over one lcm::LCM (DESIGN.md §7; modelled on Drake's LCM layer).
+// Typed publish/subscribe over one lcm::LCM (docs/architecture.md; modelled on Drake's LCM layer).
 //
 // Threading: subscriptions are made before start(); start() launches the single receive
 // thread, the only caller of handleTimeout(), which loops with a 100 ms timeout until
@@ -36,7 +36,7 @@ class LCM;
 
 namespace cvslam::transport {
 
-/// Default provider: loopback multicast that never leaves the host (DESIGN.md §7).
+/// Default provider: loopback multicast that never leaves the host (docs/architecture.md).
 constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
 
 struct BusOptions {

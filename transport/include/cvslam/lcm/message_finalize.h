@@ -1,6 +1,6 @@
 #pragma once
 // Count fields of the generated messages must equal their vectors' sizes: the generated
-// encode() trusts them and reads out of bounds otherwise (DESIGN.md §4). finalize() is the
+// encode() trusts them and reads out of bounds otherwise (docs/architecture.md). finalize() is the
 // one place that sets them. It derives every count from the vectors and fails (leaving the
 // message unusable) when parallel arrays disagree or a row has the wrong width, so that a
 // malformed message is an error at the sender instead of garbage on the wire.

@@ -1,5 +1,5 @@
 #pragma once
-// All generated cvslam LCM message types (lcmtypes/*.lcm, DESIGN.md §4) in one include.
+// All generated cvslam LCM message types (lcmtypes/*.lcm, docs/architecture.md) in one include.
 
 #include "cvslam/agent_state_t.hpp"
 #include "cvslam/agent_summary_t.hpp"

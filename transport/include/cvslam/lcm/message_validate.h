@@ -1,6 +1,6 @@
 #pragma once
 // Content checks applied to every message before it is published and after it is
-// decoded (DESIGN.md §7): count fields equal their vectors' sizes, every floating-point
+// decoded (docs/architecture.md): count fields equal their vectors' sizes, every floating-point
 // number is finite, enumerations and dimensions take allowed values, image sizes match
 // their encoding. The agent id is not checked here (that is the receiver's policy, see
 // BusOptions::accept_agent).

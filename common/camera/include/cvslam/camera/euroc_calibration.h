@@ -1,6 +1,6 @@
 #pragma once
 // Raw (unrectified) stereo calibration as EuRoC ASL folders store it:
-// mav0/cam0/sensor.yaml (left) and mav0/cam1/sensor.yaml (right), DESIGN.md §8.
+// mav0/cam0/sensor.yaml (left) and mav0/cam1/sensor.yaml (right), docs/architecture.md.
 //
 // Each file holds T_BS (sensor→body, i.e. T_CtoB in our naming; 4×4 row-major `data`),
 // `intrinsics: [fu, fv, cu, cv]`, `distortion_model: radial-tangential` with

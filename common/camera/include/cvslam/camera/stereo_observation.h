@@ -1,6 +1,6 @@
 #pragma once
 // One stereo observation of a point feature, as the front end (or the feature-level
-// simulator) hands it to the estimator (DESIGN.md §3, §5; thesis eq. 5.20).
+// simulator) hands it to the estimator (docs/conventions.md, docs/front_end.md; thesis eq. 5.20).
 
 #include <Eigen/Core>
 #include <cstdint>

@@ -42,7 +42,7 @@ double optimalCiOmega(const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2, bool
 double ciOmega(CiMethod method, const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2,
                double vehicle_trace1, double vehicle_trace2);
 
-/// The joint-state CI update of DESIGN §3 (P⁺⁻¹ = ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H, H selecting the
+/// The joint-state CI update of docs/cooperation.md (P⁺⁻¹ = ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H, H selecting the
 /// landmarks) seen from the vehicle position: with the prior blocks P_pp (position, 3×3),
 /// P_pL (3×3m) and P_LL (3m×3m), the fused position covariance is
 ///   P_pp/ω1 − (P_pL/ω1) (P_LL/ω1 + R/ω2)⁻¹ (P_Lp/ω1),

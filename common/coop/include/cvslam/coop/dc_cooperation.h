@@ -1,5 +1,5 @@
 #pragma once
-// Decentralised cooperative VSLAM (DC-VSLAM, thesis §6.6.5; DESIGN.md §3): one DcCooperation per
+// Decentralised cooperative VSLAM (DC-VSLAM, thesis §6.6.5; docs/conventions.md): one DcCooperation per
 // agent runs the exchange protocol with every peer it hears, without transport. Per peer j:
 //   1. summaries (TEAM/SUMMARY) carry j's cooperation ellipsoid and feature count; a new
 //      boot_id means j restarted (its state here is reset); j is forgotten after

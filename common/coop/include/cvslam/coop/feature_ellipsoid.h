@@ -1,5 +1,5 @@
 #pragma once
-// Which UAVs cooperate (thesis §6.6.2, DESIGN.md §3): each UAV approximates the features it
+// Which UAVs cooperate (thesis §6.6.2, docs/conventions.md): each UAV approximates the features it
 // observes now by an axis-aligned ellipsoid centred at their mean with semi-axes
 // coop_sigma · std (per NED axis); Coop(i, j) = 1 iff the two ellipsoids intersect.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Reader for EuRoC ASL folders (Burri et al., IJRR 2016), DESIGN.md §6:
+// Reader for EuRoC ASL folders (Burri et al., IJRR 2016), docs/run_format.md:
 //   <root>/mav0/cam0/data.csv + data/<t_ns>.png, cam1 alike, imu0/data.csv,
 //   state_groundtruth_estimate0/data.csv (optional), */sensor.yaml (optional).
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Writer for EuRoC ASL folders, the counterpart of EurocDataset (DESIGN.md §6, §8):
+// Writer for EuRoC ASL folders, the counterpart of EurocDataset (docs/run_format.md, docs/architecture.md):
 //   <path>/mav0/{cam0,cam1}/{data.csv, data/<t_ns>.png, sensor.yaml},
 //   imu0/{data.csv, sensor.yaml}, state_groundtruth_estimate0/data.csv, body.yaml,
 // laid out and formatted as EuRoC's own files, so that Basalt and OpenVINS read them.

@@ -1,5 +1,5 @@
 #pragma once
-// Evaluation metrics for estimator runs (DESIGN.md §3 "Consistency", §6 cvslam_eval;
+// Evaluation metrics for estimator runs (docs/conventions.md "Consistency", §6 cvslam_eval;
 // STYLE.md §9: evaluation is a tool, not code inside the estimator).
 //
 // Our estimates and truths share the team's NED frame (thesis §6.3.1: initial poses known),

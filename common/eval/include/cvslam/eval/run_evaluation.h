@@ -1,5 +1,5 @@
 #pragma once
-// Evaluation of a whole run folder (DESIGN.md §6 cvslam_eval): per agent ATE, INS ATE, RPE,
+// Evaluation of a whole run folder (docs/run_format.md cvslam_eval): per agent ATE, INS ATE, RPE,
 // NEES, co/Rco, landmark errors, state size, frame time and bandwidth, and the summary JSON.
 // Every figure is optional: it is null when its inputs are absent, and `notes` says why.
 
@@ -54,7 +54,7 @@ Expected<std::vector<AgentEvaluation>> evaluateRun(const std::string& run_dir,
                                                    const std::string& gt_dir,
                                                    const RunEvaluationOptions& options = {});
 
-/// Summary JSON with the keys of DESIGN.md §6 plus nees_position_mean, rco, landmark counts.
+/// Summary JSON with the keys of docs/run_format.md plus nees_position_mean, rco, landmark counts.
 Json summaryJson(const RunInfo& info, const std::vector<AgentEvaluation>& agents,
                  const RunEvaluationOptions& options);
 

@@ -53,7 +53,7 @@ class CovarianceHelper {
                           const Eigen::MatrixXd& Qd, const UpdatePolicy& policy);
 
   /// P ← factor · P. Covariance intersection scales the local prior by 1/ω₁ before fusing a
-  /// peer estimate (thesis eq. 6.5, DESIGN §3). factor must be > 0.
+  /// peer estimate (thesis eq. 6.5, docs/cooperation.md). factor must be > 0.
   static Status scaleCovariance(SlamState& state, double factor);
 
   /// Measurement update with a stacked (H, r, R): gates each observation (Mahalanobis), then

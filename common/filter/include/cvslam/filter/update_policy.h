@@ -1,5 +1,5 @@
 #pragma once
-// What makes an EKF and a nonlinear H∞ filter different (thesis §3.4, §3.6.5; DESIGN §3):
+// What makes an EKF and a nonlinear H∞ filter different (thesis §3.4, §3.6.5; docs/conventions.md):
 // only the numbers in an UpdatePolicy. CovarianceHelper applies the policy to any stacked
 // state, so the agents' filters and the ground station's joint filter share one code path.
 //
@@ -20,7 +20,7 @@ class ConfigNode;
 
 /// Where the NH∞ term θ S of eq. 3.39 acts.
 enum class ThetaWeighting {
-  /// S = I, as DESIGN.md §3 writes it: every state direction is inflated. In SLAM the gauge
+  /// S = I, as docs/conventions.md writes it: every state direction is inflated. In SLAM the gauge
   /// directions (common shift/yaw of vehicle and map) get no information from any update,
   /// so their variance grows without bound (a Riccati blow-up) for any fixed θ > 0.
   kIdentity,

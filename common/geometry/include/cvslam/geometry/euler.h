@@ -1,5 +1,5 @@
 #pragma once
-// ZYX Euler angles and direction cosine matrices (thesis §2.3.2, DESIGN.md §3).
+// ZYX Euler angles and direction cosine matrices (thesis §2.3.2, docs/conventions.md).
 //
 // Frames: navigation N is NED, body B is FRD. Euler angles e = [φ θ ψ] (roll, pitch, yaw).
 // R_NtoB = C_bn = R_x(φ) R_y(θ) R_z(ψ) with the *frame* rotations

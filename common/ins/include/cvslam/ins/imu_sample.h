@@ -1,5 +1,5 @@
 #pragma once
-// One IMU measurement (DESIGN.md §3): body-frame (FRD) angular rate and specific force.
+// One IMU measurement (docs/conventions.md): body-frame (FRD) angular rate and specific force.
 
 #include <Eigen/Core>
 #include <cstdint>

@@ -1,11 +1,11 @@
 #pragma once
-// Strap-down INS process model (thesis §2.3.2, §5.3; DESIGN.md §3) and its discretisation.
+// Strap-down INS process model (thesis §2.3.2, §5.3; docs/conventions.md) and its discretisation.
 //
 // State x_v = [p_BinN | v_B | φ θ ψ | (b_a | b_g)], see vehicle_state_layout.h.
 // Noise  w  = [n_a | n_g | (n_ba | n_bg)] (same order as the state it drives).
 // Continuous dynamics, with ω = gyro − b_g − n_g and f = accel − b_a − n_a:
 //   ṗ_N = R_BtoN v_B                          (eq. 2.7)
-//   v̇_B = f + R_NtoB g_N − ω × v_B            (eq. 2.5 with the sign fixed by DESIGN §3)
+//   v̇_B = f + R_NtoB g_N − ω × v_B            (eq. 2.5 with the sign fixed by docs/conventions.md)
 //   ė   = E(φ, θ) ω                           (eq. 2.4)
 //   ḃ_a = n_ba,  ḃ_g = n_bg                   (random walks, beyond the thesis)
 // Discretisation per IMU interval [t0, t1]: classical RK4 on the mean with the IMU input

@@ -1,5 +1,5 @@
 #pragma once
-// Layout of the vehicle part of the state vector (thesis §2.3, §5.3; DESIGN.md §3):
+// Layout of the vehicle part of the state vector (thesis §2.3, §5.3; docs/conventions.md):
 //   x_v = [X Y Z | U V W | φ θ ψ | (b_a xyz | b_g xyz)]
 // NED position [m], body-frame velocity [m/s], ZYX Euler angles [rad], and optionally
 // accelerometer and gyro biases (beyond the thesis; needed for real IMUs).

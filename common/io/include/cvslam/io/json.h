@@ -1,6 +1,6 @@
 #pragma once
 // Minimal JSON value, writer and parser for run records (stats.json, run.json) and the
-// evaluation summary (DESIGN.md §6). No JSON library ships with the build machine; the
+// evaluation summary (docs/run_format.md). No JSON library ships with the build machine; the
 // subset here is the whole of RFC 8259 except that numbers are always doubles.
 // Object members keep insertion order so written files read like the documentation.
 

@@ -1,5 +1,5 @@
 #pragma once
-// What an estimator run leaves on disk per agent (DESIGN.md §6; formats in
+// What an estimator run leaves on disk per agent (docs/run_format.md; formats in
 // docs/run_format.md), as plain structs shared by the writer and the reader.
 //
 //   DIR/run.json                      mode, filter, ... of the whole run (RunInfo)

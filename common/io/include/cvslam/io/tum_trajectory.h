@@ -1,5 +1,5 @@
 #pragma once
-// TUM trajectory files (DESIGN.md §6): one pose per line, `t x y z qx qy qz qw`, t in
+// TUM trajectory files (docs/run_format.md): one pose per line, `t x y z qx qy qz qw`, t in
 // seconds, position p_BinN [m], quaternion q_BtoN (rotates body vectors into N, i.e. the
 // body's orientation in N, as TUM tools expect). Lines starting with '#' are comments.
 

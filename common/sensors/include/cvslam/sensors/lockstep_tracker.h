@@ -1,5 +1,5 @@
 #pragma once
-// Bookkeeping of cvslam_replay's lockstep mode (DESIGN.md §2), kept free of LCM so it can be
+// Bookkeeping of cvslam_replay's lockstep mode (docs/architecture.md), kept free of LCM so it can be
 // tested alone. The process feeds it what it publishes and the STATUS reports it receives.
 //
 // Epoch: the events of one camera instant of the team — every event after the previous

@@ -3,7 +3,7 @@
 // folders played back (EurocSensorSource) or a scenario simulated live, with or without
 // rendered images (SimulatedSensorSource). cvslam_replay publishes it over LCM and
 // cvslam_simulate writes it to disk; both stay thin because the merging lives here
-// (DESIGN.md §1: no LCM in common/).
+// (docs/architecture.md: no LCM in common/).
 //
 // Ordering: events come by increasing play time; at equal play time IMU comes before ground
 // truth, ground truth before the frame (propagate, then update); ties of the same type go to

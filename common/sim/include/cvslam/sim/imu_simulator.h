@@ -1,5 +1,5 @@
 #pragma once
-// IMU synthesis from a true trajectory (DESIGN.md §3; thesis §2.2 sensor errors, §5.9).
+// IMU synthesis from a true trajectory (docs/conventions.md; thesis §2.2 sensor errors, §5.9).
 //
 //   ω_meas = ω_B + b_g + n_g,   f_meas = R_NtoB (a_N − g_N) + b_a + n_a
 // White noise n has the continuous-time density σ_c (per √Hz): per sample σ = σ_c √rate.

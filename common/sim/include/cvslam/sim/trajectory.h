@@ -1,5 +1,5 @@
 #pragma once
-// True vehicle motion for the simulator: pose and derivatives at any time (DESIGN.md §3).
+// True vehicle motion for the simulator: pose and derivatives at any time (docs/conventions.md).
 //
 // Frames: N is NED, B is FRD (= IMU frame). Everything the IMU synthesis needs is here:
 //   specific force  f_B = R_NtoB (a_N − g_N),  g_N = [0 0 9.81]   (level at rest: [0 0 −9.81])
@@ -10,7 +10,7 @@
 
 namespace cvslam::sim {
 
-/// Gravity in NED [m/s²] (DESIGN.md §3).
+/// Gravity in NED [m/s²] (docs/conventions.md).
 inline Eigen::Vector3d gravityNed() {
   return {0.0, 0.0, 9.81};
 }

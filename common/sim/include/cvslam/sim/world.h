@@ -1,6 +1,6 @@
 #pragma once
 // Simulated world for feature-level simulation (thesis §5.9): point landmarks scattered over
-// a terrain, each with a unique true id (used as the feature index, DESIGN.md §3).
+// a terrain, each with a unique true id (used as the feature index, docs/conventions.md).
 //
 // Terrain: a seeded smooth heightfield — the sum of four plane waves with random directions
 // and phases, wavelengths λ, λ/2, λ/3, λ/5 and amplitudes A·(0.5, 0.25, 0.15, 0.1):

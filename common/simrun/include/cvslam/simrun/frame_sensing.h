@@ -1,8 +1,8 @@
 #pragma once
-// How a simulated agent's camera epoch reaches its filter (DESIGN.md §6, `--sensing`):
+// How a simulated agent's camera epoch reaches its filter (docs/run_format.md `--sensing`):
 // FrameSensing turns one frame event of the simulator into a VisualInertialSlam update.
 // FeatureSensing is the feature-level simulation (the observations carry the true landmark
-// ids, DESIGN.md §3); RenderedSensing (rendered_sensing.h) renders the images and runs the
+// ids, docs/conventions.md); RenderedSensing (rendered_sensing.h) renders the images and runs the
 // real front end. Each also knows the true position of the landmarks its filter created.
 
 #include <Eigen/Core>

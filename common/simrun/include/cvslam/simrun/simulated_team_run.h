@@ -1,6 +1,6 @@
 #pragma once
 // Drives every UAV of a simulated scenario through its own VisualInertialSlam, in dataset-time
-// order and deterministically (DESIGN.md §1: cvslam_run's core, no transport). Each agent also
+// order and deterministically (docs/architecture.md: cvslam_run's core, no transport). Each agent also
 // dead-reckons the same IMU data (INS only) for comparison. A callback sees every processed
 // frame; the caller decides what to record.
 

@@ -1,5 +1,5 @@
 #pragma once
-// One agent's VSLAM fed message by message (DESIGN.md §1, §2): the core of cvslam_agent and
+// One agent's VSLAM fed message by message (docs/architecture.md): the core of cvslam_agent and
 // of each UAV in cvslam_run (SimulatedTeamRun), so that a lockstep multi-process run and the
 // in-process run do exactly the same per agent. No transport, no simulation.
 //
@@ -97,7 +97,7 @@ class AgentPipeline {
   long frames_ = 0;
 };
 
-/// Feature-level sensing (DESIGN.md §3): the index is the true landmark id, so it names the
+/// Feature-level sensing (docs/conventions.md): the index is the true landmark id, so it names the
 /// observation's landmark. Shared by FeatureSensing and AgentPipeline::processFeatures.
 void useTrueLandmarkIds(StereoFrameObservations* frame);
 

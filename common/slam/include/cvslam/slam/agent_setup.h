@@ -1,5 +1,5 @@
 #pragma once
-// How one agent's filter is set up from its calibration (DESIGN.md §3, §6), shared by
+// How one agent's filter is set up from its calibration (docs/conventions.md, docs/run_format.md), shared by
 // cvslam_run (SimulatedTeamRun) and cvslam_agent, so that both start every filter alike:
 //  - options: the agent configuration with the IMU's datasheet noise (as from a sensor.yaml);
 //  - initial state and covariance: the scenario's initial estimate (simulation), or the first

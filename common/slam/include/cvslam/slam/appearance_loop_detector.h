@@ -1,5 +1,5 @@
 #pragma once
-// Appearance-based loop detection (thesis §5.5.2 loop closing; DESIGN.md §3 feature index).
+// Appearance-based loop detection (thesis §5.5.2 loop closing; docs/conventions.md feature index).
 //
 // The projection-gated association (map_prediction.h, map_association.h) proposes archived
 // landmarks only where the filter predicts them. After a long excursion the vehicle may be

@@ -1,5 +1,5 @@
 #pragma once
-// k-nearest landmark map management (thesis §5.8, Fig. 5.7; DESIGN.md §3).
+// k-nearest landmark map management (thesis §5.8, Fig. 5.7; docs/conventions.md).
 //
 // At each camera epoch the state holds the k previously observed landmarks nearest to the
 // virtual point m* — the point on the stereo pair's optical axis at the scene depth — plus

@@ -5,7 +5,7 @@
 // An archived landmark that is re-observed is re-activated into the state (loop closing,
 // §5.5.2) with the mean and marginal covariance it had when it was archived.
 // The archive keeps an inverted index feature index (visual word) → landmarks, so that a
-// frame can be matched against it by appearance (appearance_loop_detector.h; DESIGN.md §3).
+// frame can be matched against it by appearance (appearance_loop_detector.h; docs/conventions.md).
 
 #include <Eigen/Core>
 #include <cstdint>

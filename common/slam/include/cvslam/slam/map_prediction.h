@@ -1,6 +1,6 @@
 #pragma once
 // Predicted stereo observations of an agent's map at the current epoch, for the front end's
-// data association (thesis §5.5, §5.5.2; DESIGN.md §5): for each landmark that may be in
+// data association (thesis §5.5, §5.5.2; docs/front_end.md): for each landmark that may be in
 // view — those in the filter state and the archived ones near the predicted view that the
 // filter may re-activate (archived at least slam.reactivation_min_age_s ago), which is what
 // makes loop closing possible — the predicted measurement ẑ = h(x̂_v, p̂_L) (eq. 5.20)

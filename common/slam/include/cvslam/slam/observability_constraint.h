@@ -5,7 +5,7 @@
 //
 // Without an absolute reference, four directions of the joint state are unobservable: the
 // global translation and the global yaw (rotation about the NED z axis; roll and pitch are
-// observable through gravity). With body-frame velocity and ZYX Euler angles (DESIGN.md §3) a
+// observable through gravity). With body-frame velocity and ZYX Euler angles (docs/conventions.md) a
 // global yaw rotation δψ moves the state along
 //   vehicle   u_v = [e3 × p | 0 (v_B) | 0 0 1 (φ θ ψ) | 0 (biases)],   landmark  u_L = e3 × p_L.
 // An EKF linearised at estimates that change between propagation and update (each update

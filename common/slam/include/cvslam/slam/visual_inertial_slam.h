@@ -164,7 +164,7 @@ class VisualInertialSlam {
   /// Landmarks in the state, sorted by id.
   std::vector<StateLandmark> stateLandmarks() const;
   /// Covariance-intersection update with a peer's estimates y (3 per landmark, stacked in the
-  /// order of `ids`, all in the state) whose covariance is bounded by R (DESIGN §3, thesis
+  /// order of `ids`, all in the state) whose covariance is bounded by R (docs/cooperation.md, thesis
   /// eq. 6.2 on the joint state): P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H, i.e. the prior is scaled by 1/ω1
   /// and y enters as a measurement with covariance R/ω2, ω2 = 1 − ω1, so the vehicle and the
   /// other landmarks are corrected through their correlations. omega1 ∈ (0, 1]; 1 = no-op.

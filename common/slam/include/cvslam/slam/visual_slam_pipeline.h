@@ -1,5 +1,5 @@
 #pragma once
-// One agent's image path into its VSLAM filter (DESIGN.md §2, §5; thesis §5.10): a rectified
+// One agent's image path into its VSLAM filter (docs/architecture.md, docs/front_end.md; thesis §5.10): a rectified
 // stereo pair goes through the visual front end (chapter 4: detection, stereo matching under
 // the disparity window), the map predicts its landmarks' observations (map_prediction.h), the
 // observations are associated to them by descriptor and Mahalanobis gate (§5.5, §6.3.2: type 1

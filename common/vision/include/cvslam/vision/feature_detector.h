@@ -1,5 +1,5 @@
 #pragma once
-// One interface for the front end's detectors (thesis §4.2.3–4.2.5, DESIGN.md §5):
+// One interface for the front end's detectors (thesis §4.2.3–4.2.5, docs/front_end.md):
 // adaptive SIFT (the thesis's choice), plain SIFT (Lowe, the baseline) and ORB (fast option).
 // A detector turns one grey image into keypoints plus descriptors.
 

@@ -1,6 +1,6 @@
 #pragma once
 // Calibration of a stereo pair as the front end needs it for undistortion and rectification
-// (DESIGN.md §3: "undistort + rectify real data first"). A plain struct: fill it from EuRoC's
+// (docs/conventions.md: "undistort + rectify real data first"). A plain struct: fill it from EuRoC's
 // sensor.yaml, a simulator, or a config file.
 
 #include <Eigen/Core>
