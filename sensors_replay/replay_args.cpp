@@ -87,7 +87,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   auto* rate = app.add_option("--rate", a.rate)->check(cli::kNonNegative);
   auto* fast = app.add_flag("--fast");
   app.add_flag("--lockstep", a.lockstep)->excludes(rate)->excludes(fast);
-  app.add_option("--participants", a.participants)->delimiter(',')->expected(1);
+  app.add_option("--participants", a.participants)->delimiter(',')->allow_extra_args(false);
   app.add_option("--lockstep-timeout", a.lockstep_timeout)->check(cli::kPositive);
   app.add_option("--lcm-url", a.lcm_url);
   app.add_option("--start", a.start)->check(cli::kNonNegative);
