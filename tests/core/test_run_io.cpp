@@ -128,8 +128,10 @@ TEST_F(RunIo, JsonFileRoundTripAndErrors) {
   auto file = readJsonFile(back_path);
   ASSERT_TRUE(file.ok()) << file.status().message();
   EXPECT_EQ(file->at("mode").get<std::string>(), "dc \"quoted\"\n");
-  const std::string written = file->dump(2);
+  const std::string written = formatJson(root);
   EXPECT_NE(written.find("\"n\": 3,"), std::string::npos) << "integers without fraction";
+  EXPECT_NE(written.find("\"v\": [1.0, 2.5, -3e-07],"), std::string::npos) << "series on one line";
+  EXPECT_EQ(parseJson(written)->dump(), root.dump());
   auto bad = parseJson("{\n  \"a\": [1, 2,, 3]\n}", "f.json");
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("f.json:2:14: "), std::string::npos)

@@ -20,7 +20,11 @@ Expected<Json> parseJson(const std::string& text, const std::string& source = "<
 /// Reads and parses the file at `path` ("<path>: cannot open" when it cannot be read).
 Expected<Json> readJsonFile(const std::string& path);
 
-/// Writes `json` to `path`, indented by 2 spaces, with a final newline.
+/// The text of a JSON file: indented by 2 spaces, arrays of plain values on one line, final
+/// newline. Every value is nlohmann's text (shortest round-trip numbers, non-finite → null).
+std::string formatJson(const Json& json);
+
+/// Writes formatJson(json) to `path`.
 Status writeJsonFile(const std::string& path, const Json& json);
 
 }  // namespace cvslam
