@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <set>
 
+#include "cvslam/core/status.h"
 #include "cvslam/io/cli.h"
 
 namespace cvslam::replay {
@@ -83,7 +84,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   std::vector<std::string> datasets;
   CLI::App app("publishes sensor data over LCM", "cvslam_replay");
   auto* scenario = app.add_option("--scenario", a.scenario);
-  app.add_option("--dataset", datasets)->excludes(scenario);
+  app.add_option("--dataset", datasets)->excludes(scenario)->allow_extra_args(false);
   auto* rate = app.add_option("--rate", a.rate)->check(cli::kNonNegative);
   auto* fast = app.add_flag("--fast");
   app.add_flag("--lockstep", a.lockstep)->excludes(rate)->excludes(fast);

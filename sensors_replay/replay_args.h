@@ -3,7 +3,6 @@
 #include <optional>
 #include <string>
 #include <vector>
-#include "cvslam/core/status.h"
 #include "cvslam/lcm/lcm_bus.h"
 
 namespace cvslam::replay {
