@@ -1,6 +1,7 @@
 // cvslam_eval — evaluates a run folder (DESIGN.md §6): per-agent table on stdout and the
 // summary JSON. A thin shell: parsing and metrics live in common/ (eval/, io/).
 
+#include <cmath>
 #include <iostream>
 #include <limits>
 #include <string>
@@ -51,7 +52,9 @@ int main(int argc, char** argv) {
   app.add_option("--time-tolerance", options.time_tolerance_s)->check(cvslam::cli::kNonNegative);
   app.add_option("--rpe-segment", options.rpe_segment_m)->check(cvslam::cli::kPositive);
   app.add_option("--co-window", options.co_window)
-      ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+      ->check(cvslam::cli::numberValidator("WINDOW", "a whole number ≥ 1", [](double x) {
+        return x >= 1.0 && x == std::floor(x) && x <= std::numeric_limits<int>::max();
+      }));
   app.add_flag("--quiet", quiet);
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return *exit_code;
   options.alignment = align == "se3" ? cvslam::Alignment::kSE3 : cvslam::Alignment::kNone;
