@@ -7,11 +7,11 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <thread>
 
-#include "cvslam/io/json.h"
+#include "cvslam/io/cli.h"
+#include "cvslam/io/json_file.h"
 #include "cvslam/lcm/channel_monitor.h"
 #include "cvslam/lcm/lcm_bus.h"
 
@@ -51,33 +51,12 @@ int main(int argc, char** argv) {
   std::string url = cvslam::transport::kDefaultLcmUrl, json_path;
   double duration = -1.0;
   bool quiet = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (arg == "--quiet") {
-      quiet = true;
-      continue;
-    }
-    if (i + 1 >= argc) return fail(arg + " needs a value (see --help)");
-    const std::string v = argv[++i];
-    if (arg == "--lcm-url") {
-      url = v;
-    } else if (arg == "--json") {
-      json_path = v;
-    } else if (arg == "--duration") {
-      try {
-        duration = std::stod(v);
-      } catch (const std::exception&) {
-        return fail("bad number for --duration: '" + v + "'");
-      }
-    } else {
-      return fail("unknown option " + arg + " (see --help)");
-    }
-  }
-  if (duration <= 0.0) return fail("--duration S (> 0) is required (see --help)");
+  CLI::App app("per-channel LCM statistics", "cvslam_lcm_stats");
+  app.add_option("--lcm-url", url);
+  app.add_option("--duration", duration)->required()->check(cvslam::cli::kPositive);
+  app.add_option("--json", json_path);
+  app.add_flag("--quiet", quiet);
+  if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return *exit_code;
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
 
@@ -105,29 +84,27 @@ int main(int argc, char** argv) {
                   r.bandwidth_Bps / 1e6, static_cast<long long>(r.seq_gaps),
                   static_cast<long long>(r.seq_resets), r.senders);
     }
-    cvslam::Json c = cvslam::Json::object();
-    c.set("type", cvslam::Json::string(r.type));
-    c.set("messages", cvslam::Json::number(static_cast<double>(r.messages)));
-    c.set("bytes", cvslam::Json::number(static_cast<double>(r.bytes)));
-    c.set("rate_hz", cvslam::Json::number(r.rate_hz));
-    c.set("bandwidth_bytes_per_s", cvslam::Json::number(r.bandwidth_Bps));
-    c.set("active_s", cvslam::Json::number(r.active_s));
-    c.set("seq_gaps", cvslam::Json::number(static_cast<double>(r.seq_gaps)));
-    c.set("seq_resets", cvslam::Json::number(static_cast<double>(r.seq_resets)));
-    c.set("no_header", cvslam::Json::number(static_cast<double>(r.no_header)));
-    c.set("senders", cvslam::Json::number(r.senders));
-    channels.set(r.channel, std::move(c));
+    cvslam::Json& c = channels[r.channel];
+    c["type"] = r.type;
+    c["messages"] = r.messages;
+    c["bytes"] = r.bytes;
+    c["rate_hz"] = r.rate_hz;
+    c["bandwidth_bytes_per_s"] = r.bandwidth_Bps;
+    c["active_s"] = r.active_s;
+    c["seq_gaps"] = r.seq_gaps;
+    c["seq_resets"] = r.seq_resets;
+    c["no_header"] = r.no_header;
+    c["senders"] = r.senders;
   }
   if (!quiet && reports.empty()) std::printf("(no messages on %s)\n", url.c_str());
   if (!json_path.empty()) {
     cvslam::Json root = cvslam::Json::object();
-    root.set("lcm_url", cvslam::Json::string(url));
-    root.set("duration_s", cvslam::Json::number(duration));
-    root.set("seq_gaps_total", cvslam::Json::number(static_cast<double>(total_gaps)));
-    root.set("channels", std::move(channels));
-    std::ofstream f(json_path);
-    f << root.dump() << '\n';
-    if (!f) return fail("cannot write " + json_path);
+    root["lcm_url"] = url;
+    root["duration_s"] = duration;
+    root["seq_gaps_total"] = total_gaps;
+    root["channels"] = std::move(channels);
+    if (cvslam::Status w = cvslam::writeJsonFile(json_path, root); !w.ok())
+      return fail(w.message());
   }
   return total_gaps > 0 ? 1 : 0;
 }

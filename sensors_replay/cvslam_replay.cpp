@@ -104,17 +104,33 @@ Status waitForAcks(Lockstep& lock, double timeout_s) {
   return Status::Ok();
 }
 
+/// Subscribes to the participants' STATUS and starts the bus: lockstep publishing.
+Status startLockstep(cvslam::transport::LcmBus& bus, const cvslam::replay::Args& args,
+                     const std::vector<int>& agents, Lockstep& lockstep) {
+  const std::vector<int> participants = args.participants.empty() ? agents : args.participants;
+  lockstep.tracker = std::make_unique<cvslam::LockstepTracker>(participants, agents);
+  for (int id : participants) {
+    Status s = bus.subscribe<cvslam::status_t>(cvslam::transport::channels::status(id),
+                                               [&lockstep, id](const cvslam::status_t& m) {
+                                                 std::lock_guard<std::mutex> guard(lockstep.mutex);
+                                                 lockstep.tracker->onStatus(id, m.processed_utime);
+                                                 lockstep.changed.notify_all();
+                                               });
+    if (!s.ok()) return s;
+  }
+  Status s = bus.start();
+  if (!s.ok()) return s;
+  if (!args.quiet)
+    std::fprintf(stderr, "cvslam_replay: lockstep, waiting for STATUS of %zu participant(s)\n",
+                 participants.size());
+  return Status::Ok();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   cvslam::replay::Args args;
-  bool help = false;
-  Status parsed = cvslam::replay::parseArgs(argc, argv, args, help);
-  if (help) {
-    std::fputs(cvslam::replay::kUsage, stdout);
-    return 0;
-  }
-  if (!parsed.ok()) return fail(parsed.message());
+  if (auto exit_code = cvslam::replay::parseArgs(argc, argv, args)) return *exit_code;
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
 
@@ -129,22 +145,8 @@ int main(int argc, char** argv) {
 
   Lockstep lockstep;
   if (args.lockstep) {
-    const std::vector<int> participants = args.participants.empty() ? agents : args.participants;
-    lockstep.tracker = std::make_unique<cvslam::LockstepTracker>(participants, agents);
-    for (int id : participants) {
-      Status s = (*bus)->subscribe<cvslam::status_t>(
-          cvslam::transport::channels::status(id), [&lockstep, id](const cvslam::status_t& m) {
-            std::lock_guard<std::mutex> guard(lockstep.mutex);
-            lockstep.tracker->onStatus(id, m.processed_utime);
-            lockstep.changed.notify_all();
-          });
-      if (!s.ok()) return fail(s.message());
-    }
-    Status s = (*bus)->start();
+    Status s = startLockstep(**bus, args, agents, lockstep);
     if (!s.ok()) return fail(s.message());
-    if (!args.quiet)
-      std::fprintf(stderr, "cvslam_replay: lockstep, waiting for STATUS of %zu participant(s)\n",
-                   participants.size());
   }
 
   cvslam::transport::SensorPublisherOptions publish_options;

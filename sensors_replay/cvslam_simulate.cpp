@@ -13,11 +13,13 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cvslam/dataset/euroc_dataset_writer.h"
+#include "cvslam/io/cli.h"
 #include "cvslam/sensors/merged_sensor_source.h"
 #include "cvslam/simrun/render_world_choice.h"
 #include "cvslam/simrun/simulated_sensor_stream.h"
@@ -59,43 +61,16 @@ int fail(const std::string& message) {
   return 2;
 }
 
-Status parseArgs(int argc, char** argv, Args& a, bool& help) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
-    if (arg == "-h" || arg == "--help") {
-      help = true;
-      return Status::Ok();
-    }
-    if (arg == "--quiet") {
-      a.quiet = true;
-      continue;
-    }
-    const char* v = value();
-    if (v == nullptr) return Status::Error(arg + " needs a value (see --help)");
-    try {
-      if (arg == "--scenario") {
-        a.scenario = v;
-      } else if (arg == "--out") {
-        a.out = v;
-      } else if (arg == "--world") {
-        a.world = v;
-      } else if (arg == "--seed") {
-        a.seed = std::stoll(v);
-      } else if (arg == "--duration") {
-        a.duration = std::stod(v);
-      } else {
-        return Status::Error("unknown option " + arg + " (see --help)");
-      }
-    } catch (const std::exception&) {
-      return Status::Error("bad number for " + arg + ": '" + v + "'");
-    }
-  }
-  if (a.scenario.empty()) return Status::Error("--scenario is required (see --help)");
-  if (a.out.empty()) return Status::Error("--out is required (see --help)");
-  if (a.duration == 0.0 || (a.duration < 0.0 && a.duration != -1.0))
-    return Status::Error("--duration must be > 0");
-  return Status::Ok();
+/// Fills `a`; nullopt to go on, else the exit status (0 after --help, 2 after an error).
+std::optional<int> parseArgs(int argc, char** argv, Args& a) {
+  CLI::App app("writes a simulated team as EuRoC ASL folders", "cvslam_simulate");
+  app.add_option("--scenario", a.scenario)->required();
+  app.add_option("--out", a.out)->required();
+  app.add_option("--world", a.world);
+  app.add_option("--seed", a.seed)->check(cvslam::cli::kCount);
+  app.add_option("--duration", a.duration)->check(cvslam::cli::kPositive);
+  app.add_flag("--quiet", a.quiet);
+  return cvslam::cli::parse(app, argc, argv, kUsage);
 }
 
 std::string agentFolder(const std::string& out, int id) {
@@ -156,13 +131,7 @@ Status writeSensorsYaml(const std::string& path, const cvslam::sim::Scenario& sc
 
 int main(int argc, char** argv) {
   Args args;
-  bool help = false;
-  Status parsed = parseArgs(argc, argv, args, help);
-  if (help) {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  if (!parsed.ok()) return fail(parsed.message());
+  if (auto exit_code = parseArgs(argc, argv, args)) return *exit_code;
 
   auto scenario = cvslam::sim::Scenario::loadFile(args.scenario);
   if (!scenario.ok()) return fail(scenario.status().message());

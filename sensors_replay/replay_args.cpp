@@ -1,7 +1,11 @@
 #include "replay_args.h"
 
+#include <cstdio>
+#include <cstdlib>
 #include <set>
-#include <sstream>
+
+#include "cvslam/core/status.h"
+#include "cvslam/io/cli.h"
 
 namespace cvslam::replay {
 
@@ -42,102 +46,66 @@ Ctrl-C (SIGINT/SIGTERM) stops after the current message.
 
 namespace {
 
-Status parseList(const std::string& text, std::vector<int>& out) {
-  std::stringstream s(text);
-  std::string item;
-  while (std::getline(s, item, ',')) {
-    try {
-      std::size_t used = 0;
-      out.push_back(std::stoi(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      return Status::Error("bad id '" + item + "' in --participants");
-    }
+/// ID:PATH of --dataset, ID a whole number ≥ 1.
+Status parseDataset(const std::string& v, DatasetArg& d) {
+  const auto colon = v.find(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == v.size())
+    return Status::Error("--dataset wants ID:PATH, got '" + v + "'");
+  const std::string id = v.substr(0, colon);
+  char* end = nullptr;
+  const long n = std::strtol(id.c_str(), &end, 10);
+  if (*end != '\0' || n < 1 || n > 1000000)
+    return Status::Error("--dataset: bad UAV id in '" + v + "' (want an integer >= 1)");
+  d.id = static_cast<int>(n);
+  d.path = v.substr(colon + 1);
+  return Status::Ok();
+}
+
+/// What CLI11 cannot say per option: the source, distinct UAV ids, scenario-only options.
+Status checkArgs(const std::vector<std::string>& datasets, Args& a) {
+  if (a.scenario.empty() == datasets.empty())
+    return Status::Error("give either --scenario or --dataset (see --help)");
+  std::set<int> ids;
+  for (const std::string& text : datasets) {
+    DatasetArg d;
+    if (Status s = parseDataset(text, d); !s.ok()) return s;
+    if (!ids.insert(d.id).second)
+      return Status::Error("--dataset: UAV id " + std::to_string(d.id) + " given twice");
+    a.datasets.push_back(d);
   }
+  if (!a.datasets.empty() && (a.sensing != "images" || !a.world.empty() || a.seed >= 0))
+    return Status::Error("--sensing, --world and --seed apply to --scenario only");
   return Status::Ok();
 }
 
 }  // namespace
 
-Status parseArgs(int argc, char** argv, Args& a, bool& help) {
-  bool rate_given = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      help = true;
-      return Status::Ok();
-    }
-    if (arg == "--fast" || arg == "--lockstep" || arg == "--compress" || arg == "--no-gt" ||
-        arg == "--quiet") {
-      if (arg == "--fast") {
-        a.rate = 0.0;
-        rate_given = true;
-      }
-      if (arg == "--lockstep") a.lockstep = true;
-      if (arg == "--compress") a.compress = true;
-      if (arg == "--no-gt") a.no_gt = true;
-      if (arg == "--quiet") a.quiet = true;
-      continue;
-    }
-    if (i + 1 >= argc) return Status::Error(arg + " needs a value (see --help)");
-    const std::string v = argv[++i];
-    try {
-      if (arg == "--scenario") {
-        a.scenario = v;
-      } else if (arg == "--dataset") {
-        const auto colon = v.find(':');
-        std::size_t used = 0;
-        DatasetArg d;
-        if (colon == std::string::npos || colon == 0 || colon + 1 == v.size())
-          return Status::Error("--dataset wants ID:PATH, got '" + v + "'");
-        d.id = std::stoi(v.substr(0, colon), &used);
-        if (used != colon || d.id < 1)
-          return Status::Error("--dataset: bad UAV id in '" + v + "' (want an integer >= 1)");
-        d.path = v.substr(colon + 1);
-        a.datasets.push_back(d);
-      } else if (arg == "--rate") {
-        a.rate = std::stod(v);
-        rate_given = true;
-      } else if (arg == "--participants") {
-        Status s = parseList(v, a.participants);
-        if (!s.ok()) return s;
-      } else if (arg == "--lockstep-timeout") {
-        a.lockstep_timeout = std::stod(v);
-      } else if (arg == "--lcm-url") {
-        a.lcm_url = v;
-      } else if (arg == "--start") {
-        a.start = std::stod(v);
-      } else if (arg == "--duration") {
-        a.duration = std::stod(v);
-      } else if (arg == "--sensing") {
-        a.sensing = v;
-      } else if (arg == "--world") {
-        a.world = v;
-      } else if (arg == "--seed") {
-        a.seed = std::stoll(v);
-      } else {
-        return Status::Error("unknown option " + arg + " (see --help)");
-      }
-    } catch (const std::exception&) {
-      return Status::Error("bad number for " + arg + ": '" + v + "'");
-    }
+std::optional<int> parseArgs(int argc, char** argv, Args& a) {
+  std::vector<std::string> datasets;
+  CLI::App app("publishes sensor data over LCM", "cvslam_replay");
+  auto* scenario = app.add_option("--scenario", a.scenario);
+  app.add_option("--dataset", datasets)->excludes(scenario)->allow_extra_args(false);
+  auto* rate = app.add_option("--rate", a.rate)->check(cli::kNonNegative);
+  auto* fast = app.add_flag("--fast");
+  app.add_flag("--lockstep", a.lockstep)->excludes(rate)->excludes(fast);
+  app.add_option("--participants", a.participants)->delimiter(',')->allow_extra_args(false);
+  app.add_option("--lockstep-timeout", a.lockstep_timeout)->check(cli::kPositive);
+  app.add_option("--lcm-url", a.lcm_url);
+  app.add_option("--start", a.start)->check(cli::kNonNegative);
+  app.add_option("--duration", a.duration)->check(cli::kFinite);
+  app.add_flag("--compress", a.compress);
+  app.add_flag("--no-gt", a.no_gt);
+  app.add_option("--sensing", a.sensing)->check(CLI::IsMember({"images", "features"}));
+  app.add_option("--world", a.world);
+  app.add_option("--seed", a.seed)->check(cli::kCount);
+  app.add_flag("--quiet", a.quiet);
+  if (auto exit_code = cli::parse(app, argc, argv, kUsage)) return exit_code;
+  if (fast->count() > 0) a.rate = 0.0;
+  if (Status s = checkArgs(datasets, a); !s.ok()) {
+    std::fprintf(stderr, "cvslam_replay: %s\n", s.message().c_str());
+    return 2;
   }
-  if (a.scenario.empty() == a.datasets.empty())
-    return Status::Error("give either --scenario or --dataset (see --help)");
-  std::set<int> ids;
-  for (const auto& d : a.datasets) {
-    if (!ids.insert(d.id).second)
-      return Status::Error("--dataset: UAV id " + std::to_string(d.id) + " given twice");
-  }
-  if (a.lockstep && rate_given) return Status::Error("--lockstep excludes --rate/--fast");
-  if (a.rate < 0.0) return Status::Error("--rate must be >= 0");
-  if (a.start < 0.0) return Status::Error("--start must be >= 0");
-  if (a.lockstep_timeout <= 0.0) return Status::Error("--lockstep-timeout must be > 0");
-  if (a.sensing != "images" && a.sensing != "features")
-    return Status::Error("--sensing must be images or features");
-  if (!a.datasets.empty() && (a.sensing != "images" || !a.world.empty() || a.seed >= 0))
-    return Status::Error("--sensing, --world and --seed apply to --scenario only");
-  return Status::Ok();
+  return std::nullopt;
 }
 
 }  // namespace cvslam::replay

@@ -1,8 +1,8 @@
 #pragma once
 // Command line of cvslam_replay (kept apart from the publishing loop).
+#include <optional>
 #include <string>
 #include <vector>
-#include "cvslam/core/status.h"
 #include "cvslam/lcm/lcm_bus.h"
 
 namespace cvslam::replay {
@@ -32,7 +32,9 @@ struct Args {
   bool quiet = false;
 };
 
-/// Fills `args`; `help` set for -h/--help. Errors are one line.
-Status parseArgs(int argc, char** argv, Args& args, bool& help);
+/// Fills `args` from the command line. Returns nullopt when the program should go on;
+/// otherwise the exit status main should return (0 after --help; 2 after an error, whose
+/// one line "cvslam_replay: …" is printed).
+std::optional<int> parseArgs(int argc, char** argv, Args& args);
 
 }  // namespace cvslam::replay

@@ -3,14 +3,15 @@
 // hierarchical k-means (vision/vocabulary.h). Every agent must load the same output file.
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
+#include "cvslam/io/cli.h"
 #include "cvslam/vision/feature_detector.h"
 #include "cvslam/vision/vocabulary.h"
 
@@ -36,15 +37,7 @@ options:
 
 int fail(const std::string& message) {
   std::cerr << "cvslam_build_vocabulary: " << message << "\n";
-  return 1;
-}
-
-bool parseInt(const std::string& text, long min, long max, long* out) {
-  char* end = nullptr;
-  const long v = std::strtol(text.c_str(), &end, 10);
-  if (end == text.c_str() || *end != '\0' || v < min || v > max) return false;
-  *out = v;
-  return true;
+  return 2;
 }
 
 }  // namespace
@@ -55,51 +48,26 @@ int main(int argc, char** argv) {
   std::string images_dir;
   std::string output = "vocabulary.cvoc";
   std::string detector_name = "adaptive_sift";
-  long every = 1;
+  int every = 1;
   VocabularyOptions vo;
   vo.branching = 32;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
-      return 0;
-    }
-    if (i + 1 >= argc) return fail("option " + arg + " needs a value (see --help)");
-    const std::string value = argv[++i];
-    long v = 0;
-    if (arg == "--images") {
-      images_dir = value;
-    } else if (arg == "--output") {
-      output = value;
-    } else if (arg == "--detector") {
-      detector_name = value;
-    } else if (arg == "--branching" && parseInt(value, 2, 256, &v)) {
-      vo.branching = static_cast<int>(v);
-    } else if (arg == "--depth" && parseInt(value, 1, 4, &v)) {
-      vo.depth = static_cast<int>(v);
-    } else if (arg == "--iterations" && parseInt(value, 1, 1000, &v)) {
-      vo.iterations = static_cast<int>(v);
-    } else if (arg == "--seed" && parseInt(value, 0, 4294967295L, &v)) {
-      vo.seed = static_cast<uint32_t>(v);
-    } else if (arg == "--every" && parseInt(value, 1, 1000000, &v)) {
-      every = v;
-    } else if (arg == "--max-descriptors" && parseInt(value, 2, 100000000, &v)) {
-      vo.max_descriptors = static_cast<int>(v);
-    } else {
-      return fail("bad option or value: " + arg + " " + value + " (see --help)");
-    }
-  }
-  if (images_dir.empty()) return fail("--images DIR is required (see --help)");
+  CLI::App app("builds a visual vocabulary", "cvslam_build_vocabulary");
+  app.add_option("--images", images_dir)->required();
+  app.add_option("--output", output);
+  const std::map<std::string, DetectorType> detectors = {
+      {"adaptive_sift", DetectorType::kAdaptiveSift},
+      {"sift", DetectorType::kSift},
+      {"orb", DetectorType::kOrb}};
+  app.add_option("--detector", detector_name)->check(CLI::IsMember(detectors));
+  app.add_option("--branching", vo.branching)->check(CLI::Range(2, 256));
+  app.add_option("--depth", vo.depth)->check(CLI::Range(1, 4));
+  app.add_option("--iterations", vo.iterations)->check(CLI::Range(1, 1000));
+  app.add_option("--seed", vo.seed);  // uint32_t: CLI11 rejects negatives and overflow
+  app.add_option("--every", every)->check(CLI::Range(1, 1000000));
+  app.add_option("--max-descriptors", vo.max_descriptors)->check(CLI::Range(2, 100000000));
+  if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return *exit_code;
   DetectorOptions dopt;
-  if (detector_name == "adaptive_sift") {
-    dopt.type = DetectorType::kAdaptiveSift;
-  } else if (detector_name == "sift") {
-    dopt.type = DetectorType::kSift;
-  } else if (detector_name == "orb") {
-    dopt.type = DetectorType::kOrb;
-  } else {
-    return fail("--detector must be adaptive_sift, sift or orb (got '" + detector_name + "')");
-  }
+  dopt.type = detectors.at(detector_name);
   std::error_code ec;
   if (!fs::is_directory(images_dir, ec)) return fail("not a folder: " + images_dir);
   std::vector<fs::path> files;

@@ -1,12 +1,14 @@
 // cvslam_eval — evaluates a run folder (docs/run_format.md): per-agent table on stdout and the
 // summary JSON. A thin shell: parsing and metrics live in common/ (eval/, io/).
 
-#include <cstdlib>
-#include <fstream>
+#include <cmath>
 #include <iostream>
+#include <limits>
 #include <string>
 
 #include "cvslam/eval/run_evaluation.h"
+#include "cvslam/io/cli.h"
+#include "cvslam/io/json_file.h"
 #include "cvslam/io/run_reader.h"
 
 namespace {
@@ -33,59 +35,29 @@ median frame time and bytes sent per second. Prints a table; writes the summary 
 
 int fail(const std::string& message) {
   std::cerr << "cvslam_eval: " << message << '\n';
-  return 1;
-}
-
-bool parseDouble(const std::string& s, double& out) {
-  char* end = nullptr;
-  out = std::strtod(s.c_str(), &end);
-  return !s.empty() && *end == '\0';
+  return 2;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string run_dir, gt_dir, summary_path;
+  std::string run_dir, gt_dir, summary_path, align = "none";
   cvslam::RunEvaluationOptions options;
   bool quiet = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const auto value = [&](std::string& out) {
-      if (i + 1 >= argc) return false;
-      out = argv[++i];
-      return true;
-    };
-    std::string v;
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kUsage;
-      return 0;
-    } else if (arg == "--quiet") {
-      quiet = true;
-    } else if (arg == "--run") {
-      if (!value(run_dir)) return fail("--run needs a folder");
-    } else if (arg == "--gt") {
-      if (!value(gt_dir)) return fail("--gt needs a folder");
-    } else if (arg == "--summary-json") {
-      if (!value(summary_path)) return fail("--summary-json needs a file name");
-    } else if (arg == "--align") {
-      if (!value(v) || (v != "none" && v != "se3")) return fail("--align must be none or se3");
-      options.alignment = v == "se3" ? cvslam::Alignment::kSE3 : cvslam::Alignment::kNone;
-    } else if (arg == "--time-tolerance") {
-      if (!value(v) || !parseDouble(v, options.time_tolerance_s) || options.time_tolerance_s < 0)
-        return fail("--time-tolerance needs a number >= 0");
-    } else if (arg == "--rpe-segment") {
-      if (!value(v) || !parseDouble(v, options.rpe_segment_m) || options.rpe_segment_m <= 0)
-        return fail("--rpe-segment needs a number > 0");
-    } else if (arg == "--co-window") {
-      double w = 0;
-      if (!value(v) || !parseDouble(v, w) || w < 1)
-        return fail("--co-window needs an integer >= 1");
-      options.co_window = static_cast<int>(w);
-    } else {
-      return fail("unknown argument '" + arg + "' (try --help)");
-    }
-  }
-  if (run_dir.empty()) return fail("--run DIR is required (try --help)");
+  CLI::App app("evaluates a run folder", "cvslam_eval");
+  app.add_option("--run", run_dir)->required();
+  app.add_option("--gt", gt_dir);
+  app.add_option("--summary-json", summary_path);
+  app.add_option("--align", align)->check(CLI::IsMember({"none", "se3"}));
+  app.add_option("--time-tolerance", options.time_tolerance_s)->check(cvslam::cli::kNonNegative);
+  app.add_option("--rpe-segment", options.rpe_segment_m)->check(cvslam::cli::kPositive);
+  app.add_option("--co-window", options.co_window)
+      ->check(cvslam::cli::numberValidator("WINDOW", "a whole number ≥ 1", [](double x) {
+        return x >= 1.0 && x == std::floor(x) && x <= std::numeric_limits<int>::max();
+      }));
+  app.add_flag("--quiet", quiet);
+  if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return *exit_code;
+  options.alignment = align == "se3" ? cvslam::Alignment::kSE3 : cvslam::Alignment::kNone;
 
   auto info = cvslam::readRunInfo(run_dir);
   if (!info.ok()) return fail(info.status().message());
@@ -100,10 +72,9 @@ int main(int argc, char** argv) {
       for (const auto& n : ev.notes) std::cout << "  agent " << ev.id << ": " << n << '\n';
   }
   if (!summary_path.empty()) {
-    std::ofstream out(summary_path);
-    if (!out) return fail(summary_path + ": cannot write");
-    out << cvslam::summaryJson(*info, *agents, options).dump(2);
-    if (!out) return fail(summary_path + ": write failed");
+    const cvslam::Status written =
+        cvslam::writeJsonFile(summary_path, cvslam::summaryJson(*info, *agents, options));
+    if (!written.ok()) return fail(written.message());
   }
   return 0;
 }

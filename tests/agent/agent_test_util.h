@@ -6,7 +6,7 @@
 #include <set>
 #include <string>
 
-#include "cvslam/io/json.h"
+#include "cvslam/io/json_file.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/lcm_bus.h"
 #include "euroc_test_folder.h"
@@ -27,12 +27,13 @@ inline std::map<int, double> ateOf(const std::string& run_dir, const std::string
   if (run({CVSLAM_EVAL_EXE, "--run", run_dir, "--summary-json", json_path}, log_prefix, nullptr,
           &err) != 0)
     return ate;
-  auto json = Json::parseFile(json_path);
-  if (!json.ok() || json->find("agents") == nullptr) return ate;
+  auto json = readJsonFile(json_path);
+  if (!json.ok() || !json->contains("agents")) return ate;
+  const Json& agents = json->at("agents");
   for (int id = 1; id <= 9; ++id) {
-    const Json* a = json->find("agents")->find(std::to_string(id));
-    if (a != nullptr && a->find("ate_rmse_m") != nullptr)
-      ate[id] = a->find("ate_rmse_m")->asNumber();
+    const auto a = agents.find(std::to_string(id));
+    if (a != agents.end() && a->contains("ate_rmse_m") && a->at("ate_rmse_m").is_number())
+      ate[id] = a->at("ate_rmse_m").get<double>();
   }
   return ate;
 }

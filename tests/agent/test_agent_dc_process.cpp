@@ -65,13 +65,13 @@ TEST(AgentDcProcess, LockstepReproducesCvslamRunDc) {
   const auto got = test::ateOf(tmp / "lcm", tmp / "eval_lcm");
   ASSERT_EQ(got.size(), 2u);
   for (int id : {1, 2}) EXPECT_NEAR(got.at(id), expected.at(id), 0.01 * expected.at(id));
-  auto stats = Json::parseFile(tmp / "lcm/agent_1/stats.json");
+  auto stats = readJsonFile(tmp / "lcm/agent_1/stats.json");
   ASSERT_TRUE(stats.ok());
-  const Json* rates = stats->find("bytes_sent_per_s");
-  ASSERT_NE(rates, nullptr);
-  EXPECT_GT(rates->find("SUMMARY")->asNumber(), 0.0);
-  EXPECT_GT(rates->find("cooperation")->asNumber(), 0.0);
-  EXPECT_LT(rates->find("cooperation")->asNumber(), 10000.0);
+  ASSERT_TRUE(stats->contains("bytes_sent_per_s"));
+  const Json& rates = stats->at("bytes_sent_per_s");
+  EXPECT_GT(rates.at("SUMMARY").get<double>(), 0.0);
+  EXPECT_GT(rates.at("cooperation").get<double>(), 0.0);
+  EXPECT_LT(rates.at("cooperation").get<double>(), 10000.0);
 }
 
 TEST(AgentDcProcess, NonFiniteAndAbsurdPeerLandmarksAreRejected) {

@@ -5,7 +5,7 @@
 
 #include "cvslam/io/config_node.h"
 #include "cvslam/dataset/euroc_sensor_yaml.h"
-#include "cvslam/io/json.h"
+#include "cvslam/io/json_file.h"
 #include "cvslam/io/run_reader.h"
 #include "cvslam/sensors/sensor_event_orderer.h"
 #include "cvslam/slam/agent_calibration.h"
@@ -202,10 +202,10 @@ TEST(AgentRunRecorder, RecordReadableWhileRunningAndAfter) {
   EXPECT_TRUE(run->landmarks.front().truth.has_value());
   EXPECT_TRUE(std::filesystem::exists(dir / "agent_1/events.csv"));
   EXPECT_FALSE(std::filesystem::exists(dir / "agent_1/frontend.csv"));  // no image frame
-  auto stats = Json::parseFile(dir / "agent_1/stats.json");
+  auto stats = readJsonFile(dir / "agent_1/stats.json");
   ASSERT_TRUE(stats.ok());
-  EXPECT_DOUBLE_EQ(stats->find("frames")->find("latency_ms")->items().at(0).asNumber(), 2.5);
-  EXPECT_NEAR(stats->find("bytes_sent_per_s")->find("SUMMARY")->asNumber(), 1000.0 / 3.0, 1e-9);
+  EXPECT_DOUBLE_EQ(stats->at("frames").at("latency_ms").at(0).get<double>(), 2.5);
+  EXPECT_NEAR(stats->at("bytes_sent_per_s").at("SUMMARY").get<double>(), 1000.0 / 3.0, 1e-9);
 }
 
 SensorEvent event(SensorEventType type, int64_t t_us) {

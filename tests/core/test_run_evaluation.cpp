@@ -75,25 +75,24 @@ TEST_F(RunEvaluation, SummaryJsonHasTheDesignKeys) {
   auto info = readRunInfo(dir_ + "/run");
   ASSERT_TRUE(info.ok());
   const Json j = summaryJson(*info, *agents, {});
-  auto back = Json::parse(j.dump());  // what the file holds parses
+  auto back = parseJson(j.dump(2));  // what the file holds parses
   ASSERT_TRUE(back.ok()) << back.status().message();
-  EXPECT_EQ(back->find("mode")->asString(), "dc");
-  EXPECT_EQ(back->find("filter")->asString(), "nhinf");
-  const Json* a1 = back->find("agents")->find("1");
-  ASSERT_NE(a1, nullptr);
+  EXPECT_EQ(back->at("mode").get<std::string>(), "dc");
+  EXPECT_EQ(back->at("filter").get<std::string>(), "nhinf");
+  ASSERT_TRUE(back->at("agents").contains("1"));
+  const Json& a1 = back->at("agents").at("1");
   for (const char* key : {"ate_rmse_m", "ins_ate_rmse_m", "rpe_m_per_10m", "nees_mean",
                           "max_state_size", "frame_time_ms_median", "bytes_sent_per_s"}) {
-    const Json* v = a1->find(key);
-    ASSERT_NE(v, nullptr) << key;
-    EXPECT_TRUE(v->isNumber()) << key;
+    ASSERT_TRUE(a1.contains(key)) << key;
+    EXPECT_TRUE(a1.at(key).is_number()) << key;
   }
   for (const char* key : {"landmark_error_mean_m", "landmark_error_std_m"}) {
-    ASSERT_NE(a1->find(key), nullptr) << key;
-    EXPECT_EQ(a1->find(key)->items().size(), 3u) << key;
+    ASSERT_TRUE(a1.contains(key)) << key;
+    EXPECT_EQ(a1.at(key).size(), 3u) << key;
   }
-  ASSERT_TRUE(a1->find("rco")->isObject());
-  EXPECT_TRUE(a1->find("rco")->find("yaw")->isNumber());
-  ASSERT_NE(back->find("agents")->find("2"), nullptr);
+  ASSERT_TRUE(a1.at("rco").is_object());
+  EXPECT_TRUE(a1.at("rco").at("yaw").is_number());
+  ASSERT_TRUE(back->at("agents").contains("2"));
 }
 
 TEST_F(RunEvaluation, MissingPiecesGiveNullsWithNotes) {
@@ -112,8 +111,8 @@ TEST_F(RunEvaluation, MissingPiecesGiveNullsWithNotes) {
   EXPECT_TRUE(a.landmark_error) << "landmark truth is in landmarks.csv";
   EXPECT_FALSE(a.notes.empty());
   const Json j = summaryJson(RunInfo{}, *agents, {});
-  EXPECT_TRUE(j.find("mode")->isNull());
-  EXPECT_TRUE(j.find("agents")->find("1")->find("ate_rmse_m")->isNull());
+  EXPECT_TRUE(j.at("mode").is_null());
+  EXPECT_TRUE(j.at("agents").at("1").at("ate_rmse_m").is_null());
 }
 
 TEST_F(RunEvaluation, SeparateGroundTruthFolder) {
@@ -194,9 +193,9 @@ TEST_F(RunEvaluation, ToolEndToEnd) {
   const std::string json = dir_ + "/summary.json";
   EXPECT_EQ(
       run(tool + " --run " + dir_ + "/run --summary-json " + json + " > " + dir_ + "/out.txt"), 0);
-  auto parsed = Json::parseFile(json);
+  auto parsed = readJsonFile(json);
   ASSERT_TRUE(parsed.ok()) << parsed.status().message();
-  EXPECT_TRUE(parsed->find("agents")->find("2")->find("ate_rmse_m")->isNumber());
+  EXPECT_TRUE(parsed->at("agents").at("2").at("ate_rmse_m").is_number());
   EXPECT_EQ(run(tool + " --help > /dev/null"), 0);
   EXPECT_NE(run(tool + " --run " + dir_ + "/nowhere 2> " + dir_ + "/err.txt"), 0);
   std::ifstream err(dir_ + "/err.txt");

@@ -7,7 +7,7 @@
 
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/csv_table.h"
-#include "cvslam/io/json.h"
+#include "cvslam/io/json_file.h"
 #include "cvslam/io/run_reader.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/io/tum_trajectory.h"
@@ -103,34 +103,46 @@ TEST_F(RunIo, CsvTable) {
   EXPECT_NE(missing.status().message().find("missing column 'c'"), std::string::npos);
 }
 
-TEST(Json, RoundTripAndErrors) {
+TEST_F(RunIo, JsonFileRoundTripAndErrors) {
   Json root = Json::object();
-  root.set("mode", Json::string("dc \"quoted\"\n"));
-  root.set("n", Json::number(3));
-  root.set("x", Json::number(0.1));
-  root.set("nan", Json::number(std::nan("")));
-  root.set("v", Json::numbers({1, 2.5, -3e-7}));
+  root["mode"] = "dc \"quoted\"\n";
+  root["n"] = 3;
+  root["x"] = 0.1;
+  root["nan"] = std::nan("");
+  root["v"] = std::vector<double>{1, 2.5, -3e-7};
   Json nested = Json::object();
-  nested.set("ok", Json::boolean(true));
-  root.set("agents", Json::array().push(nested).push(Json()));
+  nested["ok"] = true;
+  root["agents"] = Json::array({nested, nullptr});
+  const std::string back_path = dir_ + "/back.json";
+  ASSERT_TRUE(writeJsonFile(back_path, root).ok());
   for (int indent : {2, -1}) {
-    auto back = Json::parse(root.dump(indent));
+    auto back = parseJson(root.dump(indent));
     ASSERT_TRUE(back.ok()) << back.status().message() << "\n" << root.dump(indent);
-    EXPECT_EQ(back->find("mode")->asString(), "dc \"quoted\"\n");
-    EXPECT_DOUBLE_EQ(back->find("x")->asNumber(), 0.1);
-    EXPECT_TRUE(back->find("nan")->isNull());
-    EXPECT_DOUBLE_EQ(back->find("v")->items()[2].asNumber(), -3e-7);
-    EXPECT_TRUE(back->find("agents")->items()[0].find("ok")->asBool());
+    EXPECT_EQ(back->at("mode").get<std::string>(), "dc \"quoted\"\n");
+    EXPECT_DOUBLE_EQ(back->at("x").get<double>(), 0.1);
+    EXPECT_TRUE(back->at("nan").is_null());
+    EXPECT_DOUBLE_EQ(back->at("v").at(2).get<double>(), -3e-7);
+    EXPECT_TRUE(back->at("agents").at(0).at("ok").get<bool>());
     EXPECT_EQ(back->dump(indent), root.dump(indent));
   }
-  EXPECT_NE(root.dump().find("\"n\": 3,"), std::string::npos) << "integers without fraction";
-  auto bad = Json::parse("{\n  \"a\": [1, 2,, 3]\n}", "f.json");
+  auto file = readJsonFile(back_path);
+  ASSERT_TRUE(file.ok()) << file.status().message();
+  EXPECT_EQ(file->at("mode").get<std::string>(), "dc \"quoted\"\n");
+  const std::string written = formatJson(root);
+  EXPECT_NE(written.find("\"n\": 3,"), std::string::npos) << "integers without fraction";
+  EXPECT_NE(written.find("\"v\": [1.0, 2.5, -3e-07],"), std::string::npos) << "series on one line";
+  EXPECT_EQ(parseJson(written)->dump(), root.dump());
+  auto bad = parseJson("{\n  \"a\": [1, 2,, 3]\n}", "f.json");
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.status().message().find("f.json:2:"), std::string::npos) << bad.status().message();
-  EXPECT_FALSE(Json::parse("{\"a\": 1} x").ok());
-  EXPECT_FALSE(Json::parse("\"open").ok());
-  EXPECT_FALSE(Json::parse("{\"a\" 1}").ok());
-  EXPECT_EQ(Json::parse("\"\\u00e9\"")->asString(), "\xc3\xa9");
+  EXPECT_NE(bad.status().message().find("f.json:2:14: "), std::string::npos)
+      << bad.status().message();
+  EXPECT_EQ(bad.status().message().find('\n'), std::string::npos) << "one line";
+  EXPECT_FALSE(parseJson("{\"a\": 1} x").ok());
+  EXPECT_FALSE(parseJson("\"open").ok());
+  EXPECT_FALSE(parseJson("{\"a\" 1}").ok());
+  EXPECT_EQ(parseJson("\"\\u00e9\"")->get<std::string>(), "\xc3\xa9");
+  EXPECT_NE(readJsonFile(dir_ + "/none.json").status().message().find("none.json: cannot open"),
+            std::string::npos);
 }
 
 TEST_F(RunIo, WriterAndReaderAgree) {

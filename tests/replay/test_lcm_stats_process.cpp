@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cvslam/io/json.h"
+#include "cvslam/io/json_file.h"
 #include "cvslam/lcm/codec.h"
 #include "cvslam/lcm/lcm_bus.h"
 #include "cvslam/lcm/message_types.h"
@@ -41,19 +41,19 @@ TEST(LcmStatsProcess, CountsRatesAndGaps) {
   ASSERT_TRUE((*bus)->publishRaw("SOMETHING_ELSE", junk.data(), junk.size()).ok());
   EXPECT_EQ(stats.wait(std::chrono::seconds(10)), 1) << stats.err();  // 1: gaps seen
   EXPECT_NE(stats.out().find("UAV1/IMU"), std::string::npos) << stats.out();
-  auto json = Json::parseFile(tmp / "s.json");
+  auto json = readJsonFile(tmp / "s.json");
   ASSERT_TRUE(json.ok()) << json.status().message();
-  const Json* imu = json->find("channels")->find("UAV1/IMU");
-  ASSERT_NE(imu, nullptr);
-  EXPECT_EQ(imu->find("messages")->asNumber(), 30);
-  EXPECT_EQ(imu->find("seq_gaps")->asNumber(), 5);
-  EXPECT_EQ(imu->find("type")->asString(), "imu_t");
-  EXPECT_GT(imu->find("rate_hz")->asNumber(), 20.0);  // ~ one per 10 ms plus publish time
-  EXPECT_LT(imu->find("rate_hz")->asNumber(), 110.0);
-  const Json* other = json->find("channels")->find("SOMETHING_ELSE");
-  ASSERT_NE(other, nullptr);
-  EXPECT_EQ(other->find("no_header")->asNumber(), 1);
-  EXPECT_EQ(json->find("seq_gaps_total")->asNumber(), 5);
+  const Json& channels = json->at("channels");
+  ASSERT_TRUE(channels.contains("UAV1/IMU"));
+  const Json& imu = channels.at("UAV1/IMU");
+  EXPECT_EQ(imu.at("messages").get<double>(), 30);
+  EXPECT_EQ(imu.at("seq_gaps").get<double>(), 5);
+  EXPECT_EQ(imu.at("type").get<std::string>(), "imu_t");
+  EXPECT_GT(imu.at("rate_hz").get<double>(), 20.0);  // ~ one per 10 ms plus publish time
+  EXPECT_LT(imu.at("rate_hz").get<double>(), 110.0);
+  ASSERT_TRUE(channels.contains("SOMETHING_ELSE"));
+  EXPECT_EQ(channels.at("SOMETHING_ELSE").at("no_header").get<double>(), 1);
+  EXPECT_EQ(json->at("seq_gaps_total").get<double>(), 5);
   std::string out;
   EXPECT_EQ(test::run({CVSLAM_LCM_STATS_EXE, "--help"}, tmp / "h", &out), 0);
   EXPECT_NE(out.find("usage: cvslam_lcm_stats"), std::string::npos);

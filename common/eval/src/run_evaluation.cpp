@@ -130,11 +130,45 @@ Expected<std::vector<AgentEvaluation>> evaluateRun(const std::string& run_dir,
 namespace {
 
 Json optionalNumber(const std::optional<double>& x) {
-  return x ? Json::number(*x) : Json();
+  return x ? Json(*x) : Json();
 }
 
 Json vector3(const Eigen::Vector3d& v) {
-  return Json::numbers({v.x(), v.y(), v.z()});
+  return Json::array({v.x(), v.y(), v.z()});
+}
+
+/// One agent's member of the summary's "agents" object.
+Json agentSummary(const AgentEvaluation& ev) {
+  Json a = Json::object();
+  a["ate_rmse_m"] = optionalNumber(ev.ate_rmse_m);
+  a["ins_ate_rmse_m"] = optionalNumber(ev.ins_ate_rmse_m);
+  a["rpe_m_per_10m"] = optionalNumber(ev.rpe_m_per_10m);
+  a["nees_mean"] = optionalNumber(ev.nees_mean);
+  a["nees_position_mean"] = optionalNumber(ev.nees_position_mean);
+  a["max_state_size"] = ev.max_state_size ? Json(*ev.max_state_size) : Json();
+  a["landmark_error_mean_m"] = ev.landmark_error ? vector3(ev.landmark_error->mean_m) : Json();
+  a["landmark_error_std_m"] = ev.landmark_error ? vector3(ev.landmark_error->std_m) : Json();
+  a["landmark_error_rms_m"] = ev.landmark_error ? Json(ev.landmark_error->rms_m) : Json();
+  a["landmarks"] = ev.landmarks;
+  a["landmarks_with_truth"] = ev.landmark_error ? ev.landmark_error->count : std::size_t{0};
+  a["frame_time_ms_median"] = optionalNumber(ev.frame_time_ms_median);
+  a["bytes_sent_per_s"] = optionalNumber(ev.bytes_sent_per_s);
+  if (ev.consistency) {
+    Json rco = Json::object(), sigma = Json::object(), true_sigma = Json::object();
+    for (std::size_t s = 0; s < 9; ++s) {
+      rco[kVehicleStateNames[s]] = ev.consistency->rco[s];  // +inf (never defined) → null
+      sigma[kVehicleStateNames[s]] = ev.consistency->sigma_mean[s];
+      true_sigma[kVehicleStateNames[s]] = ev.consistency->true_sigma_mean[s];
+    }
+    a["rco"] = std::move(rco);
+    a["sigma_mean"] = std::move(sigma);
+    a["true_sigma_mean"] = std::move(true_sigma);
+  } else {
+    a["rco"] = nullptr;
+  }
+  a["steps"] = ev.steps;
+  a["notes"] = ev.notes;
+  return a;
 }
 
 }  // namespace
@@ -142,51 +176,13 @@ Json vector3(const Eigen::Vector3d& v) {
 Json summaryJson(const RunInfo& info, const std::vector<AgentEvaluation>& agents,
                  const RunEvaluationOptions& options) {
   Json root = Json::object();
-  root.set("mode", info.mode.empty() ? Json() : Json::string(info.mode));
-  root.set("filter", info.filter.empty() ? Json() : Json::string(info.filter));
-  if (!info.map.empty()) root.set("map", Json::string(info.map));
-  root.set("alignment", Json::string(options.alignment == Alignment::kSE3 ? "se3" : "none"));
+  root["mode"] = info.mode.empty() ? Json() : Json(info.mode);
+  root["filter"] = info.filter.empty() ? Json() : Json(info.filter);
+  if (!info.map.empty()) root["map"] = info.map;
+  root["alignment"] = options.alignment == Alignment::kSE3 ? "se3" : "none";
   Json all = Json::object();
-  for (const AgentEvaluation& ev : agents) {
-    Json a = Json::object();
-    a.set("ate_rmse_m", optionalNumber(ev.ate_rmse_m));
-    a.set("ins_ate_rmse_m", optionalNumber(ev.ins_ate_rmse_m));
-    a.set("rpe_m_per_10m", optionalNumber(ev.rpe_m_per_10m));
-    a.set("nees_mean", optionalNumber(ev.nees_mean));
-    a.set("nees_position_mean", optionalNumber(ev.nees_position_mean));
-    a.set("max_state_size", ev.max_state_size ? Json::number(*ev.max_state_size) : Json());
-    a.set("landmark_error_mean_m", ev.landmark_error ? vector3(ev.landmark_error->mean_m) : Json());
-    a.set("landmark_error_std_m", ev.landmark_error ? vector3(ev.landmark_error->std_m) : Json());
-    a.set("landmark_error_rms_m",
-          ev.landmark_error ? Json::number(ev.landmark_error->rms_m) : Json());
-    a.set("landmarks", Json::number(static_cast<double>(ev.landmarks)));
-    a.set("landmarks_with_truth",
-          Json::number(ev.landmark_error ? static_cast<double>(ev.landmark_error->count) : 0.0));
-    a.set("frame_time_ms_median", optionalNumber(ev.frame_time_ms_median));
-    a.set("bytes_sent_per_s", optionalNumber(ev.bytes_sent_per_s));
-    if (ev.consistency) {
-      Json rco = Json::object(), sigma = Json::object(), true_sigma = Json::object();
-      for (int s = 0; s < 9; ++s) {
-        const double r = ev.consistency->rco[static_cast<std::size_t>(s)];
-        rco.set(kVehicleStateNames[s], Json::number(r));  // +inf (never defined) → null
-        sigma.set(kVehicleStateNames[s],
-                  Json::number(ev.consistency->sigma_mean[static_cast<std::size_t>(s)]));
-        true_sigma.set(kVehicleStateNames[s],
-                       Json::number(ev.consistency->true_sigma_mean[static_cast<std::size_t>(s)]));
-      }
-      a.set("rco", std::move(rco));
-      a.set("sigma_mean", std::move(sigma));
-      a.set("true_sigma_mean", std::move(true_sigma));
-    } else {
-      a.set("rco", Json());
-    }
-    a.set("steps", Json::number(static_cast<double>(ev.steps)));
-    Json notes = Json::array();
-    for (const auto& n : ev.notes) notes.push(Json::string(n));
-    a.set("notes", std::move(notes));
-    all.set(std::to_string(ev.id), std::move(a));
-  }
-  root.set("agents", std::move(all));
+  for (const AgentEvaluation& ev : agents) all[std::to_string(ev.id)] = agentSummary(ev);
+  root["agents"] = std::move(all);
   return root;
 }
 

@@ -6,7 +6,7 @@
 
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/csv_table.h"
-#include "cvslam/io/json.h"
+#include "cvslam/io/json_file.h"
 
 namespace cvslam {
 namespace fs = std::filesystem;
@@ -33,11 +33,12 @@ Expected<RunInfo> readRunInfo(const std::string& run_dir) {
   RunInfo info;
   const std::string path = run_dir + "/run.json";
   if (!fs::exists(path)) return info;
-  auto json = Json::parseFile(path);
+  auto json = readJsonFile(path);
   if (!json.ok()) return json.status();
-  if (!json->isObject()) return Status::Error(path + ": expected a JSON object");
+  if (!json->is_object()) return Status::Error(path + ": expected a JSON object");
   const auto str = [&](const char* key, std::string& out) {
-    if (const Json* j = json->find(key); j && j->isString()) out = j->asString();
+    if (const auto j = json->find(key); j != json->end() && j->is_string())
+      out = j->get<std::string>();
   };
   str("mode", info.mode);
   str("filter", info.filter);
@@ -118,34 +119,35 @@ Expected<std::vector<LandmarkRecord>> readLandmarks(const std::string& path) {
 }
 
 Expected<RunStats> readRunStats(const std::string& path) {
-  auto json = Json::parseFile(path);
+  auto json = readJsonFile(path);
   if (!json.ok()) return json.status();
-  if (!json->isObject()) return Status::Error(path + ": expected a JSON object");
+  if (!json->is_object()) return Status::Error(path + ": expected a JSON object");
   RunStats s;
   const auto number = [&](const Json& obj, const char* key, double fallback) {
-    const Json* j = obj.find(key);
-    return j && j->isNumber() ? j->asNumber() : fallback;
+    const auto j = obj.find(key);
+    return j != obj.end() && j->is_number() ? j->get<double>() : fallback;
   };
   s.duration_s = number(*json, "duration_s", 0.0);
   s.bytes_sent = static_cast<int64_t>(number(*json, "bytes_sent", 0.0));
   s.bytes_received = static_cast<int64_t>(number(*json, "bytes_received", 0.0));
-  const Json* frames = json->find("frames");
-  if (!frames) return s;
-  if (!frames->isObject()) return Status::Error(path + ": 'frames' must be an object of arrays");
-  const Json* t = frames->find("t_s");
-  const std::size_t n = t && t->isArray() ? t->items().size() : 0;
+  const auto frames_it = json->find("frames");
+  if (frames_it == json->end()) return s;
+  const Json& frames = *frames_it;
+  if (!frames.is_object()) return Status::Error(path + ": 'frames' must be an object of arrays");
+  const auto t = frames.find("t_s");
+  const std::size_t n = t != frames.end() && t->is_array() ? t->size() : 0;
   s.frames.resize(n);
   const auto column = [&](const char* key, auto setter) -> Status {
-    const Json* a = frames->find(key);
-    if (!a) return Status::Ok();
-    if (!a->isArray() || a->items().size() != n)
+    const auto a = frames.find(key);
+    if (a == frames.end()) return Status::Ok();
+    if (!a->is_array() || a->size() != n)
       return Status::Error(path + ": frames." + key + " must be an array as long as frames.t_s");
     for (std::size_t i = 0; i < n; ++i) {
-      const Json& v = a->items()[i];
-      if (!v.isNumber() && !v.isNull())
+      const Json& v = (*a)[i];
+      if (!v.is_number() && !v.is_null())
         return Status::Error(path + ": frames." + key + "[" + std::to_string(i) +
                              "] is not a number");
-      setter(s.frames[i], v.isNumber() ? v.asNumber() : std::nan(""));
+      setter(s.frames[i], v.is_number() ? v.get<double>() : std::nan(""));
     }
     return Status::Ok();
   };

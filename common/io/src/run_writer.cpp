@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <limits>
 
-#include "cvslam/io/json.h"
+#include "cvslam/io/json_file.h"
 
 namespace cvslam {
 namespace {
@@ -120,7 +120,8 @@ Status AgentRunWriter::writeLandmarks(const std::vector<LandmarkRecord>& landmar
 
 Status writeRunStats(const std::string& path, int agent_id, const RunStats& stats) {
   Json frames = Json::object();
-  std::vector<double> t, ms, size, lms, sigma;
+  std::vector<double> t, ms, sigma;
+  std::vector<int> size, lms;
   for (const FrameStats& f : stats.frames) {
     t.push_back(f.t);
     ms.push_back(f.time_ms);
@@ -128,39 +129,35 @@ Status writeRunStats(const std::string& path, int agent_id, const RunStats& stat
     lms.push_back(f.landmarks);
     sigma.push_back(f.landmark_sigma_mean_m);  // NaN → null
   }
-  frames.set("t_s", Json::numbers(t));
-  frames.set("time_ms", Json::numbers(ms));
-  frames.set("state_size", Json::numbers(size));
-  frames.set("landmarks", Json::numbers(lms));
-  frames.set("landmark_sigma_mean_m", Json::numbers(sigma));
+  frames["t_s"] = t;
+  frames["time_ms"] = ms;
+  frames["state_size"] = size;
+  frames["landmarks"] = lms;
+  frames["landmark_sigma_mean_m"] = sigma;
   std::vector<double> latency;
   bool any_latency = false;
   for (const FrameStats& f : stats.frames) {
     latency.push_back(f.latency_ms);
     any_latency = any_latency || std::isfinite(f.latency_ms);
   }
-  if (any_latency) frames.set("latency_ms", Json::numbers(latency));
+  if (any_latency) frames["latency_ms"] = latency;
   Json root = Json::object();
-  root.set("agent_id", Json::number(agent_id));
-  root.set("duration_s", Json::number(stats.duration_s));
-  root.set("bytes_sent", Json::number(static_cast<double>(stats.bytes_sent)));
-  root.set("bytes_received", Json::number(static_cast<double>(stats.bytes_received)));
+  root["agent_id"] = agent_id;
+  root["duration_s"] = stats.duration_s;
+  root["bytes_sent"] = stats.bytes_sent;
+  root["bytes_received"] = stats.bytes_received;
   if (!stats.bytes_sent_per_stream.empty()) {
     Json bytes = Json::object(), rates = Json::object();
     for (const auto& [stream, n] : stats.bytes_sent_per_stream) {
-      bytes.set(stream, Json::number(static_cast<double>(n)));
-      rates.set(stream,
-                Json::number(stats.duration_s > 0.0 ? static_cast<double>(n) / stats.duration_s
-                                                    : std::numeric_limits<double>::quiet_NaN()));
+      bytes[stream] = n;
+      rates[stream] = stats.duration_s > 0.0 ? static_cast<double>(n) / stats.duration_s
+                                             : std::numeric_limits<double>::quiet_NaN();
     }
-    root.set("bytes_sent_per_stream", std::move(bytes));
-    root.set("bytes_sent_per_s", std::move(rates));
+    root["bytes_sent_per_stream"] = std::move(bytes);
+    root["bytes_sent_per_s"] = std::move(rates);
   }
-  root.set("frames", std::move(frames));
-  std::ofstream out(path, std::ios::trunc);
-  if (!out) return Status::Error(path + ": cannot write");
-  out << root.dump(2);
-  return out ? Status::Ok() : Status::Error(path + ": write failed");
+  root["frames"] = std::move(frames);
+  return writeJsonFile(path, root);
 }
 
 double AgentRunWriter::durationSoFar() const {
@@ -204,15 +201,11 @@ Status writeRunInfo(const std::string& run_dir, const RunInfo& info) {
   std::filesystem::create_directories(run_dir, ec);
   if (ec) return Status::Error(run_dir + ": cannot create folder: " + ec.message());
   Json root = Json::object();
-  root.set("mode", Json::string(info.mode));
-  root.set("filter", Json::string(info.filter));
-  root.set("map", Json::string(info.map));
-  root.set("scenario", Json::string(info.scenario));
-  const std::string path = run_dir + "/run.json";
-  std::ofstream out(path, std::ios::trunc);
-  if (!out) return Status::Error(path + ": cannot write");
-  out << root.dump(2);
-  return out ? Status::Ok() : Status::Error(path + ": write failed");
+  root["mode"] = info.mode;
+  root["filter"] = info.filter;
+  root["map"] = info.map;
+  root["scenario"] = info.scenario;
+  return writeJsonFile(run_dir + "/run.json", root);
 }
 
 }  // namespace cvslam

@@ -17,12 +17,13 @@
 
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "cvslam/io/cli.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/lcm_bus.h"
 
@@ -41,29 +42,25 @@ struct Options {
   int image_hz = 20;
 };
 
-bool parse(int argc, char** argv, Options& o) {
-  if (argc < 2) return false;
-  o.mode = argv[1];
-  for (int i = 2; i + 1 < argc; i += 2) {
-    const std::string key = argv[i];
-    const char* value = argv[i + 1];
-    if (key == "--url") {
-      o.url = value;
-    } else if (key == "--agent") {
-      o.agent = std::atoi(value);
-    } else if (key == "--seconds") {
-      o.seconds = std::atof(value);
-    } else if (key == "--imu-hz") {
-      o.imu_hz = std::atoi(value);
-    } else if (key == "--image-hz") {
-      o.image_hz = std::atoi(value);
-    } else {
-      return false;
-    }
+constexpr const char* kUsage =
+    "usage: cvslam_lcm_test_peer stream|hostile|demo --url U [--agent N] [--seconds S] "
+    "[--imu-hz H] [--image-hz H]\n";
+
+/// Fills `o`; nullopt to go on, else the exit status (0 after --help, 2 after an error).
+std::optional<int> parse(int argc, char** argv, Options& o) {
+  CLI::App app("LCM test publisher", "cvslam_lcm_test_peer");
+  app.add_option("mode", o.mode)->required()->check(CLI::IsMember({"stream", "hostile", "demo"}));
+  app.add_option("--url", o.url);
+  app.add_option("--agent", o.agent);
+  app.add_option("--seconds", o.seconds)->check(cvslam::cli::kPositive);
+  app.add_option("--imu-hz", o.imu_hz)->check(CLI::PositiveNumber);
+  app.add_option("--image-hz", o.image_hz)->check(CLI::PositiveNumber);
+  if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return exit_code;
+  if (o.imu_hz % o.image_hz != 0) {
+    std::fprintf(stderr, "cvslam_lcm_test_peer: --imu-hz must be a multiple of --image-hz\n");
+    return 2;
   }
-  const bool known_mode = o.mode == "stream" || o.mode == "demo" || o.mode == "hostile";
-  return (argc % 2 == 0) && known_mode && o.imu_hz > 0 && o.image_hz > 0 &&
-         o.imu_hz % o.image_hz == 0 && o.seconds > 0;
+  return std::nullopt;
 }
 
 cvslam::pose_t makePose(int agent, int64_t utime, double t) {
@@ -198,13 +195,7 @@ int demo(LcmBus& bus, const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  if (!parse(argc, argv, o)) {
-    std::fprintf(
-        stderr,
-        "usage: cvslam_lcm_test_peer stream|hostile|demo --url U [--agent N] [--seconds S] "
-        "[--imu-hz H] [--image-hz H]\n");
-    return 2;
-  }
+  if (auto exit_code = parse(argc, argv, o)) return *exit_code;
   cvslam::transport::BusOptions options;
   options.url = o.url;
   auto bus = LcmBus::create(options);

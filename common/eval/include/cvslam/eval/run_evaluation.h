@@ -9,7 +9,7 @@
 
 #include "cvslam/core/status.h"
 #include "cvslam/eval/metrics.h"
-#include "cvslam/io/json.h"
+#include "cvslam/io/json_file.h"
 #include "cvslam/io/run_record.h"
 
 namespace cvslam {
