@@ -8,9 +8,9 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include <cstring>
 #include <string>
 
+#include "cvslam/io/cli.h"
 #include "cvslam/render/stereo_renderer.h"
 #include "render_test_scenes.h"
 
@@ -68,18 +68,21 @@ void writeSample(const std::string& path, WorldKind kind, const StereoCamera& ca
 }  // namespace
 
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    const char* flag = "--write-samples=";
-    if (std::strncmp(argv[i], flag, std::strlen(flag)) == 0) {
-      const std::string dir = argv[i] + std::strlen(flag);
-      writeSample(dir + "/render_sample_aerial.png", WorldKind::kAerial, aerialCamera(320, 240));
-      writeSample(dir + "/render_sample_hall.png", WorldKind::kHall,
-                  cvslam::test::euroCCamera(376, 240));
-      return 0;
-    }
-  }
+  // Google Benchmark takes its own --benchmark_* options out of argv; the rest is ours.
   benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  CLI::App app("Renders stereo pairs of the aerial and hall worlds (Google Benchmark)",
+               "bench_render");
+  std::string samples_dir;
+  app.add_option("--write-samples", samples_dir,
+                 "write one sample pair per world as PNG into this folder and exit (docs/)");
+  if (auto exit_code = cvslam::cli::parse(app, argc, argv)) return *exit_code;
+  if (!samples_dir.empty()) {
+    writeSample(samples_dir + "/render_sample_aerial.png", WorldKind::kAerial,
+                aerialCamera(320, 240));
+    writeSample(samples_dir + "/render_sample_hall.png", WorldKind::kHall,
+                cvslam::test::euroCCamera(376, 240));
+    return 0;
+  }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;
