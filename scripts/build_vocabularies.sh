@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Rebuilds the ORB feature-index vocabulary shipped in config/ (docs/conventions.md thesis §6.6.3)
+# Rebuilds the ORB feature-index vocabulary shipped in config/ (docs/conventions.md; thesis §6.6.3)
 # from training images that no evaluation uses: 30 s of the team3_aerial flights rendered over
 # a different aerial world (seed 77; scenarios render seed 1 by default), every 5th left image
 # of the three UAVs, plus the 95 real EuRoC frames of ../shared/data/euroc_micro.

@@ -1,5 +1,5 @@
 #pragma once
-// Shared Jacobian check (STYLE.md §7): compares an analytic Jacobian with central finite
+// Shared Jacobian check: compares an analytic Jacobian with central finite
 // differences and FAILS the test on mismatch, printing the worst entry.
 //
 //   EXPECT_TRUE(cvslam::test::jacobianMatches(f, x0, J_analytic));

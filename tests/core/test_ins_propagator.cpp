@@ -171,7 +171,7 @@ TEST(InsPropagatorOptions, LoadsAndValidates) {
   EXPECT_TRUE(back.estimate_imu_bias);
 }
 
-/// Monte-Carlo check of the covariance propagation (STYLE.md §7, GTSAM practice): sample
+/// Monte-Carlo check of the covariance propagation (GTSAM practice): sample
 /// initial states from N(x0, P0) and the discrete noise from N(0, Q_w) at every step, push
 /// each through the nonlinear RK4 model for 1 s, and compare the sampled error covariance
 /// with Φ P0 Φᵀ + Qd from propagate().

@@ -198,7 +198,7 @@ TEST(LcmBusMemq, BadUrlIsAnErrorNotACrash) {
 }
 
 TEST(LcmBusMemq, TwoBusesInOneProcessAreIndependent) {
-  // No global state: several agents must coexist in one test process (STYLE.md).
+  // No global state: several agents must coexist in one test process.
   auto a = makeBus();
   auto b = makeBus();
   ASSERT_TRUE(a && b);

@@ -1,6 +1,6 @@
 #pragma once
 // Conversions between the core's StereoFrameObservations and stereo_features_t, the
-// feature-only simulation stream (STYLE.md: one adapter file per message family).
+// feature-only simulation stream (one adapter file per message family).
 // The message carries index, z = [u_L v_L u_R v_R] and descriptor only: association to
 // the map (type, landmark_id) is the receiving agent's job, so fromMessage() returns
 // every observation as ObservationType::kNew with landmark_id −1.

@@ -1,5 +1,5 @@
 #pragma once
-// Conversions between the core's ImuSample and imu_t (STYLE.md: one adapter file per
+// Conversions between the core's ImuSample and imu_t (one adapter file per
 // message family; the core never sees LCM types).
 
 #include <cstdint>

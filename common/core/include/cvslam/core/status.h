@@ -1,6 +1,6 @@
 #pragma once
 // Error handling for library code: functions return a Status (or an Expected<T>) and the
-// calling process decides what to do with it (STYLE.md, "library code returns errors").
+// calling process decides what to do with it (library code returns errors, docs/conventions.md).
 
 #include <optional>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
-// Evaluation metrics for estimator runs (docs/conventions.md "Consistency", §6 cvslam_eval;
-// STYLE.md §9: evaluation is a tool, not code inside the estimator).
+// Evaluation metrics for estimator runs (consistency: NEES, co, Rco, thesis §5.7.3; the summary
+// cvslam_eval writes is in docs/run_format.md; evaluation is a tool, not code inside the estimator).
 //
 // Our estimates and truths share the team's NED frame (thesis §6.3.1: initial poses known),
 // so ATE compares positions directly by default; SE(3) alignment (Umeyama, no scale) is an

@@ -1,5 +1,5 @@
 #pragma once
-// All covariance algebra of the filters, in one stateless place (STYLE.md; OpenVINS's
+// All covariance algebra of the filters, in one stateless place (as OpenVINS's
 // StateHelper). Propagators and updaters build (Φ, Q) or (H, r, R) and hand them over; this
 // class is the only code that changes SlamState's covariance or its set of variables.
 //

@@ -2,7 +2,7 @@
 // Joint state of a stochastic map (thesis §5.5.1, eq. 5.22): vehicle block(s) plus landmarks.
 //
 // Each variable owns its slot (index and size) in the mean and the covariance, as in
-// OpenVINS (STYLE.md). Variables are found by key: a vehicle (one per agent, so that the
+// OpenVINS. Variables are found by key: a vehicle (one per agent, so that the
 // ground station's joint filter can stack several) or a landmark (3-D point in N). Removing
 // a variable compacts the indices of those after it.
 //

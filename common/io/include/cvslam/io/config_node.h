@@ -1,5 +1,5 @@
 #pragma once
-// YAML configuration access for module options structs (STYLE.md §4).
+// YAML configuration access for module options structs.
 //
 // Every module has an options struct with in-class defaults. Its `load(const ConfigNode&)`
 // reads the keys it knows with `get` (absent key: the default stays), validates with

@@ -1,5 +1,5 @@
 #pragma once
-// Temporal association of the current stereo observations to the map (docs/front_end.md thesis
+// Temporal association of the current stereo observations to the map (docs/front_end.md; thesis
 // §5.5, §6.3.2): the estimator predicts each landmark's measurement ẑ = h(x̂) (eq. 5.20) with
 // innovation covariance S = H P Hᵀ + R; an observation z is a candidate for landmark l when
 //   (z − ẑ)ᵀ S⁻¹ (z − ẑ) ≤ γ  (Mahalanobis gate, χ²(4) quantile)

@@ -1,5 +1,5 @@
 #pragma once
-// The visual front end of one UAV (docs/front_end.md thesis chapter 4): detect and describe both
+// The visual front end of one UAV (docs/front_end.md; thesis chapter 4): detect and describe both
 // rectified images, match them under the stereo constraints (§4.2.8), and turn every stereo
 // match into a StereoObservation z = [u_L v_L u_R v_R] (eq. 5.20) whose index is the visual
 // word of its left descriptor (feature index, §6.6.3). Every observation leaves as type 3

@@ -1,5 +1,5 @@
 #pragma once
-// Visual vocabulary for the feature index (docs/conventions.md thesis §6.6.3): a small
+// Visual vocabulary for the feature index (docs/conventions.md; thesis §6.6.3): a small
 // hierarchical k-means tree over descriptors. A feature's index is the id of the leaf
 // ("visual word") its descriptor falls into, so the same physical feature gets the same
 // 32-bit index on every UAV that loads the same vocabulary file.
