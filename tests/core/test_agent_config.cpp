@@ -9,6 +9,8 @@
 
 #include "cvslam/coop/agent_config.h"
 #include "cvslam/io/effective_config.h"
+#include "cvslam/io/run_reader.h"
+#include "cvslam/io/run_writer.h"
 #include "euroc_test_folder.h"
 
 namespace cvslam {
@@ -16,6 +18,11 @@ namespace {
 
 std::string shippedConfig() {
   return std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml";
+}
+
+/// cvslam_run's reading of the tool sections: cvslam_agent's `agent:` is not its own.
+void skipAgent(const ConfigNode& root) {
+  root.skip("agent");
 }
 
 TEST(EffectiveConfig, OverridesAreValidatedAndRecordedAtTheirKeyPath) {
@@ -57,7 +64,7 @@ TEST(AgentConfig, ConfigUsedLoadsBackToTheSameOptions) {
   args.detector = "orb";
   args.ci = "fast";
   args.one_way = true;
-  auto first = AgentConfig::load(args, "", {});
+  auto first = AgentConfig::load(args, "", skipAgent);
   ASSERT_TRUE(first.ok()) << first.status().message();
   EXPECT_EQ(first->filterName(), "nhinf");
   EXPECT_EQ(first->mapName(), "full");
@@ -73,7 +80,7 @@ TEST(AgentConfig, ConfigUsedLoadsBackToTheSameOptions) {
   ASSERT_TRUE(first->effective.write(used).ok());
   AgentConfigArgs again;
   again.config = used;
-  auto second = AgentConfig::load(again, shippedConfig(), {});
+  auto second = AgentConfig::load(again, shippedConfig(), skipAgent);
   ASSERT_TRUE(second.ok()) << second.status().message();
   EXPECT_EQ(second->effective.path(), used);
   // Every option: the filter's own printout, and every section as YAML (the same text).
@@ -119,6 +126,41 @@ TEST(AgentConfig, DefaultFileToolSectionsAndErrors) {
       AgentConfig::load(args, shippedConfig(), [](const ConfigNode& root) { root.skip("agent"); });
   ASSERT_FALSE(e.ok());
   EXPECT_EQ(e.status().message().rfind("--map: kind:", 0), 0u) << e.status().message();
+}
+
+TEST(AgentConfig, RunJsonRecordsWhatRepeatsTheRun) {
+  test::TempFolder tmp;
+  RunInfo info;
+  info.mode = "dc";
+  info.scenario = "config/scenarios/coop_pair.yaml";
+  info.seed = 7;
+  info.duration_s = 10.5;
+  info.sensing = "images";
+  info.world = "hall";
+  info.pixel_noise = "non_centred";
+  info.agents = {1, 3};
+  info.config = "config/agent.yaml";
+  info.program = "cvslam_run";
+  ASSERT_TRUE(writeRunInfo(tmp / "run", info).ok());
+  auto back = readRunInfo(tmp / "run");
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_EQ(back->mode, "dc");
+  EXPECT_EQ(back->scenario, info.scenario);
+  EXPECT_EQ(back->seed, info.seed);
+  EXPECT_EQ(back->duration_s, info.duration_s);
+  EXPECT_EQ(back->sensing, "images");
+  EXPECT_EQ(back->world, "hall");
+  EXPECT_EQ(back->pixel_noise, "non_centred");
+  EXPECT_EQ(back->agents, info.agents);
+  EXPECT_EQ(back->config, info.config);
+  EXPECT_EQ(back->program, "cvslam_run");
+  // Unset facts stay absent.
+  ASSERT_TRUE(writeRunInfo(tmp / "bare", RunInfo{}).ok());
+  auto bare = readRunInfo(tmp / "bare");
+  ASSERT_TRUE(bare.ok());
+  EXPECT_FALSE(bare->seed.has_value());
+  EXPECT_FALSE(bare->duration_s.has_value());
+  EXPECT_TRUE(bare->agents.empty());
 }
 
 }  // namespace

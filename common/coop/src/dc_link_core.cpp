@@ -72,7 +72,7 @@ std::string DcLinkCore::report(double duration_s) const {
   char buf[768];
   std::snprintf(
       buf, sizeof(buf),
-      "UAV%d cooperation (%s CI): peers %d, exchanges %lld, landmarks fused %lld, requests "
+      "UAV%d (%s CI) cooperation: peers %d, exchanges %lld, landmarks fused %lld, requests "
       "sent %lld, shared sent %lld; rejected: invalid %lld, gate %lld, descriptor %lld, not in "
       "state %lld, stale %lld, duplicate %lld, reordered %lld, unknown peer %lld; peer "
       "restarts %lld, peer timeouts %lld, request timeouts %lld",

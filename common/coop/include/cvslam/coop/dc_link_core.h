@@ -45,7 +45,7 @@ class DcLinkCore {
   /// Counts `bytes` (encoded size) sent on `stream` (SUMMARY, INDEX, SHARED_REQ, SHARED).
   void countSent(const std::string& stream, int64_t bytes) { bytes_sent_[stream] += bytes; }
 
-  /// One line: "UAV<id> cooperation (<ci> CI): peers …, exchanges …, landmarks fused …;
+  /// One line: "UAV<id> (<ci> CI) cooperation: peers …, exchanges …, landmarks fused …;
   /// rejected: invalid …; … timeouts …[; <B/s> B/s (<stream> <B/s> …)]" with the byte rates over
   /// `duration_s` when bytes were counted.
   std::string report(double duration_s) const;
