@@ -18,12 +18,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string slurp(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using test::slurp;
 
 std::string coopPair() {
   return std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/coop_pair.yaml";

@@ -4,21 +4,13 @@
 // and cooperation logs.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "agent_test_util.h"
 #include "cvslam/io/run_reader.h"
 
 namespace cvslam {
 namespace {
 
-std::string slurp(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using test::slurp;
 
 /// The YAML of a config_used.yaml without its first (comment) line, which names the source.
 std::string yamlBody(const std::string& path) {
