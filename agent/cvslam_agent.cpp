@@ -89,6 +89,9 @@ struct Args {
 /// Parses the command line; nullopt: go on, else the exit status.
 std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   CLI::App app("one UAV of the team as a process", "cvslam_agent");
+  // As the hand-written loop did: an option given twice takes its last value (scripts pass
+  // defaults first, the caller's extra arguments after them).
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--id", a->id)
       ->required()
       ->check(cvslam::cli::numberValidator("ID", "an integer ≥ 1", [](double x) {

@@ -84,6 +84,9 @@ int fail(const std::string& message) {
 /// Parses the command line; nullopt: go on, else the exit status.
 std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   CLI::App app("runs every UAV of a simulated scenario in one process", "cvslam_run");
+  // As the hand-written loop did: an option given twice takes its last value (scripts pass
+  // defaults first, the caller's extra arguments after them).
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--scenario", a->scenario)->required();
   app.add_option("--out", a->out)->required();
   app.add_option("--mode", a->mode)->check(CLI::IsMember({"single", "dc"}));
