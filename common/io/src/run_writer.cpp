@@ -205,6 +205,17 @@ Status writeRunInfo(const std::string& run_dir, const RunInfo& info) {
   root["filter"] = info.filter;
   root["map"] = info.map;
   root["scenario"] = info.scenario;
+  if (info.seed) root["seed"] = *info.seed;
+  if (info.duration_s) root["duration_s"] = *info.duration_s;
+  const auto text = [&](const char* key, const std::string& value) {
+    if (!value.empty()) root[key] = value;
+  };
+  text("sensing", info.sensing);
+  text("world", info.world);
+  text("pixel_noise", info.pixel_noise);
+  if (!info.agents.empty()) root["agents"] = info.agents;
+  text("config", info.config);
+  text("program", info.program);
   return writeJsonFile(run_dir + "/run.json", root);
 }
 

@@ -23,7 +23,7 @@ Status AgentRunRecorder::openFrontend() {
   frontend_.open(dir_ + "/frontend.csv", std::ios::trunc);
   if (!frontend_) return Status::Error("cannot write " + dir_ + "/frontend.csv");
   frontend_ << "t,observations,predictions,gated_pairs,associated,initialised,front_end_ms,"
-               "association_ms,filter_ms\n";
+               "association_ms,filter_ms,loop_candidates,loop_inliers\n";
   return Status::Ok();
 }
 
@@ -41,7 +41,7 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
     frontend_ << t << ',' << r.frame.observations.size() << ',' << r.predictions << ','
               << r.association.candidates_gated << ',' << r.association.associated << ','
               << r.initialised.size() << ',' << r.front_end_ms << ',' << r.association_ms << ','
-              << r.filter_ms << '\n';
+              << r.filter_ms << ',' << r.loop.candidates << ',' << r.loop.inliers << '\n';
   }
   const Eigen::VectorXd x = slam.vehicleState();
   const Eigen::MatrixXd P = slam.vehicleCovariance();
