@@ -45,7 +45,7 @@ Expected<StaticInitialization> initializeAtRest(const std::vector<ImuSample>& sa
   if (samples.back().t_us < t_end)
     return Status::Error(
         format("static initialisation: rest period too short: %.3f s of IMU, "
-               "need %.3f s (ins.static_init.window_s)",
+               "need %.3f s (static_init.window_s)",
                static_cast<double>(samples.back().t_us - t0) * 1e-6, options.window_s));
   std::size_t end = 0;
   while (end < samples.size() && samples[end].t_us <= t_end) ++end;
@@ -88,13 +88,13 @@ Expected<StaticInitialization> initializeAtRest(const std::vector<ImuSample>& sa
     return Status::Error(
         format("static initialisation: the vehicle is not at rest in the first "
                "%.3f s (mean specific force changes by %.3f m/s², limit "
-               "ins.static_init.max_accel_mean_change)",
+               "static_init.max_accel_mean_change)",
                options.window_s, accel_change));
   if (gyro_change > options.max_gyro_mean_change)
     return Status::Error(
         format("static initialisation: the vehicle is not at rest in the first "
                "%.3f s (mean angular rate changes by %.4f rad/s, limit "
-               "ins.static_init.max_gyro_mean_change)",
+               "static_init.max_gyro_mean_change)",
                options.window_s, gyro_change));
   if (std::abs(f.norm() - gravity) > options.max_gravity_error)
     return Status::Error(

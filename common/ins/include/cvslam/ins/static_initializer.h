@@ -22,7 +22,8 @@ namespace cvslam {
 
 class ConfigNode;
 
-/// Config section `ins.static_init:`.
+/// Options of the static initialisation (YAML section `static_init:` when a program loads
+/// them; the agent does not start from rest yet, see docs/filter.md).
 struct StaticInitializerOptions {
   double window_s = 1.0;  ///< rest period averaged, from the first IMU sample [s]
   /// Rest is told from motion by the stability of the mean, not by the spread of the
