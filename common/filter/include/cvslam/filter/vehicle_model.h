@@ -9,6 +9,10 @@
 // error). That change is made here: `pose` then derives the camera model's pose from the
 // nominal, `setPoseJacobian` / `poseToBlockJacobian` chain ∂/∂pose into the error state, and
 // `correct` becomes the ⊞ of the error state; `moveRigidly` and `yawDirection` follow.
+// Outside the models, readers of the vehicle state that #13 points at `pose` as well: the image
+// path's map prediction (slam/map_prediction.cpp, pose and its 9×9 covariance block), the
+// front end's motion prior (slam/visual_slam_pipeline.cpp), the run record
+// (slam/agent_run_recorder.cpp), and the INS propagator (ins/), which owns the transition.
 
 #include <Eigen/Core>
 
