@@ -1,8 +1,8 @@
-// cvslam_agent — one UAV's cooperative VSLAM as a process (docs/architecture.md, docs/run_format.md): subscribes its
-// sensor streams over LCM, runs the agent pipeline (front end + filter), publishes its pose,
-// heartbeat and lockstep status, cooperates with its peers in DC mode, writes its run record.
-// A thin shell: calibration and filter in common/ (AgentPipeline), LCM in transport/
-// (AgentNode).
+// cvslam_agent — one UAV's cooperative VSLAM as a process (docs/architecture.md,
+// docs/run_format.md): subscribes its sensor streams over LCM, runs the agent pipeline (front end +
+// filter), publishes its pose, heartbeat and lockstep status, cooperates with its peers in DC mode,
+// writes its run record. A thin shell: calibration and filter in common/ (AgentPipeline,
+// AgentConfig), LCM in transport/ (AgentNode, DcLink).
 //
 //   cvslam_agent --id 1 --scenario config/scenarios/team3_aerial.yaml --out runs/team3
 
@@ -12,19 +12,19 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <random>
 #include <string>
 
-#include "cvslam/io/command_line.h"
-#include "cvslam/io/config_node.h"
+#include "cvslam/coop/agent_config.h"
+#include "cvslam/io/cli.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/agent_node.h"
 #include "cvslam/lcm/dc_link.h"
 #include "cvslam/sim/scenario.h"
-#include "cvslam/slam/agent_calibration.h"
 #include "cvslam/simrun/scenario_calibration.h"
+#include "cvslam/slam/agent_calibration.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
 #include "cvslam/vision/vocabulary.h"
 
@@ -39,7 +39,8 @@ One UAV of the team as a process: subscribes UAV<N>/IMU, UAV<N>/FEATURES or UAV<
 and UAV<N>/GT (cvslam_replay), runs its VSLAM, publishes UAV<N>/POSE per frame,
 TEAM/SUMMARY (heartbeat with receive counters) and UAV<N>/STATUS (lockstep), cooperates
 with every peer it hears in DC mode, and writes DIR/agent_<N>/ (docs/run_format.md)
-periodically and on exit (SIGINT/SIGTERM).
+periodically and on exit (SIGINT/SIGTERM), with the configuration as run (file +
+overrides) in DIR/agent_<N>/config_used.yaml: give it back with --config.
 
 options:
   --id N                  this UAV's id (≥ 1)                                   [required]
@@ -51,7 +52,12 @@ options:
   --mode single|dc        single: alone; dc: decentralised cooperation (default single)
   --filter ekf|nhinf      overrides filter.type of the configuration
   --map knearest|full     overrides map.kind of the configuration
+  --passes N              overrides slam.observation_passes (thesis §5.7.3)
   --detector NAME         images: overrides frontend.detector.type (adaptive_sift | sift | orb)
+  --ci METHOD             dc: overrides coop.ci_method (adaptive | fast | optimal_trace |
+                          optimal_determinant | optimal_vehicle)
+  --both-ways             dc: overrides coop.both_ways to true (the default)
+  --one-way               dc: overrides coop.both_ways to false (thesis §6.6.5)
   --lcm-url URL           LCM provider (default udpm://239.255.76.67:7667?ttl=0)
   --out DIR               run record folder (none if not given)
   --seed N                scenario: overrides its seed (as given to cvslam_replay)
@@ -73,136 +79,102 @@ int fail(const std::string& message) {
 
 struct Args {
   int id = 0;
-  std::string scenario, calibration, config, mode = "single", filter, map, detector, url, out;
+  cvslam::AgentConfigArgs config;  // --config and the overrides shared with cvslam_run
+  std::string scenario, calibration, mode = "single", url, out;
   long long seed = -1;
   double duration = -1.0, idle_exit = 0.0;
   bool verbose = false;
 };
 
-bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&](std::string* out) { return cvslam::nextArgValue(argc, argv, &i, out, error); };
-    std::string v;
-    double x = 0.0;
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      std::exit(0);
-    } else if (arg == "--scenario") {
-      if (!value(&a->scenario)) return false;
-    } else if (arg == "--calibration") {
-      if (!value(&a->calibration)) return false;
-    } else if (arg == "--config") {
-      if (!value(&a->config)) return false;
-    } else if (arg == "--mode") {
-      if (!value(&a->mode)) return false;
-    } else if (arg == "--filter") {
-      if (!value(&a->filter)) return false;
-    } else if (arg == "--map") {
-      if (!value(&a->map)) return false;
-    } else if (arg == "--detector") {
-      if (!value(&a->detector)) return false;
-    } else if (arg == "--lcm-url") {
-      if (!value(&a->url)) return false;
-    } else if (arg == "--out") {
-      if (!value(&a->out)) return false;
-    } else if (arg == "--verbose") {
-      a->verbose = true;
-    } else if (arg == "--id" || arg == "--seed" || arg == "--duration" || arg == "--idle-exit") {
-      if (!value(&v) || !cvslam::parseNumberArg(arg, v, &x, error)) return false;
-      if (arg == "--id") {
-        if (x < 1 || x != std::floor(x) || x > 1e6)
-          return (*error = "--id must be an integer ≥ 1"), false;
-        a->id = static_cast<int>(x);
-      } else if (arg == "--seed") {
-        if (x < 0 || x != std::floor(x)) return (*error = "--seed must be an integer ≥ 0"), false;
-        a->seed = static_cast<long long>(x);
-      } else if (arg == "--duration") {
-        if (x <= 0) return (*error = "--duration must be > 0"), false;
-        a->duration = x;
-      } else {
-        if (x <= 0) return (*error = "--idle-exit must be > 0"), false;
-        a->idle_exit = x;
-      }
-    } else {
-      return (*error = "unknown option '" + arg + "' (try --help)"), false;
-    }
-  }
-  if (a->id == 0) return (*error = "--id is required (try --help)"), false;
+/// Parses the command line; nullopt: go on, else the exit status.
+std::optional<int> parseArgs(int argc, char** argv, Args* a) {
+  CLI::App app("one UAV of the team as a process", "cvslam_agent");
+  // As the hand-written loop did: an option given twice takes its last value (scripts pass
+  // defaults first, the caller's extra arguments after them).
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app.add_option("--id", a->id)
+      ->required()
+      ->check(cvslam::cli::numberValidator("ID", "an integer ≥ 1", [](double x) {
+        return x >= 1 && x == std::floor(x) && x <= 1e6;
+      }));
+  CLI::Option* scenario = app.add_option("--scenario", a->scenario);
+  CLI::Option* calibration = app.add_option("--calibration", a->calibration);
+  scenario->excludes(calibration);
+  app.add_option("--mode", a->mode)->check(CLI::IsMember({"single", "dc"}));
+  app.add_option("--lcm-url", a->url);
+  app.add_option("--out", a->out);
+  app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
+  app.add_option("--duration", a->duration)->check(cvslam::cli::kPositive);
+  app.add_option("--idle-exit", a->idle_exit)->check(cvslam::cli::kPositive);
+  app.add_flag("--verbose", a->verbose);
+  a->config.addTo(app);
+  if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return exit_code;
   if (a->scenario.empty() == a->calibration.empty())
-    return (*error = "give exactly one of --scenario and --calibration (try --help)"), false;
-  if (a->mode != "single" && a->mode != "dc")
-    return (*error = "--mode must be single or dc, not '" + a->mode + "'"), false;
+    return fail("give exactly one of --scenario and --calibration (try --help)");
   if (!a->calibration.empty() && (a->seed >= 0 || a->duration > 0))
-    return (*error = "--seed and --duration need --scenario"), false;
-  return true;
+    return fail("--seed and --duration need --scenario");
+  if (a->mode != "dc" && a->config.anyCoop())
+    return fail("--ci, --both-ways and --one-way need --mode dc");
+  return std::nullopt;
 }
 
-/// Applies `key: value` to an options struct through its loader (overrides from the command
-/// line get the same validation as the file).
-template <typename T>
-Status override(T& target, const std::string& key, const std::string& value,
-                const std::string& what) {
-  auto cfg = cvslam::ConfigNode::fromString(key + ": " + value, what);
-  if (!cfg.ok()) return cfg.status();
-  target.load(*cfg);
-  return cfg->status();
+/// The filter's calibration: agent N of a scenario (as cvslam_run builds it) or an EuRoC
+/// folder; `info` gets the scenario facts for run.json.
+cvslam::Expected<cvslam::AgentCalibration> loadCalibration(
+    const Args& args, const cvslam::VisualInertialSlamOptions& options, cvslam::RunInfo* info) {
+  if (args.scenario.empty()) {
+    info->scenario = args.calibration;
+    return cvslam::calibrationFromEuroc(args.calibration, options);
+  }
+  auto scenario = cvslam::sim::Scenario::loadFile(args.scenario);
+  if (!scenario.ok()) return scenario.status();
+  if (args.seed >= 0) scenario->seed = static_cast<uint64_t>(args.seed);
+  if (args.duration > 0) scenario->duration = std::min(scenario->duration, args.duration);
+  info->scenario = args.scenario;
+  info->seed = scenario->seed;
+  info->duration_s = scenario->duration;
+  return cvslam::calibrationFromScenario(*scenario, args.id, options);
+}
+
+/// DIR/agent_<N>/config_used.yaml, and DIR/run.json unless a peer wrote it first.
+Status writeRunConfig(const Args& args, const cvslam::AgentConfig& config, cvslam::RunInfo info) {
+  if (args.out.empty()) return Status::Ok();
+  const std::string dir = cvslam::agentDir(args.out, args.id);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) return Status::Error("cannot create " + dir + ": " + ec.message());
+  if (Status s = config.effective.write(dir + "/config_used.yaml"); !s.ok()) return s;
+  if (std::filesystem::exists(args.out + "/run.json")) return Status::Ok();
+  info.program = "cvslam_agent";
+  info.mode = args.mode;
+  info.filter = config.filterName();
+  info.map = config.mapName();
+  info.config = config.effective.path();
+  return cvslam::writeRunInfo(args.out, info);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   Args args;
-  std::string error;
-  if (!parseArgs(argc, argv, &args, &error)) return fail(error);
-
-  std::string config_path = args.config;
-  if (config_path.empty() && std::filesystem::exists(CVSLAM_CONFIG_DIR "/agent.yaml"))
-    config_path = CVSLAM_CONFIG_DIR "/agent.yaml";
-  cvslam::VisualInertialSlamOptions options;
-  cvslam::VisualFrontEndOptions frontend;
+  if (auto exit_code = parseArgs(argc, argv, &args)) return *exit_code;
   cvslam::transport::AgentNodeOptions node;
-  cvslam::coop::DcCooperationOptions coop_options;
-  if (!config_path.empty()) {
-    auto cfg = cvslam::ConfigNode::loadFile(config_path);
-    if (!cfg.ok()) return fail(cfg.status().message());
-    options.load(*cfg);
-    frontend.load(cfg->child("frontend"));
-    node.load(cfg->child("agent"));
-    coop_options.load(cfg->child("coop"));
-    cfg->child("lcm");
-    if (Status s = cfg->finish(); !s.ok()) return fail(s.message());
-  }
-  if (!args.filter.empty())
-    if (Status s = override(options.filter, "type", args.filter, "--filter"); !s.ok())
-      return fail(s.message());
-  if (!args.map.empty())
-    if (Status s = override(options.map, "kind", args.map, "--map"); !s.ok())
-      return fail(s.message());
-  if (!args.detector.empty())
-    if (Status s = override(frontend.front_end.detector, "type", args.detector, "--detector");
-        !s.ok())
-      return fail(s.message());
-  if (auto p = options.filter.policy(); !p.ok()) return fail(p.status().message());
+  Status node_status;
+  auto config = cvslam::AgentConfig::load(
+      args.config, CVSLAM_CONFIG_DIR "/agent.yaml",
+      [&](const cvslam::ConfigNode& root) { node_status = node.load(root.child("agent")); });
+  if (!config.ok()) return fail(config.status().message());
+  if (!node_status.ok()) return fail(node_status.message());
 
-  // Calibration: a scenario (as cvslam_run) or an EuRoC folder.
-  cvslam::Expected<cvslam::AgentCalibration> calibration = Status::Error("no calibration");
-  if (!args.scenario.empty()) {
-    auto scenario = cvslam::sim::Scenario::loadFile(args.scenario);
-    if (!scenario.ok()) return fail(scenario.status().message());
-    if (args.seed >= 0) scenario->seed = static_cast<uint64_t>(args.seed);
-    if (args.duration > 0) scenario->duration = std::min(scenario->duration, args.duration);
-    calibration = cvslam::calibrationFromScenario(*scenario, args.id, options);
-  } else {
-    calibration = cvslam::calibrationFromEuroc(args.calibration, options);
-  }
+  cvslam::RunInfo info;
+  auto calibration = loadCalibration(args, config->slam, &info);
   if (!calibration.ok()) return fail(calibration.status().message());
 
   // The image path (used when UAV<N>/STEREO arrives), with the feature-index vocabulary.
-  auto vocabulary = cvslam::loadFeatureIndexVocabulary(
-      frontend, std::filesystem::path(config_path).parent_path().string());
+  auto vocabulary = cvslam::loadFeatureIndexVocabulary(config->frontend, config->effective.dir());
   if (!vocabulary.ok()) return fail(vocabulary.status().message());
-  auto images = cvslam::VisualSlamPipeline::create(frontend, calibration->camera, *vocabulary);
+  auto images =
+      cvslam::VisualSlamPipeline::create(config->frontend, calibration->camera, *vocabulary);
   if (!images.ok()) return fail(images.status().message());
 
   node.id = args.id;
@@ -210,7 +182,7 @@ int main(int argc, char** argv) {
   node.out_dir = args.out;
   node.idle_exit_s = args.idle_exit;
   node.verbose = args.verbose;
-  node.filter_name = options.filter.type == cvslam::FilterType::kEkf ? "ekf" : "nhinf";
+  node.filter_name = config->filterName();
   if (!args.url.empty()) node.url = args.url;
   std::random_device entropy;
   node.boot_id = (static_cast<int64_t>(entropy()) << 31) ^ static_cast<int64_t>(entropy()) ^
@@ -219,18 +191,9 @@ int main(int argc, char** argv) {
   std::unique_ptr<cvslam::transport::CooperationLink> coop;
   if (args.mode == "dc") {
     coop =
-        std::make_unique<cvslam::transport::DcLink>(args.id, coop_options, node.boot_id, args.out);
+        std::make_unique<cvslam::transport::DcLink>(args.id, config->coop, node.boot_id, args.out);
   }
-
-  if (!args.out.empty()) {
-    cvslam::RunInfo info;
-    info.mode = args.mode;
-    info.filter = node.filter_name;
-    info.map = options.map.kind == cvslam::MapKind::kFull ? "full" : "knearest";
-    info.scenario = args.scenario.empty() ? args.calibration : args.scenario;
-    if (!std::filesystem::exists(args.out + "/run.json"))
-      if (Status s = cvslam::writeRunInfo(args.out, info); !s.ok()) return fail(s.message());
-  }
+  if (Status s = writeRunConfig(args, *config, info); !s.ok()) return fail(s.message());
 
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);

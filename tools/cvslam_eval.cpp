@@ -25,7 +25,10 @@ median frame time and bytes sent per second. Prints a table; writes the summary 
                          or <agent>/mav0/state_groundtruth_estimate0/data.csv, and
                          landmarks.csv); default: truth.csv inside the run folder
   --summary-json F       write the summary JSON to F
-  --align none|se3       align the estimate to the truth (default none: shared NED frame)
+  --align none|se3|yaw   align the estimate to the truth before the ATE (default none:
+                         shared NED frame); se3: rigid Umeyama; yaw: rotation about the
+                         vertical + translation (4-DoF, for gravity-aligned estimates;
+                         a z-up truth against a NED estimate is handled and noted)
   --time-tolerance S     max time difference for estimate/truth pairs [s] (default 0.01)
   --rpe-segment M        RPE segment length [m] (default 10)
   --co-window N          steps in the true-uncertainty RMS of co/Rco (default 1)
@@ -48,7 +51,7 @@ int main(int argc, char** argv) {
   app.add_option("--run", run_dir)->required();
   app.add_option("--gt", gt_dir);
   app.add_option("--summary-json", summary_path);
-  app.add_option("--align", align)->check(CLI::IsMember({"none", "se3"}));
+  app.add_option("--align", align)->check(CLI::IsMember({"none", "se3", "yaw"}));
   app.add_option("--time-tolerance", options.time_tolerance_s)->check(cvslam::cli::kNonNegative);
   app.add_option("--rpe-segment", options.rpe_segment_m)->check(cvslam::cli::kPositive);
   app.add_option("--co-window", options.co_window)
@@ -57,7 +60,9 @@ int main(int argc, char** argv) {
       }));
   app.add_flag("--quiet", quiet);
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return *exit_code;
-  options.alignment = align == "se3" ? cvslam::Alignment::kSE3 : cvslam::Alignment::kNone;
+  options.alignment = align == "se3"   ? cvslam::Alignment::kSE3
+                      : align == "yaw" ? cvslam::Alignment::kYaw
+                                       : cvslam::Alignment::kNone;
 
   auto info = cvslam::readRunInfo(run_dir);
   if (!info.ok()) return fail(info.status().message());

@@ -1,9 +1,11 @@
 #pragma once
 // Helpers for the agent process tests: ports, a short two-UAV scenario, evaluation of a run
 // folder with cvslam_eval, and a listener for the agents' TEAM/SUMMARY heartbeats.
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "cvslam/io/json_file.h"
@@ -14,6 +16,14 @@
 #include "replay/small_scenario.h"
 
 namespace cvslam::test {
+
+/// A whole file as text ("" when it cannot be read).
+inline std::string slurp(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
 
 inline std::string agentUrl(int port) {
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";

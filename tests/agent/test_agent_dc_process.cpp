@@ -1,6 +1,7 @@
-// cvslam_agent --mode dc as real processes (docs/architecture.md, docs/conventions.md; thesis §6.6.5): a lockstep run
-// reproduces cvslam_run --mode dc (same trajectories, same cooperation log), and a peer that
-// sends non-finite or absurd landmarks is rejected and counted. Ports 27810–27819.
+// cvslam_agent --mode dc as real processes (docs/architecture.md, docs/conventions.md; thesis
+// §6.6.5): a lockstep run reproduces cvslam_run --mode dc (same trajectories, same cooperation
+// log), and a peer that sends non-finite or absurd landmarks is rejected and counted. Ports
+// 27810–27819.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -17,12 +18,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string slurp(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using test::slurp;
 
 std::string coopPair() {
   return std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/coop_pair.yaml";
@@ -58,6 +54,10 @@ TEST(AgentDcProcess, LockstepReproducesCvslamRunDc) {
         << "UAV" << id;
     EXPECT_EQ(slurp(tmp / ("lcm" + dir + "/coop.csv")), slurp(tmp / ("inproc" + dir + "/coop.csv")))
         << "UAV" << id;
+    // Both programs record the same configuration (docs/run_format.md).
+    const std::string used = slurp(tmp / ("lcm" + dir + "/config_used.yaml"));
+    EXPECT_NE(used.find("ci_method:"), std::string::npos) << used;
+    EXPECT_EQ(used, slurp(tmp / ("inproc" + dir + "/config_used.yaml"))) << "UAV" << id;
   }
   // Cooperation happened, and its bandwidth is reported per stream.
   EXPECT_NE(slurp(tmp / "lcm/agent_2/coop.csv").find(",fused,"), std::string::npos);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "agent_test_util.h"
@@ -32,6 +33,12 @@ TEST(AgentEurocProcess, CalibrationFromTheFolderAndStartAtTheGroundTruth) {
   EXPECT_EQ(agent.wait(30s), 0) << agent.err();
   EXPECT_NE(agent.out().find("UAV1: 41 frames"), std::string::npos) << agent.out();
   EXPECT_TRUE(std::filesystem::exists(tmp / "lcm/agent_1/frontend.csv"));
+  // The one frontend.csv layout of both programs (docs/run_format.md), one row per frame.
+  const std::string frontend = test::slurp(tmp / "lcm/agent_1/frontend.csv");
+  EXPECT_EQ(frontend.substr(0, frontend.find('\n')),
+            "t,observations,predictions,gated_pairs,associated,initialised,front_end_ms,"
+            "association_ms,filter_ms,loop_candidates,loop_inliers");
+  EXPECT_EQ(std::count(frontend.begin(), frontend.end(), '\n'), 42) << frontend;
   const auto ate = test::ateOf(tmp / "lcm", tmp / "eval");
   ASSERT_EQ(ate.count(1), 1u) << agent.out() << agent.err();
   EXPECT_LT(ate.at(1), 0.5);

@@ -21,6 +21,7 @@ struct FakeRunOptions {
   double speed_mps = 5.0;
   unsigned seed = 1;
   bool write_ins = true;
+  double t0 = 100.0;  ///< time of the first step [s] (a EuRoC-epoch time for real-data tests)
 };
 
 /// The covariance every estimate is drawn from: correlated, SPD, state-dependent units.
@@ -58,8 +59,8 @@ inline void writeFakeRun(const std::string& dir, const FakeRunOptions& o = {}) {
     AgentRunWriter w;
     w.open(dir, agent);
     for (int k = 0; k < o.steps; ++k) {
-      const double t = 100.0 + k * o.dt;
-      const Vector9d x = circleState(t - 100.0, o, agent);
+      const double t = o.t0 + k * o.dt;
+      const Vector9d x = circleState(k * o.dt, o, agent);
       Vector9d noise;
       for (int i = 0; i < 9; ++i) noise(i) = n01(rng);
       w.addState(t, x + L * noise, P);

@@ -209,6 +209,36 @@ TEST_F(BrokenEuroc, CorruptPngDataFailsAtLoad) {
   EXPECT_NE(f.status().message().find("1050000000.png: cannot decode PNG"), std::string::npos);
 }
 
+TEST_F(BrokenEuroc, MissingImuAtTheStart) {
+  // Frames start at 1.000 s; keep the IMU only from 1.130 s on (rows 2–27 are 1.000–1.125 s).
+  std::ifstream in(mav0("imu0/data.csv"));
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  in.close();
+  std::ofstream out(mav0("imu0/data.csv"));
+  out << lines[0] << '\n';
+  for (std::size_t k = 27; k < lines.size(); ++k) out << lines[k] << '\n';
+  out.close();
+  expectError({"imu0/data.csv", "the IMU starts 130 ms after the first stereo frame",
+               "missing IMU at the start"});
+  std::ofstream(mav0("imu0/data.csv")) << lines[0] << '\n';
+  expectError({"imu0/data.csv", "no IMU samples"});
+}
+
+TEST_F(BrokenEuroc, NonRigidImuTbs) {
+  const std::string yaml = mav0("imu0/sensor.yaml");
+  std::ifstream in(yaml);
+  std::stringstream text;
+  text << in.rdbuf();
+  in.close();
+  std::string s = text.str();
+  const auto at = s.find("data: [1");  // identity T_BS: scale its first entry
+  ASSERT_NE(at, std::string::npos) << s;
+  s.replace(at, 8, "data: [2");
+  std::ofstream(yaml) << s;
+  expectError({"imu0/sensor.yaml", "T_BS", "not a rotation matrix"});
+}
+
 TEST_F(BrokenEuroc, BrokenSensorYaml) {
   std::ofstream(mav0("cam0/sensor.yaml")) << "%YAML:1.0\nresolution: [64]\n";
   expectError({"cam0/sensor.yaml", "T_BS"});

@@ -61,6 +61,62 @@ TEST(Metrics, AteWithSe3AlignmentRemovesARigidMotion) {
   EXPECT_LT(aligned->rmse_m, 1e-9);
 }
 
+namespace {
+
+std::vector<TumPose> helix() {
+  std::vector<TumPose> path;
+  for (int k = 0; k < 60; ++k) {
+    TumPose p;
+    p.t = 0.1 * k;
+    p.p_BinN = {10 * std::cos(0.1 * k), 10 * std::sin(0.1 * k), 0.2 * k};
+    path.push_back(p);
+  }
+  return path;
+}
+
+}  // namespace
+
+// 4-DoF alignment: a yaw + translation is removed exactly, a tilt is not (roll and pitch of a
+// visual-inertial estimate are observable and must show in the ATE).
+TEST(Metrics, AteWithYawAlignmentRemovesYawAndTranslationOnly) {
+  const auto truth = helix();
+  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(2.1, Eigen::Vector3d::UnitZ()).matrix();
+  auto est = truth;
+  for (auto& p : est) p.p_BinN = yaw * p.p_BinN + Eigen::Vector3d(5, -3, 1);
+  AteOptions o;
+  o.alignment = Alignment::kYaw;
+  auto aligned = absoluteTrajectoryError(est, truth, o);
+  ASSERT_TRUE(aligned.ok());
+  EXPECT_LT(aligned->rmse_m, 1e-9);
+  EXPECT_FALSE(aligned->vertical_flipped);
+  EXPECT_LT((aligned->R_align * yaw - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+
+  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()).matrix();
+  auto tilted = truth;
+  for (auto& p : tilted) p.p_BinN = tilt * p.p_BinN;
+  EXPECT_GT(absoluteTrajectoryError(tilted, truth, o)->rmse_m, 0.1);
+  o.alignment = Alignment::kSE3;
+  EXPECT_LT(absoluteTrajectoryError(tilted, truth, o)->rmse_m, 1e-9);
+}
+
+// A NED estimate against a z-up truth (EuRoC): the vertical axes are opposite; the yaw
+// alignment finds it, says so, and removes the rest.
+TEST(Metrics, AteWithYawAlignmentHandlesZUpTruthAgainstNedEstimate) {
+  const auto truth = helix();  // z up
+  const Eigen::Matrix3d ned_from_zup = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(-0.8, Eigen::Vector3d::UnitZ()).matrix();
+  auto est = truth;
+  for (auto& p : est) p.p_BinN = yaw * ned_from_zup * p.p_BinN + Eigen::Vector3d(1, 2, 3);
+  AteOptions o;
+  o.alignment = Alignment::kYaw;
+  auto aligned = absoluteTrajectoryError(est, truth, o);
+  ASSERT_TRUE(aligned.ok());
+  EXPECT_TRUE(aligned->vertical_flipped);
+  EXPECT_LT(aligned->rmse_m, 1e-9);
+  EXPECT_NEAR(aligned->R_align.determinant(), 1.0, 1e-12);
+  EXPECT_STREQ(alignmentName(Alignment::kYaw), "yaw");
+}
+
 TEST(Metrics, AteNeedsPairsWithinTheTolerance) {
   const auto truth = straightLine(10, 0.1, 1.0);
   auto est = truth;

@@ -69,6 +69,27 @@ TEST_F(RunEvaluation, KnownFiguresOfTheFakeRun) {
   EXPECT_TRUE(a.notes.empty());
 }
 
+// Time columns keep every microsecond at any epoch: a run stamped in EuRoC time (≈ 1.4e9 s,
+// 0.1 s steps) reads back with every row in order and gives the same figures.
+TEST_F(RunEvaluation, EurocEpochTimestampsKeepTheirResolution) {
+  test::FakeRunOptions o = options_;
+  o.t0 = 1403715273.262143;
+  test::writeFakeRun(dir_ + "/euroc_epoch", o);
+  auto agents = evaluateRun(dir_ + "/euroc_epoch", "");
+  ASSERT_TRUE(agents.ok()) << agents.status().message();
+  const AgentEvaluation& a = (*agents)[0];
+  EXPECT_EQ(a.steps, 400u);
+  ASSERT_TRUE(a.ate_rmse_m && a.nees_mean);
+  EXPECT_NEAR(*a.ate_rmse_m, std::sqrt(0.29), 0.04);
+  EXPECT_NEAR(*a.nees_mean, 9.0, 0.7);
+  EXPECT_TRUE(a.notes.empty());
+  auto run = readAgentRun(dir_ + "/euroc_epoch", 1);
+  ASSERT_TRUE(run.ok()) << run.status().message();
+  ASSERT_EQ(run->states.size(), 400u);
+  EXPECT_NEAR(run->states[1].t - run->states[0].t, 0.1, 1e-6);
+  EXPECT_NEAR(run->states.back().t, o.t0 + 39.9, 1e-6);
+}
+
 TEST_F(RunEvaluation, SummaryJsonHasTheDesignKeys) {
   auto agents = evaluateRun(dir_ + "/run", "");
   ASSERT_TRUE(agents.ok());

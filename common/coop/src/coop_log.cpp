@@ -1,5 +1,7 @@
 #include "cvslam/coop/coop_log.h"
 
+#include "cvslam/io/time_format.h"
+
 namespace cvslam::coop {
 
 const char* coopCsvHeader() {
@@ -8,9 +10,10 @@ const char* coopCsvHeader() {
 }
 
 void writeCoopCsvRow(std::ostream& out, const CoopEvent& e) {
-  out << static_cast<double>(e.t_us) / 1e6 << ',' << coopEventName(e.kind) << ',' << e.peer << ','
-      << e.count << ',' << e.fused << ',' << e.rejected_gate << ',' << e.rejected_descriptor << ','
-      << e.not_in_state << ',' << (e.no_gain ? 1 : 0) << ',' << e.omega1 << '\n';
+  out << formatSeconds(static_cast<double>(e.t_us) * 1e-6) << ',' << coopEventName(e.kind) << ','
+      << e.peer << ',' << e.count << ',' << e.fused << ',' << e.rejected_gate << ','
+      << e.rejected_descriptor << ',' << e.not_in_state << ',' << (e.no_gain ? 1 : 0) << ','
+      << e.omega1 << '\n';
 }
 
 }  // namespace cvslam::coop

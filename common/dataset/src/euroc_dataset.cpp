@@ -138,6 +138,23 @@ Status checkSizes(const ImageList& list, const cv::Size& expected, const std::st
   return Status::Ok();
 }
 
+/// The estimator propagates the vehicle from the first stereo frame on with the IMU: a
+/// recording whose IMU starts well after its first frame (a logger started late, a cut
+/// file) cannot be used from that frame. A delay of a few samples is normal jitter between
+/// drivers; kMaxImuStartDelayNs (20 samples at EuRoC's 200 Hz) separates the two.
+constexpr int64_t kMaxImuStartDelayNs = 100'000'000;
+
+Status checkImuCoversStart(const std::string& imu_csv, const std::vector<int64_t>& imu_t_ns,
+                           int64_t first_frame_ns) {
+  if (imu_t_ns.empty()) return Status::Error(imu_csv + ": no IMU samples");
+  if (imu_t_ns.front() - first_frame_ns > kMaxImuStartDelayNs)
+    return Status::Error(imu_csv + ": the IMU starts " +
+                         std::to_string((imu_t_ns.front() - first_frame_ns) / 1'000'000) +
+                         " ms after the first stereo frame (" + std::to_string(first_frame_ns) +
+                         " ns): missing IMU at the start");
+  return Status::Ok();
+}
+
 }  // namespace
 
 Expected<EurocDataset> EurocDataset::open(const std::string& path) {
@@ -231,6 +248,8 @@ Expected<EurocDataset> EurocDataset::open(const std::string& path) {
     d.imu_.push_back(sample);
     d.imu_t_ns_.push_back(t);
   }
+  s = checkImuCoversStart(imu_csv, d.imu_t_ns_, d.frames_.front().t_ns);
+  if (!s.ok()) return s;
 
   const std::string gt_csv = d.mav0_ + "/state_groundtruth_estimate0/data.csv";
   if (fs::exists(gt_csv)) {

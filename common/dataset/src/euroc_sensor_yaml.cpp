@@ -4,6 +4,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/LU>
+
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -42,6 +44,14 @@ Status readTbs(const YAML::Node& root, const std::string& path, Eigen::Matrix4d&
   if (!n || !n["data"] || !n["data"].IsSequence() || n["data"].size() != 16)
     return Status::Error(path + ": T_BS: expected {rows: 4, cols: 4, data: [16 numbers]}");
   for (std::size_t k = 0; k < 16; ++k) T(k / 4, k % 4) = n["data"][k].as<double>();
+  // A sensor's pose in the body must be rigid (the same rule as the camera calibration's,
+  // camera/euroc_calibration.cpp): a scaled, sheared or reflected "rotation" would silently
+  // distort every measurement.
+  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+  if (!T.allFinite() || !T.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1)))
+    return Status::Error(path + ": T_BS: last row must be [0, 0, 0, 1]");
+  if (!(R * R.transpose()).isIdentity(1e-5) || !(R.determinant() > 0))
+    return Status::Error(path + ": T_BS: rotation part is not a rotation matrix (not rigid)");
   return Status::Ok();
 }
 

@@ -51,11 +51,65 @@ std::vector<std::pair<std::size_t, std::size_t>> associateByTime(const std::vect
   return pairs;
 }
 
+const char* alignmentName(Alignment a) {
+  switch (a) {
+    case Alignment::kSE3:
+      return "se3";
+    case Alignment::kYaw:
+      return "yaw";
+    case Alignment::kNone:
+      break;
+  }
+  return "none";
+}
+
+Eigen::Isometry3d alignYawTranslation(const Eigen::Matrix3Xd& est, const Eigen::Matrix3Xd& tru) {
+  const Eigen::Vector3d mean_est = est.rowwise().mean();
+  const Eigen::Vector3d mean_tru = tru.rowwise().mean();
+  // Minimising Σ‖R_z(ψ)(e − ē) − (t − t̄)‖² over ψ: only the horizontal components depend on
+  // ψ, and the optimum is ψ = atan2(Σ e × t |_z, Σ e · t |_xy) of the centred points.
+  double s = 0.0, c = 0.0;
+  for (Eigen::Index k = 0; k < est.cols(); ++k) {
+    const Eigen::Vector3d e = est.col(k) - mean_est;
+    const Eigen::Vector3d t = tru.col(k) - mean_tru;
+    s += e.x() * t.y() - e.y() * t.x();
+    c += e.x() * t.x() + e.y() * t.y();
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(std::atan2(s, c), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = mean_tru - T.linear() * mean_est;
+  return T;
+}
+
+namespace {
+
+double rmsDistance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
+  return std::sqrt((a - b).colwise().squaredNorm().sum() / static_cast<double>(a.cols()));
+}
+
+/// kYaw: the better of the two vertical conventions (same or opposite ±z), reported.
+void alignYaw(const Eigen::Matrix3Xd& est, const Eigen::Matrix3Xd& tru, AteResult* r) {
+  const Eigen::Matrix3d flip = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();  // π about x
+  const Eigen::Matrix3Xd est_flipped = flip * est;
+  const Eigen::Isometry3d same = alignYawTranslation(est, tru);
+  const Eigen::Isometry3d opposite = alignYawTranslation(est_flipped, tru);
+  const double e_same = rmsDistance((same.linear() * est).colwise() + same.translation(), tru);
+  const double e_opposite =
+      rmsDistance((opposite.linear() * est_flipped).colwise() + opposite.translation(), tru);
+  r->vertical_flipped = e_opposite < e_same;
+  r->R_align = r->vertical_flipped ? Eigen::Matrix3d(opposite.linear() * flip) : same.linear();
+  r->t_align = r->vertical_flipped ? opposite.translation() : same.translation();
+}
+
+}  // namespace
+
 Expected<AteResult> absoluteTrajectoryError(const std::vector<TumPose>& estimate,
                                             const std::vector<TumPose>& truth,
                                             const AteOptions& options) {
   const auto pairs = associateByTime(times(estimate), times(truth), options.time_tolerance_s);
-  const std::size_t need = options.alignment == Alignment::kSE3 ? 3 : 1;
+  const std::size_t need = options.alignment == Alignment::kSE3   ? 3
+                           : options.alignment == Alignment::kYaw ? 2
+                                                                  : 1;
   if (pairs.size() < need)
     return Status::Error("ATE: only " + std::to_string(pairs.size()) +
                          " estimate/truth pairs within the time tolerance");
@@ -69,8 +123,10 @@ Expected<AteResult> absoluteTrajectoryError(const std::vector<TumPose>& estimate
     const Eigen::Matrix4d T = Eigen::umeyama(est, tru, false);
     r.R_align = T.topLeftCorner<3, 3>();
     r.t_align = T.topRightCorner<3, 1>();
-    est = (r.R_align * est).colwise() + r.t_align;
+  } else if (options.alignment == Alignment::kYaw) {
+    alignYaw(est, tru, &r);
   }
+  est = (r.R_align * est).colwise() + r.t_align;
   const Eigen::VectorXd err = (est - tru).colwise().norm();
   r.pairs = pairs.size();
   r.rmse_m = std::sqrt(err.squaredNorm() / static_cast<double>(err.size()));

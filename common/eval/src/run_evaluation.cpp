@@ -10,7 +10,8 @@ namespace cvslam {
 
 Status RunEvaluationOptions::load(const ConfigNode& node) {
   node.get("time_tolerance_s", time_tolerance_s);
-  node.getEnum("alignment", alignment, {{"none", Alignment::kNone}, {"se3", Alignment::kSE3}});
+  node.getEnum("alignment", alignment,
+               {{"none", Alignment::kNone}, {"se3", Alignment::kSE3}, {"yaw", Alignment::kYaw}});
   node.get("rpe_segment_m", rpe_segment_m);
   node.get("co_window", co_window);
   node.check(time_tolerance_s >= 0.0, "time_tolerance_s", "must be >= 0");
@@ -45,9 +46,13 @@ AgentEvaluation evaluateAgent(const AgentRun& run, const AgentTruth& truth,
   } else {
     const std::vector<TumPose> true_poses = posesOf(truth.states);
     const AteOptions ate_options{options.time_tolerance_s, options.alignment};
-    if (auto ate = absoluteTrajectoryError(run.trajectory, true_poses, ate_options); ate.ok())
+    if (auto ate = absoluteTrajectoryError(run.trajectory, true_poses, ate_options); ate.ok()) {
       ev.ate_rmse_m = ate->rmse_m;
-    else
+      if (ate->vertical_flipped)
+        ev.notes.push_back(
+            "ate: yaw alignment found the vertical axes opposite (estimate turned "
+            "by π about x, e.g. NED onto z-up)");
+    } else
       note("ate", ate.status());
     if (run.ins_trajectory) {
       if (auto ins = absoluteTrajectoryError(*run.ins_trajectory, true_poses, ate_options);
@@ -179,7 +184,7 @@ Json summaryJson(const RunInfo& info, const std::vector<AgentEvaluation>& agents
   root["mode"] = info.mode.empty() ? Json() : Json(info.mode);
   root["filter"] = info.filter.empty() ? Json() : Json(info.filter);
   if (!info.map.empty()) root["map"] = info.map;
-  root["alignment"] = options.alignment == Alignment::kSE3 ? "se3" : "none";
+  root["alignment"] = alignmentName(options.alignment);
   Json all = Json::object();
   for (const AgentEvaluation& ev : agents) all[std::to_string(ev.id)] = agentSummary(ev);
   root["agents"] = std::move(all);

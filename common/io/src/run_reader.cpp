@@ -44,6 +44,19 @@ Expected<RunInfo> readRunInfo(const std::string& run_dir) {
   str("filter", info.filter);
   str("map", info.map);
   str("scenario", info.scenario);
+  str("sensing", info.sensing);
+  str("world", info.world);
+  str("pixel_noise", info.pixel_noise);
+  str("config", info.config);
+  str("program", info.program);
+  if (const auto j = json->find("seed"); j != json->end() && j->is_number_unsigned())
+    info.seed = j->get<uint64_t>();
+  if (const auto j = json->find("duration_s"); j != json->end() && j->is_number())
+    info.duration_s = j->get<double>();
+  if (const auto j = json->find("agents"); j != json->end() && j->is_array()) {
+    for (const auto& id : *j)
+      if (id.is_number_integer()) info.agents.push_back(id.get<int>());
+  }
   return info;
 }
 

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "cvslam/io/json_file.h"
+#include "cvslam/io/time_format.h"
 
 namespace cvslam {
 namespace {
@@ -63,7 +64,7 @@ Status AgentRunWriter::addState(double t, const Vector9d& x, const Matrix9d& P) 
   if (!open_) return Status::Error("AgentRunWriter: not open");
   if (Status s = trajectory_.add(tumPoseFromState(t, x)); !s.ok()) return s;
   std::string line;
-  appendNumber(line, t);
+  appendSeconds(line, t);
   for (int i = 0; i < 9; ++i) line += ',', appendNumber(line, x(i));
   for (int i = 0; i < 9; ++i) line += ',', appendNumber(line, P(i, i));
   if (options_.full_covariance)
@@ -79,7 +80,7 @@ Status AgentRunWriter::addState(double t, const Vector9d& x, const Matrix9d& P) 
 Status AgentRunWriter::addTruth(double t, const Vector9d& x_true) {
   if (!open_) return Status::Error("AgentRunWriter: not open");
   std::string line;
-  appendNumber(line, t);
+  appendSeconds(line, t);
   for (int i = 0; i < 9; ++i) line += ',', appendNumber(line, x_true(i));
   truth_ << line << '\n';
   return truth_ ? Status::Ok() : Status::Error(dir_ + "/truth.csv: write failed");
@@ -205,6 +206,17 @@ Status writeRunInfo(const std::string& run_dir, const RunInfo& info) {
   root["filter"] = info.filter;
   root["map"] = info.map;
   root["scenario"] = info.scenario;
+  if (info.seed) root["seed"] = *info.seed;
+  if (info.duration_s) root["duration_s"] = *info.duration_s;
+  const auto text = [&](const char* key, const std::string& value) {
+    if (!value.empty()) root[key] = value;
+  };
+  text("sensing", info.sensing);
+  text("world", info.world);
+  text("pixel_noise", info.pixel_noise);
+  if (!info.agents.empty()) root["agents"] = info.agents;
+  text("config", info.config);
+  text("program", info.program);
   return writeJsonFile(run_dir + "/run.json", root);
 }
 

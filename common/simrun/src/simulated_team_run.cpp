@@ -51,13 +51,17 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
             [&](VisualInertialSlam& slam, FrameReport* report) {
               return sensing.processFrame(ev, slam, report);
             },
-            &sensing.lastObservations());
+            &sensing.lastObservations(), sensing.visualResult());
         !s.ok()) {
       return s;
     }
+    if (const VisualFrameResult* r = sensing.visualResult()) {
+      // The agent's own work on the frame (as cvslam_agent measures it), not the rendering.
+      p.setLastFrameTime(r->front_end_ms + r->association_ms + r->filter_ms);
+    }
     const AgentFrame& last = p.lastFrame();
     SimulatedFrame f{a.id,          ev.t_us,      &ev.truth,       &p.slam(), &last.report,
-                     &p.insState(), last.time_ms, a.sensing.get(), &p.slam()};
+                     &p.insState(), last.time_ms, a.sensing.get(), &p.slam(), &p};
     if (on_frame) {
       if (Status s = on_frame(f); !s.ok()) return s;
     }

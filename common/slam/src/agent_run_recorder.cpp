@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "cvslam/io/time_format.h"
+
 namespace cvslam {
 
 Status AgentRunRecorder::open(const std::string& run_dir, int agent_id, bool images) {
@@ -23,7 +25,7 @@ Status AgentRunRecorder::openFrontend() {
   frontend_.open(dir_ + "/frontend.csv", std::ios::trunc);
   if (!frontend_) return Status::Error("cannot write " + dir_ + "/frontend.csv");
   frontend_ << "t,observations,predictions,gated_pairs,associated,initialised,front_end_ms,"
-               "association_ms,filter_ms\n";
+               "association_ms,filter_ms,loop_candidates,loop_inliers\n";
   return Status::Ok();
 }
 
@@ -38,10 +40,10 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
     if (Status s = openFrontend(); !s.ok()) return s;
   if (f.visual != nullptr) {
     const VisualFrameResult& r = *f.visual;
-    frontend_ << t << ',' << r.frame.observations.size() << ',' << r.predictions << ','
-              << r.association.candidates_gated << ',' << r.association.associated << ','
+    frontend_ << formatSeconds(t) << ',' << r.frame.observations.size() << ',' << r.predictions
+              << ',' << r.association.candidates_gated << ',' << r.association.associated << ','
               << r.initialised.size() << ',' << r.front_end_ms << ',' << r.association_ms << ','
-              << r.filter_ms << '\n';
+              << r.filter_ms << ',' << r.loop.candidates << ',' << r.loop.inliers << '\n';
   }
   const Eigen::VectorXd x = slam.vehicleState();
   const Eigen::MatrixXd P = slam.vehicleCovariance();
@@ -64,10 +66,11 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
   }
   if (n_lm > 0) fs.landmark_sigma_mean_m = sigma_sum / n_lm;
   writer_->addFrame(fs);
-  events_ << t << ',' << report.observations << ',' << report.updated << ',' << report.rejected
-          << ',' << report.initialised << ',' << report.archived << ',' << report.reactivated << ','
-          << report.loop_landmarks << ',' << (report.loop_closure ? 1 : 0) << ','
-          << (report.theta_reduced ? 1 : 0) << ',' << report.state_size << '\n';
+  events_ << formatSeconds(t) << ',' << report.observations << ',' << report.updated << ','
+          << report.rejected << ',' << report.initialised << ',' << report.archived << ','
+          << report.reactivated << ',' << report.loop_landmarks << ','
+          << (report.loop_closure ? 1 : 0) << ',' << (report.theta_reduced ? 1 : 0) << ','
+          << report.state_size << '\n';
   return events_ ? Status::Ok() : Status::Error(dir_ + "/events.csv: write failed");
 }
 

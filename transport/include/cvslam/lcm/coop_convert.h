@@ -8,7 +8,10 @@
 // through decodeMessage() (codec.h), which validates them, before fromMessage().
 // Indices are uint32 in the core and travel as the same bit pattern in int32.
 
+#include <type_traits>
+
 #include "cvslam/coop/coop_messages.h"
+#include "cvslam/coop/dc_link_core.h"
 #include "cvslam/core/status.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/message_types.h"
@@ -50,6 +53,18 @@ Status forEachOutboxMessage(const coop::CoopOutbox& box, int self, Visit&& visit
   for (const coop::SharedLandmarks& l : box.shared)
     if (Status s = one(l, Stream::kShared, l.to_agent); !s.ok()) return s;
   return Status::Ok();
+}
+
+/// A decoded cooperation message as the DC-link core takes it (coop/dc_link_core.h);
+/// `receiver`: the agent it is delivered to (the addressee of the directed messages).
+template <typename Msg>
+coop::CoopMessage toCoopMessage(const Msg& msg, int receiver) {
+  if constexpr (std::is_same_v<Msg, cvslam::agent_summary_t> ||
+                std::is_same_v<Msg, cvslam::feature_index_t>) {
+    return fromMessage(msg);
+  } else {
+    return fromMessage(msg, receiver);
+  }
 }
 
 }  // namespace cvslam::transport

@@ -1,26 +1,19 @@
 #pragma once
-// Decentralised cooperation of an agent process over LCM (docs/architecture.md, docs/conventions.md; thesis §6.6.5):
-// the CooperationLink of cvslam_agent --mode dc. Subscribes TEAM/SUMMARY, every agent's
-// INDEX (the pattern UAV[0-9]+/INDEX: peers may appear with any id), and its own
-// UAV<id>/SHARED_REQ and UAV<id>/SHARED; converts with coop_convert.h (the same converters and
-// validation as cvslam_run --mode dc) and runs one coop::DcCooperation.
-//
-// Determinism: inbound messages are handed to DcCooperation right before the frame that may
-// apply them (those older than the frame), in the order cvslam_run delivers them — by time,
-// sender id, stream (summary, index, request, shared), sequence number — whatever order they
-// arrived in. A lockstep run then reproduces cvslam_run --mode dc.
+// Decentralised cooperation of an agent process over LCM (docs/architecture.md,
+// docs/conventions.md; thesis §6.6.5): the CooperationLink of cvslam_agent --mode dc, the thin LCM
+// adapter of the DC link (coop/dc_link_core.h). Subscribes TEAM/SUMMARY, every agent's INDEX (the
+// pattern UAV[0-9]+/INDEX: peers may appear with any id), and its own UAV<id>/SHARED_REQ and
+// UAV<id>/SHARED; converts with coop_convert.h (the same converters and validation as
+// cvslam_run --mode dc) and hands the messages to its DcLinkCore, which orders them, runs the
+// cooperation and writes coop.csv exactly as cvslam_run does: a lockstep run reproduces
+// cvslam_run --mode dc. Publishes the core's outbox.
 
 #include <cstdint>
-#include <fstream>
-#include <map>
-#include <memory>
 #include <mutex>
 #include <string>
-#include <tuple>
-#include <variant>
 #include <vector>
 
-#include "cvslam/coop/dc_cooperation.h"
+#include "cvslam/coop/dc_link_core.h"
 #include "cvslam/lcm/agent_node.h"
 
 namespace cvslam::transport {
@@ -37,26 +30,17 @@ class DcLink final : public CooperationLink {
                     const std::function<void(cvslam::agent_summary_t&)>& fill_counters) override;
   std::string report() const override;
 
-  const coop::DcCooperation& cooperation() const { return dc_; }
+  const coop::DcCooperation& cooperation() const { return core_.cooperation(); }
 
  private:
-  using Message = std::variant<coop::CoopSummary, coop::FeatureIndexList, coop::SharedRequest,
-                               coop::SharedLandmarks>;
-  /// (t_us, sender, stream rank = variant index, seq, arrival order)
-  using Key = std::tuple<int64_t, int, std::size_t, int64_t, uint64_t>;
+  void receive(coop::CoopMessage m);
 
-  void receive(Message m);
-  Status writeEvents();
-
-  int self_;
-  coop::DcCooperation dc_;
+  coop::DcLinkCore core_;
   std::string out_dir_;
-  std::ofstream csv_;
+  bool log_open_ = false;
   std::mutex mutex_;
-  std::vector<Message> arrived_;    // receive thread → main thread
-  std::map<Key, Message> pending_;  // main thread, canonical order
-  uint64_t arrivals_ = 0;
-  int64_t refused_ = 0;  // DcCooperation rejected on arrival
+  std::vector<coop::CoopMessage> arrived_;  // receive thread → main thread
+  int64_t first_frame_us_ = -1, last_frame_us_ = -1;
 };
 
 }  // namespace cvslam::transport

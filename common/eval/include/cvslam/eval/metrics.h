@@ -1,12 +1,17 @@
 #pragma once
 // Evaluation metrics for estimator runs (consistency: NEES, co, Rco, thesis §5.7.3; the summary
-// cvslam_eval writes is in docs/run_format.md; evaluation is a tool, not code inside the estimator).
+// cvslam_eval writes is in docs/run_format.md; evaluation is a tool, not code inside the
+// estimator).
 //
 // Our estimates and truths share the team's NED frame (thesis §6.3.1: initial poses known),
-// so ATE compares positions directly by default; SE(3) alignment (Umeyama, no scale) is an
-// option for real data whose ground truth lives in another world frame.
+// so ATE compares positions directly by default. For real data whose ground truth lives in
+// another world frame there are two alignments, as evo's `--align` and the rpg trajectory
+// evaluation offer: SE(3) (Umeyama, no scale) and 4-DoF (yaw about the vertical +
+// translation), the right one for a gravity-aligned visual-inertial estimate, whose roll and
+// pitch are observable and must not be fitted away.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <optional>
 #include <utility>
@@ -26,7 +31,14 @@ std::vector<std::pair<std::size_t, std::size_t>> associateByTime(const std::vect
 enum class Alignment {
   kNone,  ///< shared frame (simulation, our NED convention)
   kSE3,   ///< rigid Umeyama alignment of the estimate onto the truth (real data)
+  /// Rotation about the vertical + translation, both frames gravity-aligned. The vertical
+  /// axis is ±z in each (NED: z down; EuRoC, ENU: z up); when the two point opposite ways,
+  /// the estimate is first turned by π about x, and AteResult::vertical_flipped says so.
+  kYaw,
 };
+
+/// Name of an alignment as the command line and the summary JSON spell it.
+const char* alignmentName(Alignment a);
 
 struct AteOptions {
   double time_tolerance_s = 0.01;  ///< max |t_est − t_true| for a pair [s]
@@ -40,9 +52,17 @@ struct AteResult {
   std::size_t pairs = 0;
   Eigen::Matrix3d R_align = Eigen::Matrix3d::Identity();  ///< applied to the estimate
   Eigen::Vector3d t_align = Eigen::Vector3d::Zero();
+  /// kYaw: the estimate's vertical axis points opposite to the truth's (R_align includes
+  /// the π turn about x).
+  bool vertical_flipped = false;
 };
 
-/// Absolute trajectory error of the positions. Fails with fewer than 1 pair (3 for SE(3)).
+/// Least-squares rotation about z and translation carrying the points `est` onto `tru`
+/// (columns paired): the 4-DoF part of Umeyama's method, closed form. Needs ≥ 2 points.
+Eigen::Isometry3d alignYawTranslation(const Eigen::Matrix3Xd& est, const Eigen::Matrix3Xd& tru);
+
+/// Absolute trajectory error of the positions. Fails with fewer than 1 pair (3 for SE(3),
+/// 2 for yaw).
 Expected<AteResult> absoluteTrajectoryError(const std::vector<TumPose>& estimate,
                                             const std::vector<TumPose>& truth,
                                             const AteOptions& options = {});

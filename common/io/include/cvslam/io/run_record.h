@@ -73,6 +73,16 @@ struct RunInfo {
   std::string filter;  ///< ekf | nhinf ("" when unknown)
   std::string map;     ///< knearest | full ("" when unknown)
   std::string scenario;
+  // What else is needed to reproduce the run from its folder (every agent's options are in
+  // agent_<id>/config_used.yaml); absent when unknown or not applicable.
+  std::optional<uint64_t> seed;      ///< the scenario's seed as run (after --seed)
+  std::optional<double> duration_s;  ///< simulated duration as run (after --duration) [s]
+  std::string sensing;               ///< features | images (simulation)
+  std::string world;                 ///< --world (render world kind), when given
+  std::string pixel_noise;           ///< --pixel-noise, when given
+  std::vector<int> agents;           ///< the UAVs that ran (ids)
+  std::string config;                ///< the configuration file given (before overrides)
+  std::string program;               ///< cvslam_run | cvslam_agent
 };
 
 /// Everything read back for one agent.

@@ -16,6 +16,8 @@
 
 namespace cvslam {
 
+struct VisualFrameResult;
+
 class FrameSensing {
  public:
   virtual ~FrameSensing() = default;
@@ -26,6 +28,9 @@ class FrameSensing {
   virtual bool landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const = 0;
   /// The observations the last frame gave the filter (landmark ids set).
   virtual const StereoFrameObservations& lastObservations() const = 0;
+  /// The image path's details of the last frame (front end, association, filter, loop query;
+  /// frontend.csv), valid after each frame; null when the sensing has no image path.
+  virtual const VisualFrameResult* visualResult() const { return nullptr; }
 };
 
 /// Feature-level sensing: the simulator's index is the true landmark id.

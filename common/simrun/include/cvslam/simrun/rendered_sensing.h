@@ -72,6 +72,7 @@ class RenderedSensing : public FrameSensing {
                       FrameReport* report) override;
   bool landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const override;
   const StereoFrameObservations& lastObservations() const override { return result_.frame; }
+  const VisualFrameResult* visualResult() const override { return &result_; }
 
   const RenderedSensingStats& stats() const { return stats_; }
   const VisualFrameResult& lastResult() const { return result_; }

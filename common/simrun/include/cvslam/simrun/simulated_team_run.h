@@ -1,7 +1,7 @@
 #pragma once
 // Drives every UAV of a simulated scenario through its own VisualInertialSlam, in dataset-time
-// order and deterministically (docs/architecture.md: cvslam_run's core, no transport). Each agent also
-// dead-reckons the same IMU data (INS only) for comparison. A callback sees every processed
+// order and deterministically (docs/architecture.md: cvslam_run's core, no transport). Each agent
+// also dead-reckons the same IMU data (INS only) for comparison. A callback sees every processed
 // frame; the caller decides what to record.
 
 #include <Eigen/Core>
@@ -12,8 +12,8 @@
 #include "cvslam/core/status.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/sim/simulator.h"
-#include "cvslam/slam/agent_pipeline.h"
 #include "cvslam/simrun/frame_sensing.h"
+#include "cvslam/slam/agent_pipeline.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
 namespace cvslam {
@@ -31,6 +31,8 @@ struct SimulatedFrame {
   /// The same filter, writable: cooperation (cvslam_run --mode dc) fuses peer estimates
   /// into it right after the frame (coop/dc_cooperation.h).
   VisualInertialSlam* mutable_slam = nullptr;
+  /// The agent's pipeline after the frame (what AgentRunRecorder records).
+  const AgentPipeline* pipeline = nullptr;
 };
 
 class SimulatedTeamRun {

@@ -1,9 +1,10 @@
 #pragma once
 // The run record of one agent (docs/run_format.md) written from its AgentPipeline after each
-// frame, exactly as cvslam_run writes it: states.csv + trajectory.tum (estimate),
-// ins_trajectory.tum (dead reckoning), truth.csv (when the truth is known), stats.json (per
-// frame time, state size, landmarks, landmark σ; cvslam_agent adds latency and bytes per
-// stream), events.csv (per frame filter events) and, for images, frontend.csv.
+// frame — the one writer of both paths, cvslam_run (every UAV in one process) and
+// cvslam_agent (one UAV as a process), so their records have the same layout: states.csv +
+// trajectory.tum (estimate), ins_trajectory.tum (dead reckoning), truth.csv (when the truth is
+// known), stats.json (per frame time, state size, landmarks, landmark σ; cvslam_agent adds latency
+// and bytes per stream), events.csv (per frame filter events) and, for images, frontend.csv.
 
 #include <Eigen/Core>
 #include <fstream>

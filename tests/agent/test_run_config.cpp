@@ -1,0 +1,69 @@
+// Every run records its configuration (docs/run_format.md): cvslam_run writes
+// agent_<id>/config_used.yaml (agent.yaml + the command-line overrides) and run.json (scenario,
+// seed, duration, ...), and a run repeated from those files alone gives the same trajectories
+// and cooperation logs.
+#include <gtest/gtest.h>
+
+#include "agent_test_util.h"
+#include "cvslam/io/run_reader.h"
+
+namespace cvslam {
+namespace {
+
+using test::slurp;
+
+/// The YAML of a config_used.yaml without its first (comment) line, which names the source.
+std::string yamlBody(const std::string& path) {
+  const std::string text = slurp(path);
+  const auto eol = text.find('\n');
+  return eol == std::string::npos ? "" : text.substr(eol + 1);
+}
+
+TEST(RunConfig, RunRepeatedFromItsFolderGivesTheSameTrajectories) {
+  test::TempFolder tmp;
+  const std::string scenario = std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/coop_pair.yaml";
+  std::string err;
+  ASSERT_EQ(test::run({CVSLAM_RUN_EXE, "--scenario", scenario, "--mode", "dc", "--filter", "nhinf",
+                       "--passes", "2", "--ci", "fast", "--one-way", "--seed", "7", "--duration",
+                       "10", "--out", tmp / "first", "--quiet"},
+                      tmp / "first", nullptr, &err),
+            0)
+      << err;
+  auto info = readRunInfo(tmp / "first");
+  ASSERT_TRUE(info.ok()) << info.status().message();
+  EXPECT_EQ(info->program, "cvslam_run");
+  EXPECT_EQ(info->mode, "dc");
+  EXPECT_EQ(info->filter, "nhinf");
+  EXPECT_EQ(info->scenario, scenario);
+  ASSERT_TRUE(info->seed.has_value());
+  EXPECT_EQ(*info->seed, 7u);
+  ASSERT_TRUE(info->duration_s.has_value());
+  EXPECT_EQ(*info->duration_s, 10.0);
+  EXPECT_EQ(info->sensing, "features");
+  EXPECT_EQ(info->agents, (std::vector<int>{1, 2}));
+  const std::string used = tmp / "first/agent_1/config_used.yaml";
+  const std::string yaml = yamlBody(used);
+  for (const char* recorded :
+       {"type: nhinf", "observation_passes: 2", "ci_method: fast", "both_ways: false"})
+    EXPECT_NE(yaml.find(recorded), std::string::npos) << recorded << " not in\n" << yaml;
+  EXPECT_EQ(yamlBody(tmp / "first/agent_2/config_used.yaml"), yaml);
+
+  // Again, from the folder alone: run.json and config_used.yaml, no other option.
+  ASSERT_EQ(test::run({CVSLAM_RUN_EXE, "--scenario", info->scenario, "--mode", info->mode,
+                       "--sensing", info->sensing, "--seed", std::to_string(*info->seed),
+                       "--duration", std::to_string(*info->duration_s), "--config", used, "--out",
+                       tmp / "again", "--quiet"},
+                      tmp / "again", nullptr, &err),
+            0)
+      << err;
+  for (const char* f : {"agent_1/trajectory.tum", "agent_2/trajectory.tum", "agent_1/states.csv",
+                        "agent_1/coop.csv", "agent_2/coop.csv", "agent_2/events.csv"}) {
+    const std::string first = slurp(tmp / (std::string("first/") + f));
+    EXPECT_FALSE(first.empty()) << f;
+    EXPECT_EQ(slurp(tmp / (std::string("again/") + f)), first) << f;
+  }
+  EXPECT_EQ(yamlBody(tmp / "again/agent_1/config_used.yaml"), yaml);
+}
+
+}  // namespace
+}  // namespace cvslam

@@ -1,0 +1,167 @@
+// The configuration a run records (coop/agent_config.h, io/effective_config.h;
+// docs/run_format.md: agent_<id>/config_used.yaml): the file plus the command-line overrides,
+// written as YAML that --config reads back to the same options.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "cvslam/coop/agent_config.h"
+#include "cvslam/io/effective_config.h"
+#include "cvslam/io/run_reader.h"
+#include "cvslam/io/run_writer.h"
+#include "euroc_test_folder.h"
+
+namespace cvslam {
+namespace {
+
+std::string shippedConfig() {
+  return std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml";
+}
+
+/// cvslam_run's reading of the tool sections: cvslam_agent's `agent:` is not its own.
+void skipAgent(const ConfigNode& root) {
+  root.skip("agent");
+}
+
+TEST(EffectiveConfig, OverridesAreValidatedAndRecordedAtTheirKeyPath) {
+  auto cfg = EffectiveConfig::fromText("filter: {type: ekf, gamma: 2}\n", "test.yaml");
+  ASSERT_TRUE(cfg.ok()) << cfg.status().message();
+  FilterOptions filter;
+  ASSERT_TRUE(filter.load(cfg->node().child("filter")).ok());
+  ASSERT_TRUE(cfg->override(filter, {"filter"}, "type", "nhinf", "--filter").ok());
+  EXPECT_EQ(filter.type, FilterType::kNhinf);
+  EXPECT_EQ(filter.gamma, 2.0);  // the file's value stays
+  // A section the file does not have is created.
+  vision::DetectorOptions detector;
+  ASSERT_TRUE(cfg->override(detector, {"frontend", "detector"}, "type", "orb", "--detector").ok());
+  auto back = ConfigNode::fromString(cfg->yaml(), "back");
+  ASSERT_TRUE(back.ok()) << cfg->yaml();
+  std::string type, detector_type;
+  double gamma = 0.0;
+  back->child("filter").get("type", type);
+  back->child("filter").get("gamma", gamma);
+  back->child("frontend").child("detector").get("type", detector_type);
+  EXPECT_EQ(type, "nhinf");
+  EXPECT_EQ(gamma, 2.0);
+  EXPECT_EQ(detector_type, "orb");
+
+  // A bad value is refused with the option's name and is not recorded.
+  Status bad = cfg->override(filter, {"filter"}, "type", "kalman", "--filter");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.message().rfind("--filter: type: must be one of", 0), 0u) << bad.message();
+  EXPECT_EQ(cfg->yaml().find("kalman"), std::string::npos);
+}
+
+TEST(AgentConfig, ConfigUsedLoadsBackToTheSameOptions) {
+  test::TempFolder tmp;
+  AgentConfigArgs args;
+  args.config = shippedConfig();
+  args.filter = "nhinf";
+  args.map = "full";
+  args.passes = 3;
+  args.detector = "orb";
+  args.ci = "fast";
+  args.one_way = true;
+  auto first = AgentConfig::load(args, "", skipAgent);
+  ASSERT_TRUE(first.ok()) << first.status().message();
+  EXPECT_EQ(first->filterName(), "nhinf");
+  EXPECT_EQ(first->mapName(), "full");
+  EXPECT_EQ(first->slam.slam.observation_passes, 3);
+  EXPECT_EQ(first->frontend.front_end.detector.type, vision::DetectorType::kOrb);
+  EXPECT_EQ(first->coop.ci_method, coop::CiMethod::kFast);
+  EXPECT_FALSE(first->coop.both_ways);
+  // Vocabularies are named absolutely, so the file works from the run folder.
+  EXPECT_TRUE(std::filesystem::path(first->frontend.vocabulary_orb).is_absolute());
+  EXPECT_TRUE(std::filesystem::exists(first->frontend.vocabulary_orb));
+
+  const std::string used = tmp / "config_used.yaml";
+  ASSERT_TRUE(first->effective.write(used).ok());
+  AgentConfigArgs again;
+  again.config = used;
+  auto second = AgentConfig::load(again, shippedConfig(), skipAgent);
+  ASSERT_TRUE(second.ok()) << second.status().message();
+  EXPECT_EQ(second->effective.path(), used);
+  // Every option: the filter's own printout, and every section as YAML (the same text).
+  EXPECT_EQ(second->slam.filter.print(), first->slam.filter.print());
+  EXPECT_EQ(second->effective.yaml(), first->effective.yaml());
+  EXPECT_EQ(second->mapName(), "full");
+  EXPECT_EQ(second->slam.slam.observation_passes, 3);
+  EXPECT_EQ(second->slam.slam.pixel_sigma, first->slam.slam.pixel_sigma);
+  EXPECT_EQ(second->slam.map.k, first->slam.map.k);
+  EXPECT_EQ(second->slam.ins.estimate_imu_bias, first->slam.ins.estimate_imu_bias);
+  EXPECT_EQ(second->frontend.front_end.detector.type, vision::DetectorType::kOrb);
+  EXPECT_EQ(second->frontend.vocabulary, first->frontend.vocabulary);
+  EXPECT_EQ(second->frontend.vocabulary_orb, first->frontend.vocabulary_orb);
+  EXPECT_EQ(second->coop.ci_method, coop::CiMethod::kFast);
+  EXPECT_FALSE(second->coop.both_ways);
+  EXPECT_EQ(second->coop.coop_sigma, first->coop.coop_sigma);
+}
+
+TEST(AgentConfig, DefaultFileToolSectionsAndErrors) {
+  test::TempFolder tmp;
+  // No --config: the default file when it exists; the tool's own section is its to read.
+  int read_agent = 0;
+  auto c = AgentConfig::load({}, shippedConfig(), [&](const ConfigNode& root) {
+    root.skip("agent");
+    ++read_agent;
+  });
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_EQ(c->effective.path(), shippedConfig());
+  EXPECT_EQ(read_agent, 1);
+  // Nobody reads `agent:`: an unknown section.
+  EXPECT_FALSE(AgentConfig::load({}, shippedConfig(), {}).ok());
+  // No file at all: built-in defaults, and config_used.yaml holds the overrides only.
+  AgentConfigArgs args;
+  args.filter = "nhinf";
+  auto d = AgentConfig::load(args, (tmp / "missing.yaml"), {});
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  EXPECT_EQ(d->effective.path(), "");
+  EXPECT_EQ(d->filterName(), "nhinf");
+  EXPECT_NE(d->effective.yaml().find("nhinf"), std::string::npos);
+  // A bad override names its option.
+  args.map = "octree";
+  auto e =
+      AgentConfig::load(args, shippedConfig(), [](const ConfigNode& root) { root.skip("agent"); });
+  ASSERT_FALSE(e.ok());
+  EXPECT_EQ(e.status().message().rfind("--map: kind:", 0), 0u) << e.status().message();
+}
+
+TEST(AgentConfig, RunJsonRecordsWhatRepeatsTheRun) {
+  test::TempFolder tmp;
+  RunInfo info;
+  info.mode = "dc";
+  info.scenario = "config/scenarios/coop_pair.yaml";
+  info.seed = 7;
+  info.duration_s = 10.5;
+  info.sensing = "images";
+  info.world = "hall";
+  info.pixel_noise = "non_centred";
+  info.agents = {1, 3};
+  info.config = "config/agent.yaml";
+  info.program = "cvslam_run";
+  ASSERT_TRUE(writeRunInfo(tmp / "run", info).ok());
+  auto back = readRunInfo(tmp / "run");
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_EQ(back->mode, "dc");
+  EXPECT_EQ(back->scenario, info.scenario);
+  EXPECT_EQ(back->seed, info.seed);
+  EXPECT_EQ(back->duration_s, info.duration_s);
+  EXPECT_EQ(back->sensing, "images");
+  EXPECT_EQ(back->world, "hall");
+  EXPECT_EQ(back->pixel_noise, "non_centred");
+  EXPECT_EQ(back->agents, info.agents);
+  EXPECT_EQ(back->config, info.config);
+  EXPECT_EQ(back->program, "cvslam_run");
+  // Unset facts stay absent.
+  ASSERT_TRUE(writeRunInfo(tmp / "bare", RunInfo{}).ok());
+  auto bare = readRunInfo(tmp / "bare");
+  ASSERT_TRUE(bare.ok());
+  EXPECT_FALSE(bare->seed.has_value());
+  EXPECT_FALSE(bare->duration_s.has_value());
+  EXPECT_TRUE(bare->agents.empty());
+}
+
+}  // namespace
+}  // namespace cvslam
