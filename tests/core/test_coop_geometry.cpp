@@ -8,8 +8,8 @@
 #include <Eigen/Eigenvalues>
 #include <random>
 
-#include "cvslam/coop/covariance_intersection.h"
 #include "cvslam/coop/feature_ellipsoid.h"
+#include "cvslam/filter/covariance_intersection.h"
 
 namespace cvslam::coop {
 namespace {

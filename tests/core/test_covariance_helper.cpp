@@ -110,6 +110,31 @@ TEST(CovarianceHelper, AugmentThenMarginaliseRestoresTheState) {
   EXPECT_FALSE(CovarianceHelper::scaleCovariance(s, 0.0).ok());
 }
 
+TEST(CovarianceHelper, ScaleCovarianceOfOneVehiclesVariables) {
+  std::mt19937 rng(9);
+  const SlamState s = test::randomSlamState(3, rng);  // vehicle(0), landmarks 100..102
+  const Eigen::MatrixXd P = s.covariance();
+  // Every variable listed: exactly factor · P (covariance intersection of a single vehicle).
+  std::vector<VariableKey> keys;
+  for (const StateVariable& v : s.variables()) keys.push_back(v.key);
+  SlamState all = s;
+  ASSERT_TRUE(CovarianceHelper::scaleCovariance(all, keys, 2.5).ok());
+  EXPECT_EQ(all.covariance(), 2.5 * P);
+  // Some: P ← D P D with D = 2 (√4) on the vehicle and landmark 101, 1 elsewhere.
+  SlamState some = s;
+  ASSERT_TRUE(CovarianceHelper::scaleCovariance(
+                  some, {VariableKey::vehicle(0), VariableKey::landmark(101)}, 4.0)
+                  .ok());
+  Eigen::VectorXd d = Eigen::VectorXd::Ones(s.size());
+  d.head(9).setConstant(2.0);
+  d.segment(12, 3).setConstant(2.0);
+  EXPECT_LT((some.covariance() - d.asDiagonal() * P * d.asDiagonal()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_EQ(some.covariance().block(9, 9, 3, 3), P.block(9, 9, 3, 3));  // landmark 100
+  EXPECT_GT(minEigenvalue(some.covariance()), -1e-12);
+  EXPECT_FALSE(CovarianceHelper::scaleCovariance(some, {VariableKey::landmark(7)}, 2.0).ok());
+  EXPECT_FALSE(CovarianceHelper::scaleCovariance(some, keys, 0.0).ok());
+}
+
 TEST(CovarianceHelper, MarginalCovarianceInRequestedOrder) {
   std::mt19937 rng(4);
   const SlamState s = test::randomSlamState(3, rng);

@@ -7,10 +7,11 @@
 #include <cmath>
 #include <string>
 
+#include "cvslam/filter/vehicle_model.h"
 #include "cvslam/geometry/euler.h"
 #include "cvslam/sim/scenario.h"
-#include "cvslam/slam/observability_constraint.h"
 #include "cvslam/simrun/simulated_team_run.h"
+#include "cvslam/slam/observability_constraint.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
 namespace cvslam {
@@ -29,7 +30,7 @@ TEST(ObservabilityConstraint, ProjectedJacobianAnnihilatesTranslationAndYaw) {
   camera.project(x, p_L, &H_v, &H_L);
   // Directions taken at slightly different points (as the filter carries them).
   const Eigen::VectorXd u_v =
-      vehicleYawDirection(x.head<3>() + Eigen::Vector3d(0.3, -0.2, 0.0), 15);
+      vehicle_model::yawDirection(x.head<3>() + Eigen::Vector3d(0.3, -0.2, 0.0), 15);
   const Eigen::Vector3d u_L = yawDirectionOfPoint(p_L + Eigen::Vector3d(-0.4, 0.1, 0.0));
   const double before = (H_v * u_v.head<9>() + H_L * u_L).norm();
   EXPECT_GT(before, 1.0);  // the unconstrained Jacobian "sees" this yaw direction

@@ -6,7 +6,6 @@
 #include <limits>
 
 #include "cvslam/filter/chi_square.h"
-#include "cvslam/filter/covariance_helper.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 #include "cvslam/vision/descriptor_distance.h"
 
@@ -27,12 +26,6 @@ double seconds(int64_t dt_us) {
 
 bool validHeader(const CoopHeader& h) {
   return h.agent_id >= 1 && h.seq >= 0 && h.t_us >= 0;
-}
-
-VariableKey vehicleKeyOf(const VisualInertialSlam& slam) {
-  for (const StateVariable& v : slam.state().variables())
-    if (v.key.kind == VariableKey::Kind::kVehicle) return v.key;
-  return VariableKey::vehicle(0);
 }
 
 double vehiclePositionTrace(const VisualInertialSlam& slam) {
@@ -239,19 +232,23 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
         answers_request && std::binary_search(p.requested.begin(), p.requested.end(), l.index);
   if (answers_request) p.request_pending = false;
 
-  const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
   const std::vector<StateLandmark> local = slam.stateLandmarks();
-  std::vector<bool> used(local.size(), false);
-  struct Pair {
-    std::size_t local;
-    const SharedLandmark* peer;
-  };
-  std::vector<Pair> pairs;
   CoopEvent e;
   e.t_us = now_us;
   e.kind = CoopEventKind::kFused;
   e.peer = j;
   e.count = static_cast<int>(m.landmarks.size());
+  const std::vector<ConfirmedPair> pairs = confirm(m, local, &e);
+  if (!pairs.empty() && !fuseConfirmed(m, pairs, local, answers_request, slam, now_us, out, &e))
+    return;
+  events_.push_back(e);
+}
+
+std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
+    const SharedLandmarks& m, const std::vector<StateLandmark>& local, CoopEvent* e) {
+  const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
+  std::vector<bool> used(local.size(), false);
+  std::vector<ConfirmedPair> pairs;
   for (const SharedLandmark& s : m.landmarks) {
     bool any_index = false, any_descriptor = false;
     double best = std::numeric_limits<double>::infinity();
@@ -272,108 +269,81 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
     }
     if (!any_index) {
       ++stats_.shared_not_in_state;
-      ++e.not_in_state;
+      ++e->not_in_state;
     } else if (!any_descriptor) {
       ++stats_.rejected_descriptor;
-      ++e.rejected_descriptor;
+      ++e->rejected_descriptor;
     } else if (best_i == local.size()) {
       ++stats_.rejected_gate;
-      ++e.rejected_gate;
+      ++e->rejected_gate;
     } else {
       used[best_i] = true;
       pairs.push_back({best_i, &s});
     }
   }
+  return pairs;
+}
+
+bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<ConfirmedPair>& pairs,
+                                  const std::vector<StateLandmark>& local, bool answers_request,
+                                  VisualInertialSlam& slam, int64_t now_us, CoopOutbox* out,
+                                  CoopEvent* e) {
+  const int j = m.header.agent_id;
   const auto n = static_cast<Eigen::Index>(pairs.size());
-  if (n > 0) {
-    // Local joint covariance of the confirmed landmarks (P1), and the bound on the peer's
-    // stacked covariance: the message carries marginals P_i only, and for ANY joint
-    // covariance with those diagonal blocks, Σ ≤ blockdiag(m·P_i) (covariance intersection of
-    // the m blocks with equal weights 1/m), so blockdiag(m·P_i) is consistent whatever the
-    // correlations between the peer's landmarks (they share its vehicle error).
-    std::vector<VariableKey> keys;
-    std::vector<int64_t> ids;
-    Eigen::VectorXd y(3 * n);
-    Eigen::MatrixXd R = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-    double peer_trace = 0.0;
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const Pair& pr = pairs[static_cast<std::size_t>(k)];
-      ids.push_back(local[pr.local].id);
-      keys.push_back(VariableKey::landmark(static_cast<uint64_t>(local[pr.local].id)));
-      y.segment<3>(3 * k) = pr.peer->p_LinN;
-      R.block<3, 3>(3 * k, 3 * k) = static_cast<double>(n) * pr.peer->covariance;
-      peer_trace += pr.peer->covariance.trace();
-    }
-    // Joint prior covariance of [vehicle; confirmed landmarks]: P1 is the landmarks' block,
-    // the vehicle position blocks serve optimal_vehicle and the gain check.
-    std::vector<VariableKey> joint_keys{vehicleKeyOf(slam)};
-    joint_keys.insert(joint_keys.end(), keys.begin(), keys.end());
-    Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), joint_keys);
-    if (!J.ok()) {
-      ++stats_.fusion_failures;
-      return;
-    }
-    const Eigen::Index nv = J.value().rows() - 3 * n;
-    const Eigen::MatrixXd P1 = J.value().bottomRightCorner(3 * n, 3 * n);
-    const Eigen::MatrixXd P_pp = J.value().topLeftCorner(3, 3);
-    const Eigen::MatrixXd P_pL = J.value().block(0, nv, 3, 3 * n);
-    const double own_trace = P1.trace();
-    const double own_vehicle = P_pp.trace();
-    double w = 1.0;
-    const double nn = static_cast<double>(n);
-    switch (o_.ci_method) {
-      case CiMethod::kAdaptive:  // eq. 6.5 with per-landmark mean traces
-        w = (peer_trace / nn + m.vehicle_cov_trace) /
-            (own_trace / nn + peer_trace / nn + own_vehicle + m.vehicle_cov_trace);
-        break;
-      case CiMethod::kFast:  // eq. 6.4
-        w = peer_trace / (own_trace + peer_trace);
-        break;
-      case CiMethod::kOptimalTrace:
-      case CiMethod::kOptimalDeterminant:
-        w = optimalCiOmega(P1, R, o_.ci_method == CiMethod::kOptimalDeterminant);
-        break;
-      case CiMethod::kOptimalVehicle:
-        w = optimalVehicleCiOmega(P_pp, P_pL, P1, R, o_.min_omega);
-        break;
-    }
-    w = std::clamp(w, o_.min_omega, 1.0);
-    e.omega1 = w;
-    // both_ways: return the local (pre-fusion) estimates of the confirmed landmarks.
-    if (o_.both_ways && answers_request) {
-      SharedLandmarks back;
-      back.header = nextHeader(kSharedStream, now_us);
-      back.to_agent = j;
-      back.vehicle_cov_trace = own_vehicle;
-      for (const Pair& pr : pairs) {
-        const StateLandmark& l = local[pr.local];
-        back.landmarks.push_back({pr.peer->index, l.p_LinN, l.covariance, l.descriptor});
-      }
-      ++stats_.shared_sent;
-      events_.push_back({now_us, CoopEventKind::kSharedSent, j,
-                         static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
-      out->shared.push_back(std::move(back));
-    }
-    // CI on the joint state inflates everything by 1/ω1; when the peer's landmarks would not
-    // even shrink the bound on the vehicle position, fusing only loses information (not
-    // fusing is always consistent), so skip it.
-    const bool gain = w < 1.0 && jointCiVehiclePositionTrace(P_pp, P_pL, P1, R, w) < own_vehicle;
-    if (o_.require_vehicle_gain && !gain) {
-      ++stats_.skipped_no_gain;
-      e.no_gain = true;
-      e.count = static_cast<int>(m.landmarks.size());
-      events_.push_back(e);
-      return;
-    }
-    if (Status s = slam.fuseCovarianceIntersection(ids, y, R, w); !s.ok()) {
-      ++stats_.fusion_failures;
-      return;
-    }
-    e.fused = static_cast<int>(n);
-    stats_.landmarks_fused += n;
-    ++stats_.exchanges_completed;
+  // The peer's estimates, and the bound on their stacked covariance: the message carries
+  // marginals P_i only, and for ANY joint covariance with those diagonal blocks,
+  // Σ ≤ blockdiag(m·P_i) (covariance intersection of the m blocks with equal weights 1/m), so
+  // blockdiag(m·P_i) is consistent whatever the correlations between the peer's landmarks
+  // (they share its vehicle error).
+  CiPeerEstimates peer;
+  peer.y.resize(3 * n);
+  peer.R = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  peer.vehicle_trace = m.vehicle_cov_trace;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const ConfirmedPair& pr = pairs[static_cast<std::size_t>(k)];
+    peer.ids.push_back(local[pr.local].id);
+    peer.y.segment<3>(3 * k) = pr.peer->p_LinN;
+    peer.R.block<3, 3>(3 * k, 3 * k) = static_cast<double>(n) * pr.peer->covariance;
+    peer.landmark_trace += pr.peer->covariance.trace();
   }
-  events_.push_back(e);
+  const Expected<CiChoice> ci =
+      slam.ciUpdater().choose(slam.state(), peer, {o_.ci_method, o_.min_omega});
+  if (!ci.ok()) {
+    ++stats_.fusion_failures;
+    return false;
+  }
+  e->omega1 = ci->omega1;
+  // both_ways: return the local (pre-fusion) estimates of the confirmed landmarks.
+  if (o_.both_ways && answers_request) {
+    SharedLandmarks back;
+    back.header = nextHeader(kSharedStream, now_us);
+    back.to_agent = j;
+    back.vehicle_cov_trace = ci->own_vehicle_trace;
+    for (const ConfirmedPair& pr : pairs) {
+      const StateLandmark& l = local[pr.local];
+      back.landmarks.push_back({pr.peer->index, l.p_LinN, l.covariance, l.descriptor});
+    }
+    ++stats_.shared_sent;
+    events_.push_back({now_us, CoopEventKind::kSharedSent, j,
+                       static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
+    out->shared.push_back(std::move(back));
+  }
+  // When the peer's landmarks would not even shrink the bound on the vehicle position, the
+  // CI update only inflates the local state; not fusing is always consistent.
+  if (o_.require_vehicle_gain && !ci->vehicle_gain) {
+    ++stats_.skipped_no_gain;
+    e->no_gain = true;
+    e->count = static_cast<int>(m.landmarks.size());
+    return true;
+  }
+  if (Status s = slam.fuseCovarianceIntersection(peer.ids, peer.y, peer.R, ci->omega1); !s.ok()) {
+    ++stats_.fusion_failures;
+    return false;
+  }
+  e->fused = static_cast<int>(n);
+  stats_.landmarks_fused += n;
+  ++stats_.exchanges_completed;
+  return true;
 }
 
 Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualInertialSlam& slam,

@@ -2,10 +2,10 @@
 // in covariance_update.cpp.
 #include "cvslam/filter/covariance_helper.h"
 
+#include <cmath>
 #include <string>
 
-#include "cvslam/geometry/euler.h"
-#include "cvslam/ins/vehicle_state_layout.h"
+#include "cvslam/filter/vehicle_model.h"
 
 namespace cvslam {
 namespace {
@@ -163,14 +163,40 @@ Status CovarianceHelper::scaleCovariance(SlamState& state, double factor) {
   return Status::Ok();
 }
 
+Status CovarianceHelper::scaleCovariance(SlamState& state, const std::vector<VariableKey>& keys,
+                                         double factor) {
+  if (!(factor > 0.0)) return Status::Error("scaleCovariance: factor must be > 0");
+  std::vector<bool> scaled(static_cast<std::size_t>(state.size()), false);
+  for (const VariableKey& key : keys) {
+    const StateVariable* v = state.find(key);
+    if (v == nullptr)
+      return Status::Error("scaleCovariance: " + describe(key) + " is not in the state");
+    for (int i = v->index; i < v->index + v->size; ++i) scaled[static_cast<std::size_t>(i)] = true;
+  }
+  const double root = std::sqrt(factor);
+  for (int j = 0; j < state.size(); ++j) {
+    const bool sj = scaled[static_cast<std::size_t>(j)];
+    for (int i = 0; i < state.size(); ++i) {
+      const bool si = scaled[static_cast<std::size_t>(i)];
+      if (si && sj) {
+        state.P_(i, j) *= factor;
+      } else if (si || sj) {
+        state.P_(i, j) *= root;
+      }
+    }
+  }
+  return Status::Ok();
+}
+
 void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx) {
-  state.x_ += dx;
   for (const StateVariable& v : state.vars_) {
-    if (v.key.kind != VariableKey::Kind::kVehicle || v.size < vehicle::kSizeNoBias) continue;
-    double& roll = state.x_(v.index + vehicle::kAttitude);
-    double& yaw = state.x_(v.index + vehicle::kAttitude + 2);
-    roll = wrapAngle(roll);
-    yaw = wrapAngle(yaw);
+    auto x = state.x_.segment(v.index, v.size);
+    const auto d = dx.segment(v.index, v.size);
+    if (v.key.kind == VariableKey::Kind::kVehicle) {
+      vehicle_model::correct(x, d);  // the vehicle block's own correction (angles wrapped)
+    } else {
+      x += d;
+    }
   }
 }
 

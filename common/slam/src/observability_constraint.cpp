@@ -10,13 +10,6 @@ Eigen::Vector3d yawDirectionOfPoint(const Eigen::Vector3d& p) {
   return {-p.y(), p.x(), 0.0};  // e3 × p
 }
 
-Eigen::VectorXd vehicleYawDirection(const Eigen::Vector3d& p_BinN, int vehicle_size) {
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(vehicle_size);
-  u.segment<3>(vehicle::kPosition) = yawDirectionOfPoint(p_BinN);
-  u(vehicle::kAttitude + 2) = 1.0;  // ZYX Euler: a rotation about N's z adds to ψ only
-  return u;
-}
-
 void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
                              StereoCamera::Matrix4x9d* H_v, StereoCamera::Matrix4x3d* H_L) {
   constexpr int kPose = 9, kRows = kPose + 3;

@@ -1,6 +1,6 @@
 #pragma once
-// Decentralised cooperative VSLAM (DC-VSLAM, thesis §6.6.5; docs/conventions.md): one DcCooperation per
-// agent runs the exchange protocol with every peer it hears, without transport. Per peer j:
+// Decentralised cooperative VSLAM (DC-VSLAM, thesis §6.6.5; docs/conventions.md): one DcCooperation
+// per agent runs the exchange protocol with every peer it hears, without transport. Per peer j:
 //   1. summaries (TEAM/SUMMARY) carry j's cooperation ellipsoid and feature count; a new
 //      boot_id means j restarted (its state here is reset); j is forgotten after
 //      peer_timeout_s of dataset time without a message;
@@ -13,8 +13,8 @@
 //      trace (SharedLandmarks on UAV<i>/SHARED);
 //   5. the receiver confirms each by descriptor distance (when both have descriptors) and a
 //      χ² Mahalanobis gate on the two estimates, then fuses all confirmed landmarks by
-//      covariance intersection as ONE CI-consistent filter update
-//      (VisualInertialSlam::fuseCovarianceIntersection); with both_ways it also returns its
+//      covariance intersection as ONE CI-consistent filter update (the CI updater,
+//      slam/ci_updater.h, which also chooses ω1); with both_ways it also returns its
 //      own (pre-fusion) estimates of the confirmed landmarks, which the sender fuses.
 // Inbound messages are validated when they arrive and queued; afterFrame applies those older
 // than the frame (epoch semantics, docs/cooperation.md). Stale, duplicated and reordered
@@ -29,16 +29,23 @@
 
 #include "cvslam/camera/stereo_observation.h"
 #include "cvslam/coop/coop_messages.h"
-#include "cvslam/coop/covariance_intersection.h"
 #include "cvslam/coop/feature_ellipsoid.h"
 #include "cvslam/core/status.h"
+#include "cvslam/filter/covariance_intersection.h"
 
 namespace cvslam {
 class ConfigNode;
 class VisualInertialSlam;
+struct StateLandmark;
 }  // namespace cvslam
 
 namespace cvslam::coop {
+
+// The CI weighting the options name (filter/covariance_intersection.h), under the protocol's
+// namespace as the tools spell it.
+using cvslam::CiMethod;
+using cvslam::ciMethodName;
+using cvslam::parseCiMethod;
 
 /// Config section `coop:` of agent.yaml.
 struct DcCooperationOptions {
@@ -178,6 +185,20 @@ class DcCooperation {
                      CoopOutbox* out);
   void handleShared(const SharedLandmarks& m, VisualInertialSlam& slam, int64_t now_us,
                     CoopOutbox* out);
+  /// A shared landmark confirmed against a local one (local: index into the local list).
+  struct ConfirmedPair {
+    std::size_t local;
+    const SharedLandmark* peer;
+  };
+  /// Step 5: confirms the shared landmarks by descriptor distance and the χ² gate, counting
+  /// the rejections in *e and the statistics.
+  std::vector<ConfirmedPair> confirm(const SharedLandmarks& m,
+                                     const std::vector<StateLandmark>& local, CoopEvent* e);
+  /// Fuses the confirmed landmarks with the CI updater (slam/ci_updater.h), returning the own
+  /// estimates with both_ways; false when the filter refused (no event is recorded then).
+  bool fuseConfirmed(const SharedLandmarks& m, const std::vector<ConfirmedPair>& pairs,
+                     const std::vector<StateLandmark>& local, bool answers_request,
+                     VisualInertialSlam& slam, int64_t now_us, CoopOutbox* out, CoopEvent* e);
   CoopHeader nextHeader(int stream, int64_t t_us);
 
   int self_;

@@ -55,6 +55,12 @@ class CovarianceHelper {
   /// P ← factor · P. Covariance intersection scales the local prior by 1/ω₁ before fusing a
   /// peer estimate (thesis eq. 6.5, docs/cooperation.md). factor must be > 0.
   static Status scaleCovariance(SlamState& state, double factor);
+  /// The same for the variables `keys` only (one vehicle's subsystem of a joint state):
+  /// P ← D P D with D = √factor on their rows and 1 elsewhere, i.e. their block × factor, their
+  /// cross-covariances with the other variables × √factor (positive semidefinite preserved).
+  /// With every variable listed this is factor · P, the other variables' block is untouched.
+  static Status scaleCovariance(SlamState& state, const std::vector<VariableKey>& keys,
+                                double factor);
 
   /// Measurement update with a stacked (H, r, R): gates each observation (Mahalanobis), then
   /// applies the EKF (θ = 0) or NH∞ update. `report` may be null.
@@ -62,7 +68,7 @@ class CovarianceHelper {
                        UpdateReport* report);
 
  private:
-  /// x ← x + dx, keeping roll and yaw of every vehicle in (−π, π].
+  /// x ← x + dx; a vehicle block through vehicle_model::correct (angles kept in (−π, π]).
   static void correctMean(SlamState& state, const Eigen::VectorXd& dx);
   static Status append(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value);
 };

@@ -5,8 +5,8 @@
 //
 // Without an absolute reference, four directions of the joint state are unobservable: the
 // global translation and the global yaw (rotation about the NED z axis; roll and pitch are
-// observable through gravity). With body-frame velocity and ZYX Euler angles (docs/conventions.md) a
-// global yaw rotation δψ moves the state along
+// observable through gravity). With body-frame velocity and ZYX Euler angles (docs/conventions.md)
+// a global yaw rotation δψ moves the state along
 //   vehicle   u_v = [e3 × p | 0 (v_B) | 0 0 1 (φ θ ψ) | 0 (biases)],   landmark  u_L = e3 × p_L.
 // An EKF linearised at estimates that change between propagation and update (each update
 // moves p and p_L) sees a slightly different u at every step, so the observations appear to
@@ -17,7 +17,8 @@
 // ∂p_L/∂x_v u_v at initialisation) and project every observation Jacobian onto the
 // complement of span{translation, u}, the smallest change (Frobenius) with H N = 0.
 // The translation directions are already in the null space of the stereo Jacobian (it
-// depends on p_L − p), and the INS transition maps them onto themselves.
+// depends on p_L − p), and the INS transition maps them onto themselves. The vehicle's u_v
+// comes from the vehicle model (filter/vehicle_model.h: vehicle_model::yawDirection).
 
 #include <Eigen/Core>
 
@@ -28,9 +29,6 @@ namespace cvslam {
 
 /// The yaw direction e3 × p of a point p [m]: how p moves per radian of global yaw.
 Eigen::Vector3d yawDirectionOfPoint(const Eigen::Vector3d& p);
-
-/// The vehicle's yaw direction u_v (size n_v = 9 or 15) at position p_BinN.
-Eigen::VectorXd vehicleYawDirection(const Eigen::Vector3d& p_BinN, int vehicle_size);
 
 /// Projects one stereo observation's Jacobians [H_v | H_L] (4 × (9 + 3)) so that they
 /// annihilate the global translation and the yaw direction [u_v(0:9) ; u_L]:

@@ -5,91 +5,46 @@
 // archive (§5.8) whose re-observed landmarks are re-activated (loop closing, §5.5.2), and
 // optional n-fold observation processing (§5.7.3). EKF or NH∞ per FilterOptions (§3.4, §3.6).
 //
-// Per camera epoch (processFrame), the recipe is:
-//   1. propagate the vehicle through the buffered IMU samples to the frame time;
+// Per camera epoch (processFrame), the recipe over the models of the vehicle, which share its
+// landmark book (landmark_book.h) and work on vehicle(i) of any SlamState, is:
+//   1. propagate the vehicle through the buffered IMU samples to the frame time (InsPropagator);
 //   2. place the virtual point m* (§5.8) at the median stereo depth of the observations;
 //   3. candidates = landmarks in the state ∪ archived landmarks observed now; keep the k
-//      nearest to m*, archive the other state landmarks, re-activate the chosen archived ones;
-//   4. update with every observation of a landmark in the state (χ²-gated), n passes;
-//   5. initialise the observations of never-seen landmarks (at most max_new per frame).
+//      nearest to m*, archive the other state landmarks, re-activate the chosen archived ones
+//      (KNearestMapManager, LandmarkArchive);
+//   4. close a loop when enough loop landmarks agree (LoopCloser, loop_closer.h), then update
+//      with every other observation of a landmark in the state (StereoUpdater,
+//      stereo_updater.h: χ²-gated, n passes);
+//   5. initialise the observations of never-seen landmarks, at most max_new per frame
+//      (LandmarkInitialiser, landmark_initialiser.h).
+// Between frames, cooperation fuses a peer's estimates through the CI updater (ci_updater.h).
 // Observations name their landmark by `landmark_id` (front-end association, or the true id
 // in feature-level simulation); landmark_id < 0 means a new landmark, which gets a fresh id.
 
 #include <Eigen/Core>
 #include <cstdint>
-#include <map>
-#include <unordered_map>
 #include <vector>
 
 #include "cvslam/camera/stereo_camera.h"
 #include "cvslam/camera/stereo_observation.h"
 #include "cvslam/core/status.h"
 #include "cvslam/filter/covariance_helper.h"
-#include "cvslam/filter/measurement_batch.h"
 #include "cvslam/filter/slam_state.h"
 #include "cvslam/filter/update_policy.h"
 #include "cvslam/ins/imu_sample.h"
 #include "cvslam/ins/ins_propagator.h"
+#include "cvslam/slam/ci_updater.h"
 #include "cvslam/slam/k_nearest_map_manager.h"
 #include "cvslam/slam/landmark_archive.h"
-#include "cvslam/slam/observability_constraint.h"
+#include "cvslam/slam/landmark_book.h"
+#include "cvslam/slam/landmark_initialiser.h"
+#include "cvslam/slam/loop_closer.h"
+#include "cvslam/slam/slam_options.h"
+#include "cvslam/slam/stereo_updater.h"
 
 namespace cvslam {
 
 class ConfigNode;
-
-/// Options of the SLAM recipe itself (config section `slam:`).
-struct SlamOptions {
-  double pixel_sigma = 0.5;  ///< assumed 1σ of each pixel coordinate of z [px] (R = σ² I₄)
-  /// n-fold observation processing (thesis §5.7.3): each frame's observations are processed
-  /// this many times, relinearising between passes.
-  int observation_passes = 1;
-  /// With n passes, use R·n in each pass so that the information of one observation is
-  /// counted once (an iterated update). false: the thesis's literal n updates with R.
-  bool scale_noise_per_pass = true;
-  int max_new_landmarks_per_frame = 8;  ///< new landmarks initialised per frame, nearest to m*
-  double min_init_disparity_px = 1.0;   ///< farther points (smaller disparity) are not mapped
-  /// An archived landmark re-enters the state only when it left it at least this long ago
-  /// [s]. It re-enters with its archived marginal covariance and no correlation to the
-  /// vehicle; that is nearly right after a long excursion (loop closing, §5.5.2) but badly
-  /// over-confident for a landmark archived a moment ago, whose error is still the vehicle's.
-  /// Observations of more recently archived landmarks are not used.
-  double reactivation_min_age_s = 10.0;
-  /// A landmark observed again after at least this long unseen is a loop landmark [s]
-  /// (whether it was archived meanwhile or, with the full map, stayed in the state).
-  double loop_closure_min_age_s = 30.0;
-  /// First-estimates Jacobians (Huang, Mourikis & Roumeliotis 2008): linearise each
-  /// landmark's observations at the estimate it had when it entered the state, so that
-  /// successive updates cannot fabricate information about the unobservable yaw and
-  /// translation — the main cause of EKF-SLAM over-confidence (cf. thesis §5.7.3, Rco < 1).
-  bool first_estimate_jacobians = true;
-  /// Observability-constrained updates (observability_constraint.h): every observation
-  /// Jacobian is projected so that it cannot inform the global translation and yaw, along
-  /// directions carried through the filter's own transitions. Without it, the changing
-  /// linearisation points make the yaw look observable and the filter over-confident.
-  bool observability_constrained = true;
-  /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
-  /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
-  /// this many are observed in one frame and a rigid yaw + translation aligns where the
-  /// cameras see them with where the map has them (loop_alignment.h), the vehicle and the
-  /// recent landmarks are moved by that alignment (the linearisation point) and the loop
-  /// landmarks are applied before the other observations, ungated, with iterated passes.
-  /// 0 disables this (loop landmarks are then gated like the others).
-  int loop_closure_min_landmarks = 3;
-  double loop_closure_max_residual_m = 2.0;  ///< loop landmarks farther off the fit are dropped [m]
-  int loop_closure_passes = 3;               ///< iterated passes for the loop-closing update
-  /// Loop landmarks that find no consensus within this time return to the gated updates [s].
-  double loop_closure_window_s = 5.0;
-  double initial_accel_bias_sigma = 0.05;  ///< 1σ of the initial accel bias state [m/s²]
-  double initial_gyro_bias_sigma = 0.001;  ///< 1σ of the initial gyro bias state [rad/s]
-  /// Initial estimate of the accelerometer / gyro bias states (body frame): zero for a
-  /// calibrated IMU (thesis); a real one's turn-on bias, e.g. measured at rest before take-off
-  /// (the MH_03 recording's gyro bias is 0.077 rad/s, 77 σ of the default above).
-  Eigen::Vector3d initial_accel_bias = Eigen::Vector3d::Zero();  ///< [m/s²]
-  Eigen::Vector3d initial_gyro_bias = Eigen::Vector3d::Zero();   ///< [rad/s]
-
-  Status load(const ConfigNode& node);
-};
 
 /// Everything configurable about one agent's VSLAM (agent.yaml sections).
 struct VisualInertialSlamOptions {
@@ -164,12 +119,13 @@ class VisualInertialSlam {
   /// Landmarks in the state, sorted by id.
   std::vector<StateLandmark> stateLandmarks() const;
   /// Covariance-intersection update with a peer's estimates y (3 per landmark, stacked in the
-  /// order of `ids`, all in the state) whose covariance is bounded by R (docs/cooperation.md, thesis
-  /// eq. 6.2 on the joint state): P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H, i.e. the prior is scaled by 1/ω1
-  /// and y enters as a measurement with covariance R/ω2, ω2 = 1 − ω1, so the vehicle and the
-  /// other landmarks are corrected through their correlations. omega1 ∈ (0, 1]; 1 = no-op.
+  /// order of `ids`, all in the state) whose covariance is bounded by R: the CI updater
+  /// (ci_updater.h) on this filter's state and landmark book. omega1 ∈ (0, 1]; 1 = no-op.
   Status fuseCovarianceIntersection(const std::vector<int64_t>& ids, const Eigen::VectorXd& y,
                                     const Eigen::MatrixXd& R, double omega1);
+  /// The CI updater of this filter's vehicle (its ω choice reads state()).
+  const CiUpdater& ciUpdater() const { return ci_updater_; }
+  const LandmarkBook& landmarkBook() const { return book_; }
   const LandmarkArchive& archive() const { return archive_; }
   /// Landmarks in the state and in the archive, sorted by id.
   std::vector<MapLandmark> map() const;
@@ -177,24 +133,19 @@ class VisualInertialSlam {
   /// Switches first-estimates Jacobians (SlamOptions) from the next update on; the first
   /// estimates are always recorded, so this is safe at any time. The image path sets it from
   /// `frontend.first_estimate_jacobians` (visual_slam_pipeline.h).
-  void setFirstEstimateJacobians(bool on) { o_.slam.first_estimate_jacobians = on; }
+  void setFirstEstimateJacobians(bool on);
   /// The same for the observability-constrained updates (SlamOptions): their bookkeeping is
   /// always kept, only the projection of the Jacobians is switched.
-  void setObservabilityConstrained(bool on) { o_.slam.observability_constrained = on; }
+  void setObservabilityConstrained(bool on);
   const VisualInertialSlamOptions& options() const { return o_; }
   const StereoCamera& camera() const { return camera_; }
 
  private:
   void manageMap(const StereoFrameObservations& frame, FrameReport* report);
-  /// Which observations an update pass uses.
-  enum class Selection { kAll, kOnlyLoop, kAllButLoop };
-  Status updatePass(const StereoFrameObservations& frame, int passes, Selection selection,
-                    const UpdatePolicy& policy, UpdateReport* report);
-  /// Aligns the loop landmarks, keeps those that fit, moves the linearisation point;
-  /// returns how many were kept.
-  int alignLoop(const StereoFrameObservations& frame);
-  Status initialiseNew(const StereoFrameObservations& frame, FrameReport* report);
-  Eigen::Matrix<double, 9, 1> pose9() const;
+  /// Step 4: the gated stereo updates of the observations not used by loop closing.
+  Status updateObserved(const StereoFrameObservations& frame, FrameReport* report);
+  /// (Re)creates the models from the options (after a setter changed them).
+  void configureModels();
 
   VisualInertialSlamOptions o_;
   StereoCamera camera_;
@@ -205,25 +156,12 @@ class VisualInertialSlam {
   VariableKey vehicle_ = VariableKey::vehicle(0);
   SlamState state_;
   LandmarkArchive archive_;
-  MeasurementBatch batch_;             // reused every pass
+  LandmarkBook book_;  // the landmarks in the state
+  StereoUpdater updater_;
+  LandmarkInitialiser initialiser_;
+  LoopCloser loop_closer_;
+  CiUpdater ci_updater_;
   std::vector<ImuSample> imu_buffer_;  // front() is at the state time
-  Eigen::VectorXd yaw_direction_;      // vehicle's u_v, carried by the transitions (OC-EKF)
-  struct LandmarkInfo {
-    uint32_t index = 0;
-    int64_t first_seen_us = 0;
-    int64_t last_seen_us = 0;
-    std::vector<uint8_t> descriptor;
-    Eigen::Vector3d first_estimate = Eigen::Vector3d::Zero();  ///< p_LinN when (re)entering
-    Eigen::Vector3d yaw_direction = Eigen::Vector3d::Zero();   ///< u_L (OC-EKF)
-    /// OC-EKF applies: the landmark entered by augmentation, correlated with the vehicle. A
-    /// re-activated landmark re-enters without correlation, as an independent prior on its
-    /// absolute position, so the joint null space no longer contains it.
-    bool constrained = false;
-  };
-  std::unordered_map<int64_t, LandmarkInfo> info_;  // landmarks in the state
-  // Landmarks seen again after a long absence, not yet used to close a loop -> since when.
-  std::map<int64_t, int64_t> pending_loop_;
-  std::vector<int64_t> loop_ids_;  // pending loop landmarks observed in the current frame
   FilterStatistics stats_;
   int64_t t_us_ = 0;
   int64_t next_fresh_id_ = int64_t{1} << 40;  // ids for landmarks the front end left unnamed

@@ -1,4 +1,4 @@
-#include "cvslam/coop/covariance_intersection.h"
+#include "cvslam/filter/covariance_intersection.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -6,7 +6,7 @@
 
 #include "cvslam/core/golden_section.h"
 
-namespace cvslam::coop {
+namespace cvslam {
 
 namespace {
 
@@ -133,4 +133,4 @@ Expected<CiFusion> fuseCovarianceIntersection(const Eigen::VectorXd& x1, const E
   return f;
 }
 
-}  // namespace cvslam::coop
+}  // namespace cvslam

@@ -11,7 +11,7 @@
 
 #include "cvslam/core/status.h"
 
-namespace cvslam::coop {
+namespace cvslam {
 
 enum class CiMethod {
   kAdaptive,
@@ -67,4 +67,4 @@ Expected<CiFusion> fuseCovarianceIntersection(const Eigen::VectorXd& x1, const E
                                               const Eigen::VectorXd& x2, const Eigen::MatrixXd& P2,
                                               double omega1);
 
-}  // namespace cvslam::coop
+}  // namespace cvslam

@@ -1,0 +1,66 @@
+#pragma once
+// Options of the chapter-5 recipe itself (config section `slam:`), shared by the SLAM models
+// (stereo_updater.h, landmark_initialiser.h, loop_closer.h) and VisualInertialSlam.
+
+#include <Eigen/Core>
+
+#include "cvslam/core/status.h"
+
+namespace cvslam {
+
+class ConfigNode;
+
+/// Options of the SLAM recipe itself (config section `slam:`).
+struct SlamOptions {
+  double pixel_sigma = 0.5;  ///< assumed 1σ of each pixel coordinate of z [px] (R = σ² I₄)
+  /// n-fold observation processing (thesis §5.7.3): each frame's observations are processed
+  /// this many times, relinearising between passes.
+  int observation_passes = 1;
+  /// With n passes, use R·n in each pass so that the information of one observation is
+  /// counted once (an iterated update). false: the thesis's literal n updates with R.
+  bool scale_noise_per_pass = true;
+  int max_new_landmarks_per_frame = 8;  ///< new landmarks initialised per frame, nearest to m*
+  double min_init_disparity_px = 1.0;   ///< farther points (smaller disparity) are not mapped
+  /// An archived landmark re-enters the state only when it left it at least this long ago
+  /// [s]. It re-enters with its archived marginal covariance and no correlation to the
+  /// vehicle; that is nearly right after a long excursion (loop closing, §5.5.2) but badly
+  /// over-confident for a landmark archived a moment ago, whose error is still the vehicle's.
+  /// Observations of more recently archived landmarks are not used.
+  double reactivation_min_age_s = 10.0;
+  /// A landmark observed again after at least this long unseen is a loop landmark [s]
+  /// (whether it was archived meanwhile or, with the full map, stayed in the state).
+  double loop_closure_min_age_s = 30.0;
+  /// First-estimates Jacobians (Huang, Mourikis & Roumeliotis 2008): linearise each
+  /// landmark's observations at the estimate it had when it entered the state, so that
+  /// successive updates cannot fabricate information about the unobservable yaw and
+  /// translation — the main cause of EKF-SLAM over-confidence (cf. thesis §5.7.3, Rco < 1).
+  bool first_estimate_jacobians = true;
+  /// Observability-constrained updates (observability_constraint.h): every observation
+  /// Jacobian is projected so that it cannot inform the global translation and yaw, along
+  /// directions carried through the filter's own transitions. Without it, the changing
+  /// linearisation points make the yaw look observable and the filter over-confident.
+  bool observability_constrained = true;
+  /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
+  /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
+  /// this many are observed in one frame and a rigid yaw + translation aligns where the
+  /// cameras see them with where the map has them (loop_alignment.h), the vehicle and the
+  /// recent landmarks are moved by that alignment (the linearisation point) and the loop
+  /// landmarks are applied before the other observations, ungated, with iterated passes.
+  /// 0 disables this (loop landmarks are then gated like the others).
+  int loop_closure_min_landmarks = 3;
+  double loop_closure_max_residual_m = 2.0;  ///< loop landmarks farther off the fit are dropped [m]
+  int loop_closure_passes = 3;               ///< iterated passes for the loop-closing update
+  /// Loop landmarks that find no consensus within this time return to the gated updates [s].
+  double loop_closure_window_s = 5.0;
+  double initial_accel_bias_sigma = 0.05;  ///< 1σ of the initial accel bias state [m/s²]
+  double initial_gyro_bias_sigma = 0.001;  ///< 1σ of the initial gyro bias state [rad/s]
+  /// Initial estimate of the accelerometer / gyro bias states (body frame): zero for a
+  /// calibrated IMU (thesis); a real one's turn-on bias, e.g. measured at rest before take-off
+  /// (the MH_03 recording's gyro bias is 0.077 rad/s, 77 σ of the default above).
+  Eigen::Vector3d initial_accel_bias = Eigen::Vector3d::Zero();  ///< [m/s²]
+  Eigen::Vector3d initial_gyro_bias = Eigen::Vector3d::Zero();   ///< [rad/s]
+
+  Status load(const ConfigNode& node);
+};
+
+}  // namespace cvslam

@@ -1,0 +1,42 @@
+#include "cvslam/slam/slam_options.h"
+
+#include "cvslam/io/config_node.h"
+
+namespace cvslam {
+
+Status SlamOptions::load(const ConfigNode& node) {
+  node.get("pixel_sigma", pixel_sigma);
+  node.get("observation_passes", observation_passes);
+  node.get("scale_noise_per_pass", scale_noise_per_pass);
+  node.get("max_new_landmarks_per_frame", max_new_landmarks_per_frame);
+  node.get("min_init_disparity_px", min_init_disparity_px);
+  node.get("loop_closure_min_age_s", loop_closure_min_age_s);
+  node.get("reactivation_min_age_s", reactivation_min_age_s);
+  node.check(reactivation_min_age_s >= 0.0, "reactivation_min_age_s", "must be ≥ 0");
+  node.get("first_estimate_jacobians", first_estimate_jacobians);
+  node.get("observability_constrained", observability_constrained);
+  node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
+  node.get("loop_closure_max_residual_m", loop_closure_max_residual_m);
+  node.get("loop_closure_passes", loop_closure_passes);
+  node.get("loop_closure_window_s", loop_closure_window_s);
+  node.check(loop_closure_window_s > 0.0, "loop_closure_window_s", "must be > 0");
+  node.check(loop_closure_min_landmarks >= 0, "loop_closure_min_landmarks", "must be ≥ 0");
+  node.check(loop_closure_max_residual_m > 0.0, "loop_closure_max_residual_m", "must be > 0");
+  node.check(loop_closure_passes >= 1, "loop_closure_passes", "must be ≥ 1");
+  node.get("initial_accel_bias_sigma", initial_accel_bias_sigma);
+  node.get("initial_gyro_bias_sigma", initial_gyro_bias_sigma);
+  node.get("initial_accel_bias", initial_accel_bias);
+  node.get("initial_gyro_bias", initial_gyro_bias);
+  node.check(initial_accel_bias.allFinite() && initial_gyro_bias.allFinite(), "initial_accel_bias",
+             "initial biases must be finite");
+  node.check(initial_accel_bias_sigma > 0.0 && initial_gyro_bias_sigma > 0.0,
+             "initial_accel_bias_sigma", "initial bias sigmas must be > 0");
+  node.check(pixel_sigma > 0.0, "pixel_sigma", "must be > 0");
+  node.check(observation_passes >= 1, "observation_passes", "must be ≥ 1");
+  node.check(max_new_landmarks_per_frame >= 0, "max_new_landmarks_per_frame", "must be ≥ 0");
+  node.check(min_init_disparity_px > 0.0, "min_init_disparity_px", "must be > 0");
+  node.check(loop_closure_min_age_s >= 0.0, "loop_closure_min_age_s", "must be ≥ 0");
+  return node.status();
+}
+
+}  // namespace cvslam

@@ -1,0 +1,78 @@
+#include "cvslam/slam/stereo_updater.h"
+
+#include <algorithm>
+
+#include "cvslam/filter/covariance_helper.h"
+#include "cvslam/filter/vehicle_model.h"
+#include "cvslam/ins/vehicle_state_layout.h"
+#include "cvslam/slam/observability_constraint.h"
+
+namespace cvslam {
+
+StereoUpdater::StereoUpdater(const VariableKey& vehicle, const StereoCamera& camera,
+                             const SlamOptions& options)
+    : vehicle_(vehicle), camera_(camera), o_(options) {}
+
+Status StereoUpdater::update(SlamState& state, const LandmarkBook& book,
+                             const StereoFrameObservations& frame, int passes, Selection selection,
+                             const std::vector<int64_t>& listed, const UpdatePolicy& policy,
+                             std::vector<UpdateReport>* reports) {
+  for (int p = 0; p < passes; ++p) {
+    UpdateReport u;
+    if (Status s = pass(state, book, frame, passes, selection, listed, policy, &u); !s.ok()) {
+      return s;
+    }
+    reports->push_back(u);
+  }
+  return Status::Ok();
+}
+
+Status StereoUpdater::pass(SlamState& state, const LandmarkBook& book,
+                           const StereoFrameObservations& frame, int passes, Selection selection,
+                           const std::vector<int64_t>& listed, const UpdatePolicy& policy,
+                           UpdateReport* report) {
+  const StateVariable* veh = state.find(vehicle_);
+  if (veh == nullptr) return Status::Error("stereo update: the vehicle is not in the state");
+  const vehicle_model::Pose x = vehicle_model::pose(state, *veh);
+  const double noise_scale = o_.scale_noise_per_pass ? passes : 1.0;
+  const Eigen::Matrix4d R =
+      Eigen::Matrix4d::Identity() * (o_.pixel_sigma * o_.pixel_sigma * noise_scale);
+  batch_.reset(state.size(), 4 * static_cast<int>(frame.observations.size()));
+  StereoCamera::Matrix4x9d dz_dxv;
+  StereoCamera::Matrix4x3d dz_dpL;
+  for (const StereoObservation& obs : frame.observations) {
+    const int64_t id = obs.landmark_id;
+    if (id < 0) continue;
+    if (selection != Selection::kAll) {
+      const bool in_list = std::binary_search(listed.begin(), listed.end(), id);
+      if (in_list != (selection == Selection::kOnlyListed)) continue;
+    }
+    const StateVariable* lm = state.find(VariableKey::landmark(static_cast<uint64_t>(id)));
+    if (lm == nullptr) continue;
+    const Eigen::Vector3d p_LinN = state.value(*lm);
+    // Predicted landmark behind the camera: the linearisation is meaningless, skip it.
+    if (camera_.landmarkInCamera(x.head<3>(), x.segment<3>(vehicle::kAttitude), p_LinN).z() <=
+        0.0) {
+      continue;
+    }
+    Eigen::Vector4d z_hat;
+    const LandmarkBookEntry* record = book.find(id);
+    if (o_.first_estimate_jacobians && record != nullptr) {
+      z_hat = camera_.project(x, p_LinN);
+      camera_.project(x, record->first_estimate, &dz_dxv, &dz_dpL);
+    } else {
+      z_hat = camera_.project(x, p_LinN, &dz_dxv, &dz_dpL);
+    }
+    if (o_.observability_constrained && record != nullptr && record->constrained) {
+      constrainStereoJacobian(book.vehicleYawDirection(), record->yaw_direction, &dz_dxv, &dz_dpL);
+    }
+    const int g = batch_.addObservation(obs.z - z_hat, R);
+    if (g < 0) break;
+    vehicle_model::setPoseJacobian(batch_, g, *veh, dz_dxv);
+    batch_.setJacobian(g, *lm, dz_dpL);
+  }
+  if (batch_.groups() == 0) return Status::Ok();
+  return CovarianceHelper::update(state, batch_, policy, report);
+}
+
+}  // namespace cvslam
