@@ -47,7 +47,11 @@ options:
   --scenario FILE         calibration, IMU noise and initial estimate of agent N of a
                           simulated scenario (as cvslam_run builds them)
   --calibration DIR       EuRoC folder (DIR/mav0 or DIR): cam0/cam1/imu0 sensor.yaml; the
-                          filter starts at the first UAV<N>/GT pose
+                          filter starts at the first UAV<N>/GT pose (or --start rest)
+  --start known|rest      overrides agent.start: known — the scenario's initial estimate,
+                          else the first ground truth; rest — from the IMU's first rest
+                          period in the agent's own gravity-aligned frame, no ground truth
+                          (evaluate with cvslam_eval --align yaw)
   --config FILE           agent configuration (default: config/agent.yaml of the source tree)
   --mode single|dc        single: alone; dc: decentralised cooperation (default single)
   --filter ekf|nhinf      overrides filter.type of the configuration
@@ -80,7 +84,7 @@ int fail(const std::string& message) {
 struct Args {
   int id = 0;
   cvslam::AgentConfigArgs config;  // --config and the overrides shared with cvslam_run
-  std::string scenario, calibration, mode = "single", url, out;
+  std::string scenario, calibration, mode = "single", url, out, start;
   long long seed = -1;
   double duration = -1.0, idle_exit = 0.0;
   bool verbose = false;
@@ -106,6 +110,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
   app.add_option("--duration", a->duration)->check(cvslam::cli::kPositive);
   app.add_option("--idle-exit", a->idle_exit)->check(cvslam::cli::kPositive);
+  app.add_option("--start", a->start)->check(CLI::IsMember({"known", "rest"}));
   app.add_flag("--verbose", a->verbose);
   a->config.addTo(app);
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return exit_code;
@@ -165,6 +170,10 @@ int main(int argc, char** argv) {
       [&](const cvslam::ConfigNode& root) { node_status = node.load(root.child("agent")); });
   if (!config.ok()) return fail(config.status().message());
   if (!node_status.ok()) return fail(node_status.message());
+  if (!args.start.empty())
+    if (Status s = config->effective.override(node, {"agent"}, "start", args.start, "--start");
+        !s.ok())
+      return fail(s.message());
 
   cvslam::RunInfo info;
   auto calibration = loadCalibration(args, config->slam, &info);

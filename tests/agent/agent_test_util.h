@@ -30,12 +30,13 @@ inline std::string agentUrl(int port) {
 }
 
 /// ATE RMSE per agent id of a run folder, by cvslam_eval.
-inline std::map<int, double> ateOf(const std::string& run_dir, const std::string& log_prefix) {
+inline std::map<int, double> ateOf(const std::string& run_dir, const std::string& log_prefix,
+                                   const std::string& align = "none") {
   std::map<int, double> ate;
   std::string err;
   const std::string json_path = log_prefix + ".json";
-  if (run({CVSLAM_EVAL_EXE, "--run", run_dir, "--summary-json", json_path}, log_prefix, nullptr,
-          &err) != 0)
+  if (run({CVSLAM_EVAL_EXE, "--run", run_dir, "--summary-json", json_path, "--align", align},
+          log_prefix, nullptr, &err) != 0)
     return ate;
   auto json = readJsonFile(json_path);
   if (!json.ok() || !json->contains("agents")) return ate;

@@ -1,6 +1,7 @@
 // cvslam_agent on EuRoC-format folders (docs/run_format.md): calibration from the folder's
 // sensor.yaml files, start at the first ground-truth pose, rendered images through the real
-// front end; and a clean end on SIGTERM. Ports 27820–27829.
+// front end; a start at rest on the real EuRoC micro sequence; and a clean end on SIGTERM.
+// Ports 27820–27829.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -8,6 +9,9 @@
 #include <thread>
 
 #include "agent_test_util.h"
+#include "cvslam/dataset/euroc_dataset_writer.h"
+#include "cvslam/io/tum_trajectory.h"
+#include "test_paths.h"
 
 namespace cvslam {
 namespace {
@@ -42,6 +46,75 @@ TEST(AgentEurocProcess, CalibrationFromTheFolderAndStartAtTheGroundTruth) {
   const auto ate = test::ateOf(tmp / "lcm", tmp / "eval");
   ASSERT_EQ(ate.count(1), 1u) << agent.out() << agent.err();
   EXPECT_LT(ate.at(1), 0.5);
+}
+
+// A start without ground truth on real data: EuRoC V1_01's first 95 stereo frames with its
+// real IMU (MAV standing on the floor, rotors shaking the IMU, IMU mounted x up), the agent
+// started at rest from the first second of IMU. The estimate must stay where it started
+// (within 1 cm), and match the ground truth after a 4-DoF alignment.
+TEST(AgentEurocProcess, StartsAtRestOnTheRealMicroSequence) {
+  test::TempFolder tmp;
+  const std::string euroc = test::sharedDataDir() + "/euroc_micro";
+  const std::string url = test::agentUrl(27822) + "&recv_buf_size=16777216";
+  test::Child agent({CVSLAM_AGENT_EXE, "--id", "1", "--calibration", euroc, "--start", "rest",
+                     "--lcm-url", url, "--out", tmp / "lcm", "--idle-exit", "3", "--verbose"},
+                    tmp / "a1");
+  test::Child replay({CVSLAM_REPLAY_EXE, "--dataset", "1:" + euroc, "--lockstep",
+                      "--lockstep-timeout", "30", "--lcm-url", url, "--quiet"},
+                     tmp / "replay");
+  EXPECT_EQ(replay.wait(180s), 0) << replay.err();
+  EXPECT_EQ(agent.wait(60s), 0) << agent.err();
+  EXPECT_NE(agent.err().find("started at rest"), std::string::npos) << agent.err();
+  EXPECT_NE(agent.out().find("UAV1: 75 frames"), std::string::npos) << agent.out();  // 95 − 1 s
+  auto trajectory = readTumTrajectory(tmp / "lcm/agent_1/trajectory.tum");
+  ASSERT_TRUE(trajectory.ok()) << trajectory.status().message();
+  ASSERT_EQ(trajectory->size(), 75u);
+  double farthest = 0.0;
+  for (const TumPose& p : *trajectory) farthest = std::max(farthest, p.p_BinN.norm());
+  EXPECT_LT(farthest, 0.01) << "the standing MAV's estimate moved";
+  EXPECT_NE(test::slurp(tmp / "lcm/agent_1/config_used.yaml").find("start: rest"),
+            std::string::npos);
+  const auto ate = test::ateOf(tmp / "lcm", tmp / "eval", "yaw");
+  ASSERT_EQ(ate.count(1), 1u) << agent.out() << agent.err();
+  EXPECT_LT(ate.at(1), 0.01);
+}
+
+// start: rest on a recording whose vehicle accelerates within its first second: one line,
+// exit 2. (A steady flight would pass: an IMU cannot tell rest from constant velocity or a
+// steady turn, whose rate it takes for a gyro bias — docs/filter.md.)
+TEST(AgentEurocProcess, StartAtRestRefusesAMovingVehicle) {
+  test::TempFolder tmp;
+  EurocWriterOptions o;
+  o.camera.width = 64;
+  o.camera.height = 48;
+  auto w = EurocDatasetWriter::create(tmp / "moving", o);
+  ASSERT_TRUE(w.ok()) << w.status().message();
+  const cv::Mat img(48, 64, CV_8UC1, cv::Scalar(90));
+  for (int k = 0; k <= 400; ++k) {  // 2 s at 200 Hz, level, accelerating forward after 0.5 s
+    ImuSample m;
+    m.t_us = 1000000 + k * 5000;
+    m.accel_B = Eigen::Vector3d(k > 100 ? 1.0 : 0.0, 0.0, -9.81);
+    ASSERT_TRUE(w->addImu(m).ok());
+    if (k % 10 == 0) {
+      ASSERT_TRUE(w->addStereoFrame(m.t_us * 1000, img, img).ok());
+    }
+  }
+  ASSERT_TRUE(w->close().ok());
+  const std::string url = test::agentUrl(27823);
+  test::Child agent({CVSLAM_AGENT_EXE, "--id", "1", "--calibration", tmp / "moving", "--start",
+                     "rest", "--lcm-url", url, "--idle-exit", "3"},
+                    tmp / "a1");
+  test::Child replay({CVSLAM_REPLAY_EXE, "--dataset", "1:" + tmp / "moving", "--lcm-url", url,
+                      "--quiet", "--rate", "2"},
+                     tmp / "replay");
+  replay.wait(60s);
+  EXPECT_EQ(agent.wait(30s), 2) << agent.out() << agent.err();
+  const std::string e = agent.err();
+  EXPECT_NE(e.find("cvslam_agent: static initialisation: the vehicle is not at rest in the first "
+                   "1.000 s (mean specific force changes by"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 1) << e;
 }
 
 TEST(AgentEurocProcess, SigtermEndsCleanly) {

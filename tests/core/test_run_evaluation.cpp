@@ -191,6 +191,21 @@ TEST_F(RunEvaluation, RealEurocGroundTruthWithSe3Alignment) {
   EXPECT_LT(*(*rpe)[0].rpe_m_per_10m, 1e-5);
 }
 
+// NEES and co compare in the estimator's frame: with an alignment they are null, and say why
+// (the ATE is still there).
+TEST_F(RunEvaluation, AlignedEvaluationHasNoNees) {
+  RunEvaluationOptions o;
+  o.alignment = Alignment::kYaw;
+  auto agents = evaluateRun(dir_ + "/run", "", o);
+  ASSERT_TRUE(agents.ok()) << agents.status().message();
+  const AgentEvaluation& a = (*agents)[0];
+  EXPECT_TRUE(a.ate_rmse_m);
+  EXPECT_FALSE(a.nees_mean);
+  EXPECT_FALSE(a.consistency);
+  ASSERT_FALSE(a.notes.empty());
+  EXPECT_NE(a.notes.back().find("aligned evaluation: NEES and co are null"), std::string::npos);
+}
+
 TEST(RunEvaluationOptions, Load) {
   auto cfg = ConfigNode::fromString("{alignment: se3, co_window: 5}", "e.yaml");
   ASSERT_TRUE(cfg.ok());

@@ -14,6 +14,7 @@ namespace cvslam {
 namespace {
 
 constexpr double kG = 9.81;
+constexpr double kAccelBiasSigma = 0.1;  // [m/s²]
 
 /// IMU at rest with attitude `euler`, gyro bias `bg`, accel bias `ba`, white noise.
 std::vector<ImuSample> restingImu(const Eigen::Vector3d& euler, const Eigen::Vector3d& bg,
@@ -38,7 +39,7 @@ TEST(StaticInitializer, RecoversTiltAndGyroBiasAtRest) {
   const Eigen::Vector3d euler(0.3, -0.2, 1.1), bg(0.08, -0.01, 0.02);
   const auto imu = restingImu(euler, bg, Eigen::Vector3d::Zero(), 2.0, 0.02, 0.002, 7);
   StaticInitializerOptions o;
-  auto init = initializeAtRest(imu, o, kG);
+  auto init = initializeAtRest(imu, o, kG, kAccelBiasSigma);
   ASSERT_TRUE(init.ok()) << init.status().message();
   EXPECT_NEAR(init->euler(0), euler(0), 1e-3);
   EXPECT_NEAR(init->euler(1), euler(1), 1e-3);
@@ -47,12 +48,12 @@ TEST(StaticInitializer, RecoversTiltAndGyroBiasAtRest) {
   EXPECT_EQ(init->samples, 201);  // the first window_s = 1 s at 200 Hz, both ends included
   EXPECT_EQ(init->t_us, imu[200].t_us);
   EXPECT_NEAR(init->gyro_bias_sigma(0), 0.002 / std::sqrt(201.0), 3e-5);
-  EXPECT_NEAR(init->tilt_sigma, o.accel_bias_sigma / kG, 1e-12);
+  EXPECT_NEAR(init->tilt_sigma, kAccelBiasSigma / kG, 1e-12);
   // The down direction is right whatever the attitude: also at pitch 90° (the EuRoC IMU's
   // mounting), where the Euler roll is undefined.
   const auto upright = restingImu(Eigen::Vector3d(0.0, M_PI / 2, 0.0), bg, Eigen::Vector3d::Zero(),
                                   1.0, 0.0, 0.0, 1);
-  auto init90 = initializeAtRest(upright, o, kG);
+  auto init90 = initializeAtRest(upright, o, kG, kAccelBiasSigma);
   ASSERT_TRUE(init90.ok());
   const Eigen::Vector3d down_B = init90->R_BtoN.transpose() * Eigen::Vector3d::UnitZ();
   EXPECT_LT((down_B - Eigen::Vector3d(-1, 0, 0)).norm(), 1e-9);
@@ -68,7 +69,7 @@ TEST(StaticInitializer, RotorVibrationIsStillRest) {
     imu[k].accel_B += Eigen::Vector3d(0.4, 1.5, 0.2) * std::sin(phase);
     imu[k].gyro_B += Eigen::Vector3d(0.1, 0.02, 0.03) * std::cos(phase);
   }
-  auto init = initializeAtRest(imu, StaticInitializerOptions{}, kG);
+  auto init = initializeAtRest(imu, StaticInitializerOptions{}, kG, kAccelBiasSigma);
   ASSERT_TRUE(init.ok()) << init.status().message();
   EXPECT_GT(init->accel_std.maxCoeff(), 1.0);
   EXPECT_NEAR(init->euler(0), euler(0), 2e-3);
@@ -80,9 +81,9 @@ TEST(StaticInitializer, RotorVibrationIsStillRest) {
 // within the stated 1σ bound for a bias of that size.
 TEST(StaticInitializer, AccelBiasShowsAsTiltWithinItsSigma) {
   StaticInitializerOptions o;
-  const Eigen::Vector3d ba(o.accel_bias_sigma, 0.0, 0.0);
+  const Eigen::Vector3d ba(kAccelBiasSigma, 0.0, 0.0);
   const auto imu = restingImu(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), ba, 1.0, 0, 0, 3);
-  auto init = initializeAtRest(imu, o, kG);
+  auto init = initializeAtRest(imu, o, kG, kAccelBiasSigma);
   ASSERT_TRUE(init.ok());
   EXPECT_GT(std::abs(init->euler(1)), 0.5 * init->tilt_sigma);
   EXPECT_LT(std::abs(init->euler(1)), 1.01 * init->tilt_sigma);
@@ -91,7 +92,8 @@ TEST(StaticInitializer, AccelBiasShowsAsTiltWithinItsSigma) {
 TEST(StaticInitializer, RefusesWithOneClearLine) {
   StaticInitializerOptions o;
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
-  auto short_rest = initializeAtRest(restingImu(zero, zero, zero, 0.5, 0, 0, 1), o, kG);
+  auto short_rest =
+      initializeAtRest(restingImu(zero, zero, zero, 0.5, 0, 0, 1), o, kG, kAccelBiasSigma);
   ASSERT_FALSE(short_rest.ok());
   EXPECT_NE(short_rest.status().message().find("rest period too short: 0.500 s"), std::string::npos)
       << short_rest.status().message();
@@ -99,7 +101,7 @@ TEST(StaticInitializer, RefusesWithOneClearLine) {
   // Starts to accelerate forward (1 m/s²) or to turn (0.1 rad/s) half-way through.
   auto accelerating = restingImu(zero, zero, zero, 1.0, 0.0, 0.0, 2);
   for (std::size_t k = 100; k < accelerating.size(); ++k) accelerating[k].accel_B.x() += 1.0;
-  auto moving = initializeAtRest(accelerating, o, kG);
+  auto moving = initializeAtRest(accelerating, o, kG, kAccelBiasSigma);
   ASSERT_FALSE(moving.ok());
   EXPECT_NE(moving.status().message().find("not at rest"), std::string::npos);
   EXPECT_NE(moving.status().message().find("mean specific force changes by 0.50"),
@@ -108,20 +110,20 @@ TEST(StaticInitializer, RefusesWithOneClearLine) {
 
   auto turning = restingImu(zero, zero, zero, 1.0, 0.0, 0.0, 2);
   for (std::size_t k = 100; k < turning.size(); ++k) turning[k].gyro_B.z() += 0.1;
-  auto turned = initializeAtRest(turning, o, kG);
+  auto turned = initializeAtRest(turning, o, kG, kAccelBiasSigma);
   ASSERT_FALSE(turned.ok());
   EXPECT_NE(turned.status().message().find("mean angular rate changes"), std::string::npos);
 
   auto milli_g = restingImu(zero, zero, zero, 1.0, 0.0, 0.0, 2);
   for (auto& s : milli_g) s.accel_B /= kG;  // specific force in g, not m/s²
-  auto units = initializeAtRest(milli_g, o, kG);
+  auto units = initializeAtRest(milli_g, o, kG, kAccelBiasSigma);
   ASSERT_FALSE(units.ok());
   EXPECT_NE(units.status().message().find("wrong units"), std::string::npos);
 
-  EXPECT_FALSE(initializeAtRest({}, o, kG).ok());
+  EXPECT_FALSE(initializeAtRest({}, o, kG, kAccelBiasSigma).ok());
   auto bad = restingImu(zero, zero, zero, 1.0, 0.0, 0.0, 2);
   bad[10].gyro_B.x() = std::nan("");
-  EXPECT_FALSE(initializeAtRest(bad, o, kG).ok());
+  EXPECT_FALSE(initializeAtRest(bad, o, kG, kAccelBiasSigma).ok());
 }
 
 // Real data: the first second of EuRoC V1_01's ADIS16448 (the MAV stands on the floor; IMU
@@ -132,7 +134,7 @@ TEST(StaticInitializer, RealEurocImuAtRest) {
   ASSERT_TRUE(d.ok()) << d.status().message();
   ASSERT_TRUE(d->hasGroundTruth());
   StaticInitializerOptions o;
-  auto init = initializeAtRest(d->imu(), o, kG);
+  auto init = initializeAtRest(d->imu(), o, kG, kAccelBiasSigma);
   ASSERT_TRUE(init.ok()) << init.status().message();
   const EurocGroundTruth& gt = d->groundTruth().front();
   // World R is z up: down in the IMU frame S is R_RtoS · (−z).

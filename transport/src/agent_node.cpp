@@ -59,6 +59,8 @@ Status AgentNodeOptions::load(const ConfigNode& node) {
   imu_queue = static_cast<std::size_t>(std::max(imu, 1));
   frame_queue = static_cast<std::size_t>(std::max(frames, 1));
   if (node.has("initial")) initial_sigma.load(node.child("initial"));
+  node.getEnum("start", start, {{"known", Start::kKnown}, {"rest", Start::kRest}});
+  if (node.has("static_init")) static_init.load(node.child("static_init"));
   return node.status();
 }
 
@@ -187,7 +189,36 @@ Status AgentNode::startPipeline(const AgentFilterSetup& setup) {
   return Status::Ok();
 }
 
+Status AgentNode::startAtRest(const ImuSample& sample) {
+  rest_imu_.push_back(sample);
+  const int64_t window_us = static_cast<int64_t>(std::llround(o_.static_init.window_s * 1e6));
+  if (sample.t_us - rest_imu_.front().t_us < window_us) return Status::Ok();
+  const VisualInertialSlamOptions& options = calibration_.options;
+  auto rest = initializeAtRest(rest_imu_, o_.static_init, options.ins.gravity,
+                               options.slam.initial_accel_bias_sigma);
+  if (!rest.ok()) {
+    fatal_ = rest.status();  // no start, no estimate: the node stops (run() returns it)
+    return Status::Ok();
+  }
+  if (o_.verbose)
+    std::fprintf(stderr,
+                 "cvslam_agent %d: started at rest at t = %.6f s (roll %.2f°, pitch %.2f°, gyro "
+                 "bias %.4f %.4f %.4f rad/s)\n",
+                 o_.id, static_cast<double>(rest->t_us) * 1e-6, rest->euler(0) * 180.0 / M_PI,
+                 rest->euler(1) * 180.0 / M_PI, rest->gyro_bias(0), rest->gyro_bias(1),
+                 rest->gyro_bias(2));
+  if (Status s = startPipeline(restSetup(*rest, o_.initial_sigma, options)); !s.ok()) return s;
+  rest_imu_.clear();
+  return agent_->addImu(sample);  // the window's last sample is at the start time
+}
+
 Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
+  if (!agent_ && o_.start == AgentNodeOptions::Start::kRest) {
+    if (e.type == SensorEventType::kImu) return startAtRest(e.imu);
+    if (e.type == SensorEventType::kGroundTruth) return Status::Ok();  // recorded once started
+    ++before_start_;
+    return Status::Ok();
+  }
   if (!agent_ && !start_decided_) {
     // A known initial estimate (scenario) holds only when the data starts there; an agent
     // (re)started in the middle of a run starts at the first ground truth instead.
@@ -417,6 +448,10 @@ Status AgentNode::run(const std::atomic<bool>& stop) {
     while (orderer_.pop(now(), false, &event, &arrival)) {
       progressed = true;
       handle(event, arrival);
+    }
+    if (!fatal_.ok()) {
+      bus_->stop();
+      return fatal_;
     }
     const double t = now();
     if (progressed || t - last_status >= o_.status_period_s) {

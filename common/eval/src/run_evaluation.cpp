@@ -68,6 +68,12 @@ AgentEvaluation evaluateAgent(const AgentRun& run, const AgentTruth& truth,
       note("rpe", rpe.status());
     if (run.states.empty()) {
       ev.notes.push_back("no states.csv: NEES and co are null");
+    } else if (options.alignment != Alignment::kNone) {
+      // NEES and co compare states and covariances in the estimator's frame; an aligned
+      // truth lives in another one (attitude and velocity included).
+      ev.notes.push_back(
+          "aligned evaluation: NEES and co are null (they need the truth in the "
+          "estimator's frame)");
     } else {
       if (auto nees = normalisedEstimationErrorSquared(
               run.states, truth.states, options.time_tolerance_s, truth.has_velocity);

@@ -16,13 +16,11 @@ Status StaticInitializerOptions::load(const ConfigNode& node) {
   node.get("max_accel_mean_change", max_accel_mean_change);
   node.get("max_gyro_mean_change", max_gyro_mean_change);
   node.get("max_gravity_error", max_gravity_error);
-  node.get("accel_bias_sigma", accel_bias_sigma);
   node.check(window_s > 0.0, "window_s", "must be > 0");
   node.check(segments >= 2, "segments", "must be >= 2");
   node.check(max_accel_mean_change > 0.0, "max_accel_mean_change", "must be > 0");
   node.check(max_gyro_mean_change > 0.0, "max_gyro_mean_change", "must be > 0");
   node.check(max_gravity_error > 0.0, "max_gravity_error", "must be > 0");
-  node.check(accel_bias_sigma >= 0.0, "accel_bias_sigma", "must be >= 0");
   return node.status();
 }
 
@@ -38,7 +36,7 @@ std::string format(const char* fmt, double a, double b) {
 
 Expected<StaticInitialization> initializeAtRest(const std::vector<ImuSample>& samples,
                                                 const StaticInitializerOptions& options,
-                                                double gravity) {
+                                                double gravity, double accel_bias_sigma) {
   if (samples.size() < 2) return Status::Error("static initialisation: fewer than 2 IMU samples");
   const int64_t t0 = samples.front().t_us;
   const int64_t t_end = t0 + static_cast<int64_t>(std::llround(options.window_s * 1e6));
@@ -108,7 +106,7 @@ Expected<StaticInitialization> initializeAtRest(const std::vector<ImuSample>& sa
   init.R_BtoN = rotationBodyToNav<double>(init.euler);
   init.gyro_bias = w;
   init.gyro_bias_sigma = init.gyro_std / std::sqrt(count);
-  init.tilt_sigma = options.accel_bias_sigma / gravity;
+  init.tilt_sigma = accel_bias_sigma / gravity;
   return init;
 }
 

@@ -4,9 +4,10 @@
 #include "cvslam/ins/vehicle_state_layout.h"
 
 namespace cvslam {
-AgentFilterSetup initialEstimateSetup(int64_t t_us, const Eigen::Vector3d& p, const Eigen::Vector3d& v_B,
-                         const Eigen::Vector3d& euler, const InitialUncertainty& init,
-                         const VisualInertialSlamOptions& options) {
+AgentFilterSetup initialEstimateSetup(int64_t t_us, const Eigen::Vector3d& p,
+                                      const Eigen::Vector3d& v_B, const Eigen::Vector3d& euler,
+                                      const InitialUncertainty& init,
+                                      const VisualInertialSlamOptions& options) {
   AgentFilterSetup s;
   s.options = options;
   s.t0_us = t_us;
@@ -33,6 +34,21 @@ AgentFilterSetup knownPoseSetup(int64_t t_us, const Eigen::Vector3d& p_BinN,
                                 const VisualInertialSlamOptions& options) {
   const Eigen::Vector3d v_B = rotationBodyToNav<double>(euler).transpose() * v_N;
   return initialEstimateSetup(t_us, p_BinN, v_B, euler, sigma, options);
+}
+
+AgentFilterSetup restSetup(const StaticInitialization& rest, const InitialUncertainty& sigma,
+                           const VisualInertialSlamOptions& options) {
+  InitialUncertainty at_rest = sigma;
+  at_rest.attitude_sigma.head<2>().setConstant(rest.tilt_sigma);
+  AgentFilterSetup s = initialEstimateSetup(rest.t_us, Eigen::Vector3d::Zero(),
+                                            Eigen::Vector3d::Zero(), rest.euler, at_rest, options);
+  if (options.ins.estimate_imu_bias) {
+    s.x0.segment<3>(vehicle::kGyroBias) = rest.gyro_bias;
+    const Eigen::Vector3d gyro_sigma =
+        rest.gyro_bias_sigma.cwiseMax(options.slam.initial_gyro_bias_sigma);
+    s.P0.diagonal().segment<3>(vehicle::kGyroBias) = gyro_sigma.array().square().matrix();
+  }
+  return s;
 }
 
 }  // namespace cvslam

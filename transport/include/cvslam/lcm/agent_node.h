@@ -1,11 +1,11 @@
 #pragma once
-// The LCM side of one agent process (cvslam_agent, docs/architecture.md, docs/run_format.md): subscribes the agent's
-// sensor streams, puts them back in dataset-time order (sensor_event_orderer.h) and feeds
-// its AgentPipeline; publishes UAV<id>/POSE (agent_state_t) after every frame, TEAM/SUMMARY
-// as heartbeat with the per-channel receive counters, and UAV<id>/STATUS (processed-up-to
-// time, for lockstep, docs/replay.md) after every batch and periodically. In DC mode a
-// CooperationLink runs the exchange with the peers; it publishes its outbox before the
-// STATUS, so a lockstep run delivers it to every peer before the next epoch.
+// The LCM side of one agent process (cvslam_agent, docs/architecture.md, docs/run_format.md):
+// subscribes the agent's sensor streams, puts them back in dataset-time order
+// (sensor_event_orderer.h) and feeds its AgentPipeline; publishes UAV<id>/POSE (agent_state_t)
+// after every frame, TEAM/SUMMARY as heartbeat with the per-channel receive counters, and
+// UAV<id>/STATUS (processed-up-to time, for lockstep, docs/replay.md) after every batch and
+// periodically. In DC mode a CooperationLink runs the exchange with the peers; it publishes its
+// outbox before the STATUS, so a lockstep run delivers it to every peer before the next epoch.
 // Writes the run record (agent_run_recorder.h) periodically and at the end.
 
 #include <atomic>
@@ -43,13 +43,23 @@ struct AgentNodeOptions {
   std::size_t imu_queue = 20000;    ///< inbound buffers (messages); full → dropped, counted
   std::size_t frame_queue = 64;
   int64_t boot_id = 0;  ///< random per process start (summary)
-  /// Initial 1σ when the filter starts at the first ground truth (EuRoC calibration).
+  /// Initial 1σ when the filter starts at the first ground truth (EuRoC calibration), and of
+  /// the frame's position and yaw when it starts at rest.
   InitialUncertainty initial_sigma;
+  /// How the filter starts. known: at the scenario's initial estimate, else at the first
+  /// ground truth (thesis §6.3.1, a team in one frame). rest: from the IMU's first rest
+  /// period, in the agent's own gravity-aligned frame, no ground truth needed (static_init;
+  /// evaluate with `cvslam_eval --align yaw`).
+  enum class Start { kKnown, kRest };
+  Start start = Start::kKnown;
+  StaticInitializerOptions static_init;
   bool verbose = false;
 
   /// agent.yaml section `agent:` (status_period_s, summary_period_s, flush_period_s,
   /// max_wait_s, imu_queue, frame_queue, initial: {position_sigma, velocity_sigma,
-  /// attitude_sigma_deg}); id, mode, url, out_dir, idle_exit_s come from the command line.
+  /// attitude_sigma_deg}, start: known | rest, static_init: {window_s, segments,
+  /// max_accel_mean_change, max_gyro_mean_change, max_gravity_error}); id, mode, url,
+  /// out_dir, idle_exit_s come from the command line.
   Status load(const ConfigNode& node);
 };
 
@@ -98,6 +108,8 @@ class AgentNode {
   Status processEvent(SensorEvent& event, double arrival_s);
   void handle(SensorEvent& event, double arrival_s);
   Status startPipeline(const AgentFilterSetup& setup);
+  /// start: rest — collects the IMU samples of the rest window and starts from them.
+  Status startAtRest(const ImuSample& sample);
   Status afterFrame(double arrival_s);
   Status publishStatus();
   /// Wall time of the latest sensor message, or of the start [s].
@@ -125,6 +137,8 @@ class AgentNode {
   int64_t late_ = 0;                                // out of order (orderer)
   int64_t before_start_ = 0;                        // IMU / frames before the first pose
   std::optional<ImuSample> pre_start_imu_;
+  std::vector<ImuSample> rest_imu_;  // start: rest — the IMU samples of the rest window
+  Status fatal_;                     // the node cannot go on (no rest at the start)
   bool start_decided_ = false;
   std::optional<std::pair<int64_t, Vector9d>> truth_;  // latest ground truth
   int64_t processed_us_ = -1;

@@ -22,8 +22,8 @@ namespace cvslam {
 
 class ConfigNode;
 
-/// Options of the static initialisation (YAML section `static_init:` when a program loads
-/// them; the agent does not start from rest yet, see docs/filter.md).
+/// Options of the static initialisation (cvslam_agent: `agent.static_init` of agent.yaml,
+/// used with `agent.start: rest`).
 struct StaticInitializerOptions {
   double window_s = 1.0;  ///< rest period averaged, from the first IMU sample [s]
   /// Rest is told from motion by the stability of the mean, not by the spread of the
@@ -39,10 +39,6 @@ struct StaticInitializerOptions {
   /// |mean specific force| may differ from gravity by at most this [m/s²]: more means the
   /// vehicle accelerates, or the IMU's units or scale are wrong.
   double max_gravity_error = 0.5;
-  /// 1σ of the accelerometer turn-on bias (datasheet) [m/s²]: its prior, and the tilt
-  /// uncertainty it implies.
-  double accel_bias_sigma = 0.1;
-
   Status load(const ConfigNode& node);
 };
 
@@ -61,10 +57,12 @@ struct StaticInitialization {
 };
 
 /// Finds the rest state from the IMU samples (sorted by time) of the first window_s seconds.
-/// Fails with one line saying why: no samples, a window shorter than window_s, a vehicle
-/// moving (std above the limits) or a specific force far from `gravity`.
+/// `accel_bias_sigma` is the accelerometer turn-on bias prior (1σ, m/s²; the filter's
+/// slam.initial_accel_bias_sigma), which sets tilt_sigma. Fails with one line saying why:
+/// no samples, a window shorter than window_s, a vehicle moving (segment means apart) or a
+/// specific force far from `gravity`.
 Expected<StaticInitialization> initializeAtRest(const std::vector<ImuSample>& samples,
                                                 const StaticInitializerOptions& options,
-                                                double gravity);
+                                                double gravity, double accel_bias_sigma);
 
 }  // namespace cvslam

@@ -1,16 +1,18 @@
 #pragma once
-// How one agent's filter is set up from its calibration (docs/conventions.md, docs/run_format.md), shared by
-// cvslam_run (SimulatedTeamRun) and cvslam_agent, so that both start every filter alike:
+// How one agent's filter is set up from its calibration (docs/conventions.md, docs/run_format.md),
+// shared by cvslam_run (SimulatedTeamRun) and cvslam_agent, so that both start every filter alike:
 //  - options: the agent configuration with the IMU's datasheet noise (as from a sensor.yaml);
-//  - initial state and covariance: the scenario's initial estimate (simulation), or the first
+//  - initial state and covariance: the scenario's initial estimate (simulation), the first
 //    ground-truth pose (thesis §6.3.1: initial poses known in the team's frame) with the
-//    configured initial 1σ (real or recorded data).
+//    configured initial 1σ (real or recorded data), or the rest state found by the static
+//    initialiser (ins/static_initializer.h: no ground truth needed).
 
 #include <Eigen/Core>
 #include <cstdint>
 
 #include "cvslam/core/status.h"
 #include "cvslam/ins/initial_uncertainty.h"
+#include "cvslam/ins/static_initializer.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
 namespace cvslam {
@@ -36,5 +38,14 @@ AgentFilterSetup knownPoseSetup(int64_t t_us, const Eigen::Vector3d& p_BinN,
                                 const Eigen::Vector3d& v_N, const Eigen::Vector3d& euler,
                                 const InitialUncertainty& sigma,
                                 const VisualInertialSlamOptions& options);
+
+/// An agent started at rest (`agent.start: rest`) in its own gravity-aligned frame: position
+/// zero and yaw zero (the frame's definition, held to sigma's position and yaw 1σ), velocity
+/// zero (sigma's velocity 1σ), roll and pitch from gravity (1σ: rest.tilt_sigma), the gyro
+/// bias measured at rest (1σ: its averaging error, at least slam.initial_gyro_bias_sigma),
+/// the accelerometer bias at slam's prior. The tilt and accelerometer-bias errors are in truth
+/// correlated (a horizontal bias looks like a tilt at rest); leaving that out is conservative.
+AgentFilterSetup restSetup(const StaticInitialization& rest, const InitialUncertainty& sigma,
+                           const VisualInertialSlamOptions& options);
 
 }  // namespace cvslam
