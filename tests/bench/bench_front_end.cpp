@@ -225,6 +225,7 @@ void fastSiftStage(benchmark::State& state) {
   state.counters["detected"] = static_cast<double>(detected.size());
   state.counters["matched"] = static_cast<double>(matched.size());
   state.counters["octave_layers"] = c.octave_layers;
+  state.counters["extrema"] = static_cast<double>(extrema.size());
 }
 
 BENCHMARK(fastSiftStage)

@@ -9,7 +9,11 @@ namespace cvslam::vision {
 
 namespace {
 
-constexpr float kMinVariance = 1e-6f;  // guards the ZNCC division on a flat right patch
+// ZNCC of a patch against a flat one is undefined (0/0); such candidates score 0.
+float znccOf(float num, float sum, float sq, float n, float left_norm, float min_var) {
+  const float var = sq - sum * sum / n;
+  return var > min_var ? num / (left_norm * std::sqrt(var)) : 0.0f;
+}
 constexpr int kSecondPeakGap = 2;      // the second best lies this far from the best [px]
 
 // Vertex of the parabola through (−1, a), (0, b), (1, c), clamped to ±limit.
@@ -40,13 +44,14 @@ double RowStereoSearch::zncc(int x, int y) const {
     const float* R = right_f_.ptr<float>(y + i) + x - r;
     const float* P = patch_.data() + (i + r) * (2 * r + 1);
     for (int j = 0; j <= 2 * r; ++j) {
-      num += R[j] * P[j];
-      sum += R[j];
-      sq += R[j] * R[j];
+      const float q = R[j] - patch_mean_;
+      num += q * P[j];
+      sum += q;
+      sq += q * q;
     }
   }
   const float n = static_cast<float>((2 * r + 1) * (2 * r + 1));
-  return num / (patch_norm_ * std::sqrt(std::max(sq - sum * sum / n, kMinVariance)));
+  return znccOf(num, sum, sq, n, patch_norm_, min_var_);
 }
 
 bool RowStereoSearch::searchOne(const cv::KeyPoint& kp, int dlo, int dhi, double vd_max,
@@ -70,8 +75,10 @@ bool RowStereoSearch::searchOne(const cv::KeyPoint& kp, int dlo, int dhi, double
       patch_[static_cast<std::size_t>((i + r) * side + j + r)] = z;
       norm2 += z * z;
     }
-  if (norm2 < static_cast<float>(o.min_patch_std * o.min_patch_std) * n) return false;
+  min_var_ = static_cast<float>(o.min_patch_std * o.min_patch_std) * n;  // both patches
+  if (norm2 < min_var_) return false;
   patch_norm_ = std::sqrt(norm2);
+  patch_mean_ = mean;
   // Candidate centres x = u − d for d in [dlo − 1, dhi + 1] (±1 for the parabola).
   const int xmin = std::max(u - (dhi + 1), r);
   const int xmax = std::min(u - (dlo - 1), L.cols - 1 - r);
@@ -89,17 +96,19 @@ bool RowStereoSearch::searchOne(const cv::KeyPoint& kp, int dlo, int dhi, double
     for (int j = 0; j < side; ++j) {
       const float p = P[j];
       const float* R = row + j;
+      // Grey levels relative to the left patch's mean: the variance Σq² − (Σq)²/n is then a
+      // difference of small sums (in absolute grey levels float cancellation ruins it).
       for (int x = 0; x < m; ++x) {  // contiguous over candidates: vectorises
-        num[x] += R[x] * p;
-        sum[x] += R[x];
-        sq[x] += R[x] * R[x];
+        const float q = R[x] - mean;
+        num[x] += q * p;
+        sum[x] += q;
+        sq[x] += q * q;
       }
     }
   }
   score_.resize(static_cast<std::size_t>(m));
   for (int x = 0; x < m; ++x)
-    score_[static_cast<std::size_t>(x)] =
-        num[x] / (patch_norm_ * std::sqrt(std::max(sq[x] - sum[x] * sum[x] / n, kMinVariance)));
+    score_[static_cast<std::size_t>(x)] = znccOf(num[x], sum[x], sq[x], n, patch_norm_, min_var_);
   // Best inside the disparity window proper (not the ±1 padding), then the second best.
   const int lo = std::max(0, u - dhi - xmin);
   const int hi = std::min(m - 1, u - dlo - xmin);
@@ -120,7 +129,7 @@ bool RowStereoSearch::searchOne(const cv::KeyPoint& kp, int dlo, int dhi, double
   const int xr = xmin + best;
   float dy = 0.0f;
   if (vd_max > 0.0) {
-    const float limit = static_cast<float>(std::min(vd_max, 1.0));
+    const float limit = static_cast<float>(std::min(vd_max, 0.5));  // half a row at most
     dy = parabolaPeak(static_cast<float>(zncc(xr, v - 1)), s0,
                       static_cast<float>(zncc(xr, v + 1)), limit);
   }

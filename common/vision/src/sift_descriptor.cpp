@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <opencv2/core/hal/hal.hpp>
 
 namespace cvslam::vision {
 
@@ -18,24 +19,6 @@ constexpr int kOrientationBins = 36;
 constexpr float kOrientationSigma = 1.5f;  // window σ = 1.5 × keypoint σ (Lowe)
 constexpr float kOrientationRadius = 3.0f * kOrientationSigma;
 constexpr float kDegPerRad = 57.29577951308232f;
-
-// atan2 in degrees [0, 360), OpenCV's fastAtan2 polynomial (≈ 0.3° error): branch-light, so
-// the per-pixel loops vectorise.
-inline float atan2Deg(float y, float x) {
-  constexpr float p1 = 0.9997878412794807f * kDegPerRad;
-  constexpr float p3 = -0.3258083974640975f * kDegPerRad;
-  constexpr float p5 = 0.1555786518463281f * kDegPerRad;
-  constexpr float p7 = -0.04432655554792128f * kDegPerRad;
-  const float ax = std::abs(x), ay = std::abs(y);
-  const bool x_major = ax >= ay;
-  const float c = x_major ? ay / (ax + FLT_MIN) : ax / (ay + FLT_MIN);
-  const float c2 = c * c;
-  float a = (((p7 * c2 + p5) * c2 + p3) * c2 + p1) * c;
-  a = x_major ? a : 90.0f - a;
-  a = x < 0 ? 180.0f - a : a;
-  a = y < 0 ? 360.0f - a : a;
-  return a;
-}
 
 // Cells out of the padded histogram, clipped at 0.2 of the norm, scaled to 512 and saturated
 // to bytes (Lowe; OpenCV's integer descriptor).
@@ -66,27 +49,39 @@ float SiftDescriber::orientation(const cv::Mat& img, cv::Point pt, float sigma) 
   const int radius = cvRound(kOrientationRadius * sigma);
   const float window = kOrientationSigma * sigma;
   const float exp_scale = -1.0f / (2.0f * window * window);
-  row_weight_.resize(static_cast<std::size_t>(2 * radius + 1));
+  const std::size_t side = static_cast<std::size_t>(2 * radius + 1);
+  row_weight_.resize(side);
   for (int i = -radius; i <= radius; ++i)  // exp(−(i² + j²)/2σ²) = w(i)·w(j)
     row_weight_[static_cast<std::size_t>(i + radius)] =
         std::exp(static_cast<float>(i * i) * exp_scale);
+  reserve(side * side);
   const float* w = row_weight_.data() + radius;
-  float raw[kOrientationBins] = {};
   const int j0 = std::max(-radius, 1 - pt.x), j1 = std::min(radius, img.cols - 2 - pt.x);
+  std::size_t len = 0;
   for (int i = -radius; i <= radius; ++i) {
     const int y = pt.y + i;
-    if (y <= 0 || y >= img.rows - 1) continue;
-    const float* row = img.ptr<float>(y);
-    const float* up = img.ptr<float>(y - 1);
-    const float* down = img.ptr<float>(y + 1);
-    for (int j = j0; j <= j1; ++j) {
-      const int x = pt.x + j;
-      const float dx = row[x + 1] - row[x - 1];
-      const float dy = up[x] - down[x];
-      int bin = cvRound(atan2Deg(dy, dx) * (kOrientationBins / 360.0f));
-      bin = bin >= kOrientationBins ? bin - kOrientationBins : bin;
-      raw[bin] += w[i] * w[j] * std::sqrt(dx * dx + dy * dy);
+    if (y <= 0 || y >= img.rows - 1 || j1 < j0) continue;
+    const float* row = img.ptr<float>(y) + pt.x;
+    const float* up = img.ptr<float>(y - 1) + pt.x;
+    const float* down = img.ptr<float>(y + 1) + pt.x;
+    float* dx = dx_.data() + len - j0;
+    float* dy = dy_.data() + len - j0;
+    float* wt = w_.data() + len - j0;
+    for (int j = j0; j <= j1; ++j) {  // vectorises
+      dx[j] = row[j + 1] - row[j - 1];
+      dy[j] = up[j] - down[j];
+      wt[j] = w[i] * w[j];
     }
+    len += static_cast<std::size_t>(j1 - j0 + 1);
+  }
+  const int n = static_cast<int>(len);
+  cv::hal::fastAtan2(dy_.data(), dx_.data(), angle_.data(), n, true);  // OpenCV's SIMD kernels
+  cv::hal::magnitude32f(dx_.data(), dy_.data(), mag_.data(), n);
+  float raw[kOrientationBins] = {};
+  for (std::size_t k = 0; k < len; ++k) {
+    int bin = cvRound(angle_[k] * (kOrientationBins / 360.0f));
+    bin = bin >= kOrientationBins ? bin - kOrientationBins : bin;
+    raw[bin] += w_[k] * mag_[k];
   }
   // [1 4 6 4 1]/16 circular smoothing, then the highest peak, parabola-interpolated.
   float hist[kOrientationBins];
@@ -123,16 +118,15 @@ void SiftDescriber::descriptor(const cv::Mat& img, cv::Point2f ptf, float ori, f
   for (int i = -radius; i <= radius; ++i)
     row_weight_[static_cast<std::size_t>(i + radius)] =
         std::exp(static_cast<float>(i * i) * exp_scale);
-  const std::size_t cap = side * side;
-  if (dx_.size() < cap) {
-    dx_.resize(cap), dy_.resize(cap), w_.resize(cap), rbin_.resize(cap), cbin_.resize(cap);
-  }
+  reserve(side * side);
   constexpr float kBinOffset = kWidth / 2 - 0.5f;
+  const float kLastBin = std::nextafter(static_cast<float>(kWidth), 0.0f);
   std::size_t len = 0;
   for (int i = -radius; i <= radius; ++i) {
     const int r = pt.y + i;
     if (r <= 0 || r >= img.rows - 1) continue;
-    // Columns j with rbin = j·sin + i·cos + off and cbin = j·cos − i·sin + off in (−1, d).
+    // Columns j with rbin = j·sin + i·cos + off and cbin = j·cos − i·sin + off in (−1, d),
+    // widened by a pixel (the samples outside get weight 0 below).
     float jlo = static_cast<float>(-radius), jhi = static_cast<float>(radius);
     auto limit = [&](float a, float b) {  // −1 < a·j + b < d
       if (std::abs(a) < 1e-12f) {
@@ -147,31 +141,45 @@ void SiftDescriber::descriptor(const cv::Mat& img, cv::Point2f ptf, float ori, f
     limit(cos_t, -i * sin_t + kBinOffset);
     const int j0 = std::max(static_cast<int>(std::ceil(jlo)), 1 - pt.x);
     const int j1 = std::min(static_cast<int>(std::floor(jhi)), img.cols - 2 - pt.x);
-    const float* row = img.ptr<float>(r);
-    const float* up = img.ptr<float>(r - 1);
-    const float* down = img.ptr<float>(r + 1);
+    if (j1 < j0) continue;
+    const float* row = img.ptr<float>(r) + pt.x;
+    const float* up = img.ptr<float>(r - 1) + pt.x;
+    const float* down = img.ptr<float>(r + 1) + pt.x;
     const float wi = row_weight_[static_cast<std::size_t>(i + radius)];
-    for (int j = j0; j <= j1; ++j) {
-      const float rbin = j * sin_t + i * cos_t + kBinOffset;
-      const float cbin = j * cos_t - i * sin_t + kBinOffset;
-      if (!(rbin > -1 && rbin < kWidth && cbin > -1 && cbin < kWidth)) continue;
-      const int c = pt.x + j;
-      dx_[len] = row[c + 1] - row[c - 1];
-      dy_[len] = up[c] - down[c];
-      w_[len] = wi * row_weight_[static_cast<std::size_t>(j + radius)];
-      rbin_[len] = rbin;
-      cbin_[len] = cbin;
-      ++len;
+    const float* wj = row_weight_.data() + radius;
+    float* dx = dx_.data() + len - j0;
+    float* dy = dy_.data() + len - j0;
+    float* wt = w_.data() + len - j0;
+    float* rb = rbin_.data() + len - j0;
+    float* cb = cbin_.data() + len - j0;
+    for (int j = j0; j <= j1; ++j) {  // branch-free: vectorises
+      const float rbin = static_cast<float>(j) * sin_t + static_cast<float>(i) * cos_t + kBinOffset;
+      const float cbin = static_cast<float>(j) * cos_t - static_cast<float>(i) * sin_t + kBinOffset;
+      float inside = rbin > -1.0f ? 1.0f : 0.0f;  // selects, not branches
+      inside = rbin < kWidth ? inside : 0.0f;
+      inside = cbin > -1.0f ? inside : 0.0f;
+      inside = cbin < kWidth ? inside : 0.0f;
+      dx[j] = row[j + 1] - row[j - 1];
+      dy[j] = up[j] - down[j];
+      wt[j] = wi * wj[j] * inside;
+      // Outside samples vote 0; their bins are clamped into the padded histogram (inside
+      // values, in (−1, d), are left as they are).
+      const float rlo = rbin < -1.0f ? -1.0f : rbin;
+      const float clo = cbin < -1.0f ? -1.0f : cbin;
+      rb[j] = rlo > kLastBin ? kLastBin : rlo;
+      cb[j] = clo > kLastBin ? kLastBin : clo;
     }
+    len += static_cast<std::size_t>(j1 - j0 + 1);
   }
-  // Angles (as orientation bins relative to the keypoint's) and weighted magnitudes.
-  float* obin_v = dx_.data();  // overwritten in place
-  float* mag_v = dy_.data();
+  const int n = static_cast<int>(len);
+  cv::hal::fastAtan2(dy_.data(), dx_.data(), angle_.data(), n, true);  // OpenCV's SIMD kernels
+  cv::hal::magnitude32f(dx_.data(), dy_.data(), mag_.data(), n);
   const float bins_per_deg = kBins / 360.0f;
+  float* obin_v = angle_.data();
+  float* mag_v = mag_.data();
   for (std::size_t k = 0; k < len; ++k) {
-    const float x = dx_[k], y = dy_[k];
-    obin_v[k] = (atan2Deg(y, x) - ori) * bins_per_deg;
-    mag_v[k] = std::sqrt(x * x + y * y) * w_[k];
+    obin_v[k] = (obin_v[k] - ori) * bins_per_deg;
+    mag_v[k] *= w_[k];
   }
   constexpr int kHistLen = (kWidth + 2) * (kWidth + 2) * (kBins + 2);
   hist_.assign(kHistLen, 0.0f);
@@ -204,6 +212,11 @@ void SiftDescriber::descriptor(const cv::Mat& img, cv::Point2f ptf, float ori, f
     h[(kWidth + 3) * (kBins + 2) + 1] += v_rco111;
   }
   normalise(hist, out);
+}
+
+void SiftDescriber::reserve(std::size_t n) {
+  if (dx_.size() >= n) return;
+  for (auto* v : {&dx_, &dy_, &w_, &rbin_, &cbin_, &angle_, &mag_}) v->resize(n);
 }
 
 void SiftDescriber::describe(const SiftScaleSpace& space, std::vector<cv::KeyPoint>* keypoints,

@@ -24,8 +24,7 @@ void SiftScaleSpace::build(const cv::Mat& gray, int layers, double sigma0, int o
   const int per_octave = layers + 3;
   gauss_.resize(static_cast<std::size_t>(octaves_ * per_octave));
   dog_.resize(static_cast<std::size_t>(octaves_ * (layers + 2)));
-  dog_max_.resize(dog_.size());
-  dog_min_.resize(dog_.size());
+
   // Incremental blur from level i−1 to i: σ_i² − σ_{i−1}², σ_i = σ0·k^i (same in every octave).
   std::vector<double> step(static_cast<std::size_t>(per_octave));
   const double k = std::pow(2.0, 1.0 / layers);
@@ -51,17 +50,45 @@ void SiftScaleSpace::build(const cv::Mat& gray, int layers, double sigma0, int o
         cv::GaussianBlur(gaussian(o, i - 1), dst, cv::Size(), s, s, cv::BORDER_REFLECT_101);
       }
     }
-    const cv::Mat box = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
-    for (int i = 0; i < layers + 2; ++i) {
-      const std::size_t d = static_cast<std::size_t>(o * (layers + 2) + i);
-      cv::subtract(gaussian(o, i + 1), gaussian(o, i), dog_[d]);
-      cv::dilate(dog_[d], dog_max_[d], box);
-      cv::erode(dog_[d], dog_min_[d], box);
-    }
+    for (int i = 0; i < layers + 2; ++i)
+      cv::subtract(gaussian(o, i + 1), gaussian(o, i),
+                   dog_[static_cast<std::size_t>(o * (layers + 2) + i)]);
   }
 }
 
 namespace {
+
+// flags[c] = 1 where row[c] is beyond ±pre and a maximum (minimum) of its 3×3 neighbourhood
+// in its own DoG image. Branch-free over the row, so it vectorises: the cheap filter before the
+// 18 neighbours in the levels above and below (extremumAcrossLevels), which few samples reach.
+void markPlaneExtrema(const float* row, int step, int cols, float pre, uint8_t* flags) {
+  const float* up = row - step;
+  const float* down = row + step;
+  flags[0] = flags[cols - 1] = 0;
+  for (int c = 1; c < cols - 1; ++c) {
+    const float x = row[c];
+    const float a = up[c - 1], b = up[c], d = up[c + 1], e = row[c - 1], g = row[c + 1];
+    const float h = down[c - 1], i = down[c], j = down[c + 1];
+    const bool is_max = (x > pre) & (x >= a) & (x >= b) & (x >= d) & (x >= e) & (x >= g) &
+                        (x >= h) & (x >= i) & (x >= j);
+    const bool is_min = (x < -pre) & (x <= a) & (x <= b) & (x <= d) & (x <= e) & (x <= g) &
+                        (x <= h) & (x <= i) & (x <= j);
+    flags[c] = static_cast<uint8_t>(is_max | is_min);
+  }
+}
+
+// The 3×3 neighbourhoods in the DoG levels below and above (ties allowed, as OpenCV).
+bool extremumAcrossLevels(const float* prev, const float* next, int step, float v) {
+  const int off[9] = {-step - 1, -step, -step + 1, -1, 0, 1, step - 1, step, step + 1};
+  if (v > 0) {
+    for (int n : off)
+      if (v < prev[n] || v < next[n]) return false;
+    return true;
+  }
+  for (int n : off)
+    if (v > prev[n] || v > next[n]) return false;
+  return true;
+}
 
 struct Derivatives {
   cv::Vec3f g;   // ∂D/∂x, ∂D/∂y, ∂D/∂σ
@@ -133,33 +160,24 @@ bool localise(const SiftScaleSpace& s, int o, int layer, int r, int c, double th
 
 void SiftScaleSpace::findExtrema(double dog_threshold, double edge_threshold,
                                  std::vector<cv::KeyPoint>* keypoints) {
-  const SiftScaleSpace& space = *this;
   keypoints->clear();
   // Lowe's pre-test: a sample below half the threshold cannot interpolate above it.
   const float pre = static_cast<float>(0.5 * dog_threshold);
-  std::vector<uint8_t>& flags = flags_;
-  for (int o = 0; o < space.octaves(); ++o) {
-    for (int layer = 1; layer <= space.layers(); ++layer) {
-      const cv::Mat& cur = space.dog(o, layer);
-      flags.resize(static_cast<std::size_t>(cur.cols));
+  for (int o = 0; o < octaves_; ++o) {
+    for (int layer = 1; layer <= layers_; ++layer) {
+      const cv::Mat& cur = dog(o, layer);
+      const int cols = cur.cols;
+      const int step = static_cast<int>(cur.step1());
+      flags_.resize(static_cast<std::size_t>(cols));
       for (int r = kImageBorder; r < cur.rows - kImageBorder; ++r) {
-        const float* v = cur.ptr<float>(r);
-        const float* max0 = space.dogMax(o, layer - 1).ptr<float>(r);
-        const float* max1 = space.dogMax(o, layer).ptr<float>(r);
-        const float* max2 = space.dogMax(o, layer + 1).ptr<float>(r);
-        const float* min0 = space.dogMin(o, layer - 1).ptr<float>(r);
-        const float* min1 = space.dogMin(o, layer).ptr<float>(r);
-        const float* min2 = space.dogMin(o, layer + 1).ptr<float>(r);
-        uint8_t* f = flags.data();
-        for (int c = 0; c < cur.cols; ++c) {  // branch-free: vectorises
-          const float mx = std::max(std::max(max0[c], max1[c]), max2[c]);
-          const float mn = std::min(std::min(min0[c], min1[c]), min2[c]);
-          f[c] = static_cast<uint8_t>((v[c] > pre && v[c] >= mx) | (v[c] < -pre && v[c] <= mn));
-        }
-        for (int c = kImageBorder; c < cur.cols - kImageBorder; ++c) {
-          if (!f[c]) continue;
+        markPlaneExtrema(cur.ptr<float>(r), step, cols, pre, flags_.data());
+        const float* prev = dog(o, layer - 1).ptr<float>(r);
+        const float* next = dog(o, layer + 1).ptr<float>(r);
+        for (int c = kImageBorder; c < cols - kImageBorder; ++c) {
+          if (!flags_[static_cast<std::size_t>(c)]) continue;
+          if (!extremumAcrossLevels(prev + c, next + c, step, cur.ptr<float>(r)[c])) continue;
           cv::KeyPoint kp;
-          if (localise(space, o, layer, r, c, dog_threshold, edge_threshold, &kp))
+          if (localise(*this, o, layer, r, c, dog_threshold, edge_threshold, &kp))
             keypoints->push_back(kp);
         }
       }

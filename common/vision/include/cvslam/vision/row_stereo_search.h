@@ -27,7 +27,7 @@ struct RowSearchOptions {
   int patch_radius = 5;       ///< (2r+1)² patch [px]
   double min_zncc = 0.85;     ///< accept a best score at or above this
   double uniqueness = 0.6;    ///< 1 − best < uniqueness·(1 − second best)
-  double min_patch_std = 2.0; ///< grey-level std of the left patch; flatter patches are skipped
+  double min_patch_std = 2.0; ///< grey-level std of a patch; flatter ones are not compared
 
   Status load(const ConfigNode& node);
 };
@@ -42,7 +42,7 @@ struct RowStereoMatch {
 class RowStereoSearch {
  public:
   /// `stereo` gives the disparity window (min_disparity_px, HD_max) and VD_max (the row is
-  /// refined within ±min(VD_max, 1) px). Both images CV_8UC1 of the same size.
+  /// refined within ±min(VD_max, 0.5) px). Both images CV_8UC1 of the same size.
   void search(const cv::Mat& left, const cv::Mat& right, const std::vector<cv::KeyPoint>& keypoints,
               const StereoMatchOptions& stereo, const RowSearchOptions& options,
               std::vector<RowStereoMatch>* matches);
@@ -55,6 +55,8 @@ class RowStereoSearch {
   cv::Mat left_f_, right_f_;
   std::vector<float> patch_;     // zero-mean left patch, (2r+1)²
   float patch_norm_ = 0.0f;      // its L2 norm
+  float patch_mean_ = 0.0f;      // its mean grey level
+  float min_var_ = 0.0f;         // n·min_patch_std²: flatter patches are not compared
   int radius_ = 0;
   std::vector<float> num_, sum_, sq_, score_;
 };

@@ -26,7 +26,9 @@ class SiftDescriber {
   float orientation(const cv::Mat& img, cv::Point pt, float sigma);  // sigma: keypoint σ
   void descriptor(const cv::Mat& img, cv::Point2f pt, float angle, float scale, uint8_t* out);
 
-  std::vector<float> dx_, dy_, w_, rbin_, cbin_;
+  void reserve(std::size_t n);  // scratch for n window samples
+
+  std::vector<float> dx_, dy_, w_, rbin_, cbin_, angle_, mag_;
   std::vector<float> row_weight_;
   std::vector<float> hist_;
 };

@@ -42,23 +42,12 @@ class SiftScaleSpace {
   /// angle = −1 (not yet assigned).
   void findExtrema(double dog_threshold, double edge_threshold,
                    std::vector<cv::KeyPoint>* keypoints);
-  /// 3×3 maximum / minimum of dog(octave, level): a sample is an extremum of its 3×3×3
-  /// neighbourhood iff it equals the max (min) of these over three adjacent levels.
-  const cv::Mat& dogMax(int octave, int level) const {
-    return dog_max_[static_cast<std::size_t>(octave * (layers_ + 2) + level)];
-  }
-  const cv::Mat& dogMin(int octave, int level) const {
-    return dog_min_[static_cast<std::size_t>(octave * (layers_ + 2) + level)];
-  }
-
  private:
   int octaves_ = 0;
   int layers_ = 0;
   double sigma0_ = 1.6;
   std::vector<cv::Mat> gauss_;
   std::vector<cv::Mat> dog_;
-  std::vector<cv::Mat> dog_max_;
-  std::vector<cv::Mat> dog_min_;
   std::vector<uint8_t> flags_;  // extremum flags of one row (scratch)
 };
 
