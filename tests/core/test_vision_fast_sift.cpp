@@ -76,12 +76,15 @@ TEST(VisionFastSift, FindsBlobsAtTheirCentreAndScale) {
 
 // The descriptors are OpenCV's for the same keypoints and angles (OpenCV computes them for
 // given keypoints on the same un-doubled pyramid): equal up to float rounding (±2 of 0..255),
-// hence the SIFT vocabulary and the association's SIFT gates hold for them.
+// hence the SIFT vocabulary and the association's SIFT gates hold for them. (The scale space
+// from the input resolution, as OpenCV's; by default a 752×480 image is resampled first.)
 TEST(VisionFastSift, DescriptorsAreOpenCvSiftDescriptors) {
   const cv::Mat img = realLeft(10);
   ASSERT_FALSE(img.empty());
   const AdaptiveSiftOptions a;
-  FastSift sift(a, FastSiftOptions());
+  FastSiftOptions fo;
+  fo.max_base_side = 0;
+  FastSift sift(a, fo);
   Features f;
   ScaleFactorChoice c;
   std::vector<cv::KeyPoint> kps;
@@ -192,7 +195,8 @@ TEST(VisionFastSift, FrontEndOnRealPairsIsRowAlignedAndPlausible) {
 TEST(VisionFastSift, OptionsLoadAndErrors) {
   auto cfg = ConfigNode::fromString(
       "front_end:\n"
-      "  detector: {type: fast_sift, fast_sift: {grid_cols: 4, grid_rows: 3, max_octaves: 5}}\n"
+      "  detector: {type: fast_sift,\n"
+      "             fast_sift: {grid_cols: 4, grid_rows: 3, max_octaves: 5, max_base_side: 300}}\n"
       "  row_search: {patch_radius: 4, min_zncc: 0.9, uniqueness: 0.5, min_patch_std: 1.0}\n",
       "f.yaml");
   ASSERT_TRUE(cfg.ok());
@@ -202,11 +206,15 @@ TEST(VisionFastSift, OptionsLoadAndErrors) {
   EXPECT_EQ(o.detector.type, DetectorType::kFastSift);
   EXPECT_EQ(o.detector.fast_sift.grid_cols, 4);
   EXPECT_EQ(o.detector.fast_sift.max_octaves, 5);
+  EXPECT_EQ(o.detector.fast_sift.max_base_side, 300);
+  EXPECT_DOUBLE_EQ(o.detector.fast_sift.baseScale(cv::Size(600, 400)), 0.5);
+  EXPECT_DOUBLE_EQ(o.detector.fast_sift.baseScale(cv::Size(300, 200)), 1.0);
   EXPECT_EQ(o.row_search.patch_radius, 4);
   EXPECT_DOUBLE_EQ(o.row_search.uniqueness, 0.5);
   for (const char* bad : {"{row_search: {patch_radius: 0}}", "{row_search: {uniqueness: 1.5}}",
                           "{detector: {fast_sift: {grid_cols: 4, grid_rows: 0}}}",
-                          "{detector: {fast_sift: {max_octaves: 0}}}"}) {
+                          "{detector: {fast_sift: {max_octaves: 0}}}",
+                          "{detector: {fast_sift: {max_base_side: 10}}}"}) {
     auto c = ConfigNode::fromString(std::string("front_end: ") + bad, "f.yaml");
     ASSERT_TRUE(c.ok());
     StereoFrontEndOptions x;

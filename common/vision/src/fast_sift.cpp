@@ -12,10 +12,18 @@ Status FastSiftOptions::load(const ConfigNode& node) {
   node.get("grid_cols", grid_cols);
   node.get("grid_rows", grid_rows);
   node.get("max_octaves", max_octaves);
+  node.get("max_base_side", max_base_side);
   node.check(grid_cols >= 0 && grid_rows >= 0 && (grid_cols == 0) == (grid_rows == 0),
              "grid_cols", "grid must be 0 × 0 (off) or positive in both directions");
   node.check(max_octaves >= 1, "max_octaves", "must be >= 1");
+  node.check(max_base_side == 0 || max_base_side >= 64, "max_base_side", "must be 0 or >= 64");
   return node.status();
+}
+
+double FastSiftOptions::baseScale(cv::Size size) const {
+  const int side = std::max(size.width, size.height);
+  return max_base_side > 0 && side > max_base_side ? static_cast<double>(max_base_side) / side
+                                                   : 1.0;
 }
 
 Status FastSift::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints,
@@ -24,7 +32,7 @@ Status FastSift::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoint
     return Status::Error("fast SIFT: expected a non-empty 8-bit grey image");
   const ScaleFactorChoice c = adaptScaleFactor(gray, a_);
   if (choice) *choice = c;
-  space_.build(gray, c.octave_layers, a_.sigma0, o_.max_octaves);
+  space_.build(gray, c.octave_layers, a_.sigma0, o_.max_octaves, o_.baseScale(gray.size()));
   // DoG threshold relative to the DoG energy at the adapted k (adaptive_sift.h, item 3).
   double dog_threshold = std::max(a_.min_contrast, a_.contrast_gain * std::sqrt(c.energy));
   for (int attempt = 0;; ++attempt) {

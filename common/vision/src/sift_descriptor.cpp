@@ -226,10 +226,10 @@ void SiftDescriber::describe(const SiftScaleSpace& space, std::vector<cv::KeyPoi
     cv::KeyPoint& kp = (*keypoints)[i];
     const int octave = kp.octave & 0xFF;
     const int layer = (kp.octave >> 8) & 0xFF;
-    const float scale = 1.0f / static_cast<float>(1 << octave);
     const cv::Mat& img = space.gaussian(octave, layer);
-    const float sigma = kp.size * 0.5f * scale;  // keypoint σ in the octave's pixels
-    const cv::Point2f pt(kp.pt.x * scale, kp.pt.y * scale);
+    // Keypoint σ in the octave's pixels.
+    const float sigma = kp.size * 0.5f * space.baseScale() / static_cast<float>(1 << octave);
+    const cv::Point2f pt = space.toOctave(octave, kp.pt);
     kp.angle = orientation(img, cv::Point(cvRound(pt.x), cvRound(pt.y)), sigma);
     float angle = 360.0f - kp.angle;
     if (std::abs(angle - 360.0f) < FLT_EPSILON) angle = 0.0f;

@@ -15,10 +15,21 @@ constexpr int kMinOctaveSide = 16;    // an octave smaller than this holds no us
 
 }  // namespace
 
-void SiftScaleSpace::build(const cv::Mat& gray, int layers, double sigma0, int octaves) {
+void SiftScaleSpace::build(const cv::Mat& gray, int layers, double sigma0, int octaves,
+                           double base_scale) {
   layers_ = layers;
   sigma0_ = sigma0;
-  const int side = std::min(gray.cols, gray.rows);
+  cv::Mat input = gray;
+  base_scale_ = 1.0f;
+  if (base_scale < 1.0) {
+    // Area means (OpenCV's INTER_AREA: base pixel x is centred on input (x + ½)/s − ½).
+    const cv::Size size(std::max(1, static_cast<int>(std::lround(gray.cols * base_scale))),
+                        std::max(1, static_cast<int>(std::lround(gray.rows * base_scale))));
+    cv::resize(gray, base_input_, size, 0, 0, cv::INTER_AREA);
+    input = base_input_;
+    base_scale_ = static_cast<float>(size.width) / static_cast<float>(gray.cols);
+  }
+  const int side = std::min(input.cols, input.rows);
   octaves_ = 0;
   for (int s = side; s >= kMinOctaveSide && octaves_ < octaves; s /= 2) ++octaves_;
   const int per_octave = layers + 3;
@@ -33,7 +44,7 @@ void SiftScaleSpace::build(const cv::Mat& gray, int layers, double sigma0, int o
     step[static_cast<std::size_t>(i)] = std::sqrt((prev * k) * (prev * k) - prev * prev);
   }
   cv::Mat base;
-  gray.convertTo(base, CV_32F);
+  input.convertTo(base, CV_32F);
   const double first = std::sqrt(std::max(sigma0 * sigma0 - kInputBlur * kInputBlur, 0.01));
   cv::GaussianBlur(base, gauss_[0], cv::Size(), first, first, cv::BORDER_REFLECT_101);
   for (int o = 0; o < octaves_; ++o) {
@@ -145,8 +156,8 @@ bool localise(const SiftScaleSpace& s, int o, int layer, int r, int c, double th
   const float tr = d.h(0, 0) + d.h(1, 1);
   const float det = d.h(0, 0) * d.h(1, 1) - d.h(0, 1) * d.h(0, 1);
   if (det <= 0 || tr * tr * edge >= (edge + 1) * (edge + 1) * det) return false;
-  const float scale = static_cast<float>(1 << o);
-  kp->pt = cv::Point2f((static_cast<float>(c) + x[0]) * scale, (static_cast<float>(r) + x[1]) * scale);
+  const double scale = static_cast<double>(1 << o) / s.baseScale();  // octave → input pixels
+  kp->pt = s.toInput(o, cv::Point2f(static_cast<float>(c) + x[0], static_cast<float>(r) + x[1]));
   kp->octave = o + (layer << 8) + (static_cast<int>(std::lround((x[2] + 0.5) * 255)) << 16);
   kp->size = static_cast<float>(s.sigma0() *
                                 std::pow(2.0, (layer + x[2]) / static_cast<double>(s.layers())) *

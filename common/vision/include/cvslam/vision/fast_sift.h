@@ -24,6 +24,13 @@ struct FastSiftOptions {
   int grid_cols = 8;    ///< keep the best N over a cols × rows grid (keypoint_grid.h); 0 = off
   int grid_rows = 6;    ///<
   int max_octaves = 6;  ///< octaves of the scale space (fewer on small images)
+  /// The scale space starts at the input resampled so that its longer side is at most this
+  /// (the scales a large image needs: the finest octave of a 752×480 image holds most of the
+  /// detection cost); 0 = always the input resolution.
+  int max_base_side = 512;
+
+  /// Base pixels per input pixel for an image of `size` (max_base_side; ≤ 1).
+  double baseScale(cv::Size size) const;
 
   Status load(const ConfigNode& node);
 };
