@@ -16,13 +16,13 @@
 
 #include "../core/vision_test_data.h"
 #include "cvslam/render/stereo_renderer.h"
-#include "render_test_scenes.h"
 #include "cvslam/vision/adaptive_sift.h"
 #include "cvslam/vision/descriptor_matcher.h"
 #include "cvslam/vision/fast_sift.h"
 #include "cvslam/vision/row_stereo_search.h"
 #include "cvslam/vision/stereo_front_end.h"
 #include "cvslam/vision/stereo_rectifier.h"
+#include "render_test_scenes.h"
 
 namespace {
 
@@ -58,6 +58,15 @@ Pair loadPair(bool small) {
   return p;
 }
 
+// One thread, and the pair of state.range(0) (0: 320×240, 1: 752×480); empty (benchmark
+// skipped) without the EuRoC micro data.
+Pair pairOrSkip(benchmark::State& state) {
+  cv::setNumThreads(1);
+  Pair p = loadPair(state.range(0) == 0);
+  if (p.left.empty()) state.SkipWithError("EuRoC micro data missing");
+  return p;
+}
+
 // The front end of the shipped defaults with `type`, for the pair's camera; an error message
 // in *error when it cannot be made.
 cvslam::Expected<StereoFrontEnd> makeFrontEnd(const Pair& p, DetectorType type, bool upsample,
@@ -78,14 +87,9 @@ cvslam::Expected<StereoFrontEnd> makeFrontEnd(const Pair& p, DetectorType type, 
 }
 
 void frontEnd(benchmark::State& state) {
-  cv::setNumThreads(1);
-  const bool small = state.range(0) == 0;
   const auto type = static_cast<DetectorType>(state.range(1));
-  const Pair p = loadPair(small);
-  if (p.left.empty()) {
-    state.SkipWithError("EuRoC micro data missing");
-    return;
-  }
+  const Pair p = pairOrSkip(state);
+  if (p.left.empty()) return;
   auto fe = makeFrontEnd(p, type, state.range(2) == 0);
   if (!fe.ok()) {
     state.SkipWithError(fe.status().message().c_str());
@@ -131,12 +135,8 @@ double threadCpuMs() {
 // pair alternately: counters are the medians of the thread CPU time per pair [ms] and their
 // ratio (speedup).
 void fastVsReference(benchmark::State& state) {
-  cv::setNumThreads(1);
-  const Pair p = loadPair(state.range(0) == 0);
-  if (p.left.empty()) {
-    state.SkipWithError("EuRoC micro data missing");
-    return;
-  }
+  const Pair p = pairOrSkip(state);
+  if (p.left.empty()) return;
   auto fast = makeFrontEnd(p, DetectorType::kFastSift, true);
   auto ref = makeFrontEnd(p, DetectorType::kAdaptiveSift, true);
   if (!fast.ok() || !ref.ok()) {
@@ -172,14 +172,9 @@ BENCHMARK(fastVsReference)
 // orientation + descriptors of the matched keypoints, 4 word ids of those, 5 scale space only
 // (part of 1), 6 extremum search and localisation only (part of 1).
 void fastSiftStage(benchmark::State& state) {
-  cv::setNumThreads(1);
-  const bool small = state.range(0) == 0;
   const int stage = static_cast<int>(state.range(1));
-  const Pair p = loadPair(small);
-  if (p.left.empty()) {
-    state.SkipWithError("EuRoC micro data missing");
-    return;
-  }
+  const Pair p = pairOrSkip(state);
+  if (p.left.empty()) return;
   const AdaptiveSiftOptions a;
   FastSift sift(a, FastSiftOptions());
   StereoMatchOptions so;
@@ -262,8 +257,8 @@ void renderedSequence(benchmark::State& state) {
   const auto [p0, e0] = aerial ? cvslam::test::aerialPose() : cvslam::test::hallPose();
   std::vector<cvslam::render::StereoRendering> frames;
   for (int k = 0; k < 40; ++k)
-    frames.push_back(renderer.render(p0 + Eigen::Vector3d(0.05, 0.02, 0.0) * k, e0,
-                                     static_cast<uint64_t>(k)));
+    frames.push_back(
+        renderer.render(p0 + Eigen::Vector3d(0.05, 0.02, 0.0) * k, e0, static_cast<uint64_t>(k)));
   Pair p;
   p.f = cam.options().fx;
   p.baseline = cam.options().baseline;
@@ -355,14 +350,9 @@ std::size_t siftPyramid(const cv::Mat& gray, int layers, double sigma) {
 // argument as in frontEnd (1: upsample_first_octave false). Stage 2 − 5 ≈ extremum search and
 // orientations, 1 − 2 − 0 ≈ descriptors.
 void adaptiveSiftStage(benchmark::State& state) {
-  cv::setNumThreads(1);
-  const bool small = state.range(0) == 0;
   const int stage = static_cast<int>(state.range(1));
-  const Pair p = loadPair(small);
-  if (p.left.empty()) {
-    state.SkipWithError("EuRoC micro data missing");
-    return;
-  }
+  const Pair p = pairOrSkip(state);
+  if (p.left.empty()) return;
   AdaptiveSiftOptions a;
   a.upsample_first_octave = state.range(2) == 0;
   // What OpenCV's SIFT is given (adaptive_sift.cpp): the image or its 2× area-downsampled copy.

@@ -28,33 +28,13 @@ cv::Mat realLeft(std::size_t k) {
   return l;
 }
 
-// Gaussian blobs of σ 3, 4, 5 px at sub-pixel centres on a flat background.
-cv::Mat blobImage(std::vector<cv::Point2f>* centres, std::vector<double>* sigmas) {
-  cv::Mat img(240, 320, CV_32F, cv::Scalar(60.0));
-  for (int by = 0; by < 2; ++by)
-    for (int bx = 0; bx < 3; ++bx) {
-      const cv::Point2f c(60.0f + 100.3f * bx, 65.0f + 110.35f * by);
-      const double sigma = 3.0 + bx;
-      centres->push_back(c);
-      sigmas->push_back(sigma);
-      for (int v = 0; v < img.rows; ++v)
-        for (int u = 0; u < img.cols; ++u) {
-          const double r2 = (u - c.x) * (u - c.x) + (v - c.y) * (v - c.y);
-          img.at<float>(v, u) += static_cast<float>(150.0 * std::exp(-r2 / (2 * sigma * sigma)));
-        }
-    }
-  cv::Mat gray;
-  img.convertTo(gray, CV_8U);
-  return gray;
-}
-
 // A 2-D Gaussian blob of σ_b is the scale-normalised DoG's extremum at σ ≈ σ_b (size = 2σ),
 // at its centre. (S1 lowered: this flat image would otherwise get k ← k², one level per
 // octave, and the test is about localisation, not eq. 4.6.)
 TEST(VisionFastSift, FindsBlobsAtTheirCentreAndScale) {
   std::vector<cv::Point2f> centres;
   std::vector<double> sigmas;
-  const cv::Mat gray = blobImage(&centres, &sigmas);
+  const cv::Mat gray = test::blobImage(3.0, &centres, &sigmas);
   AdaptiveSiftOptions a;
   a.min_features = 1;
   a.energy_low = 0.01;
@@ -165,31 +145,24 @@ TEST(VisionFastSift, FrontEndOnRealPairsIsRowAlignedAndPlausible) {
   ASSERT_TRUE(fe.ok()) << fe.status().message();
   const auto stamps = test::eurocStereoStamps();
   ASSERT_GE(stamps.size(), 60u);
-  int total = 0, good = 0;
-  std::vector<double> row_err;
+  std::vector<std::pair<cv::Point2f, cv::Point2f>> matches;
   for (std::size_t k : {0u, 30u, 60u}) {
     cv::Mat l, rt, lr, rr;
     ASSERT_TRUE(test::loadEurocPair(stamps[k], &l, &rt));
     ASSERT_TRUE(rect->rectify(l, rt, &lr, &rr).ok());
     std::vector<StereoObservation> obs;
     ASSERT_TRUE(fe->process(lr, rr, &obs).ok());
-    for (const StereoObservation& ob : obs) {
-      const double dv = std::abs(ob.z(1) - ob.z(3));
-      const double z = r.f * r.baseline / (ob.z(0) - ob.z(2));  // eq. 4.10
-      row_err.push_back(dv);
-      ++total;
-      if (dv <= 1.0 && z > 0.4 && z < 12.0) ++good;
-    }
+    for (const StereoObservation& ob : obs)
+      matches.push_back({cv::Point2f(static_cast<float>(ob.z(0)), static_cast<float>(ob.z(1))),
+                         cv::Point2f(static_cast<float>(ob.z(2)), static_cast<float>(ob.z(3)))});
   }
-  ASSERT_GT(total, 150);
-  std::nth_element(row_err.begin(), row_err.begin() + static_cast<long>(row_err.size() / 2),
-                   row_err.end());
-  const double precision = static_cast<double>(good) / total;
-  std::cout << "[figures] fast front end, real rectified EuRoC: " << total
-            << " matches in 3 pairs, median row error " << row_err[row_err.size() / 2]
-            << " px, plausible " << precision << "\n";
-  EXPECT_LT(row_err[row_err.size() / 2], 0.5);
-  EXPECT_GE(precision, 0.98);
+  const test::RealStereoSummary s = test::summariseRealStereo(matches, r.f, r.baseline);
+  ASSERT_GT(s.total, 150);
+  std::cout << "[figures] fast front end, real rectified EuRoC: " << s.total
+            << " matches in 3 pairs, median row error " << s.median_row_error << " px, plausible "
+            << s.plausible << "\n";
+  EXPECT_LT(s.median_row_error, 0.5);
+  EXPECT_GE(s.plausible, 0.98);
 }
 
 TEST(VisionFastSift, OptionsLoadAndErrors) {

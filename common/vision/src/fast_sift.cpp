@@ -13,8 +13,8 @@ Status FastSiftOptions::load(const ConfigNode& node) {
   node.get("grid_rows", grid_rows);
   node.get("max_octaves", max_octaves);
   node.get("max_base_side", max_base_side);
-  node.check(grid_cols >= 0 && grid_rows >= 0 && (grid_cols == 0) == (grid_rows == 0),
-             "grid_cols", "grid must be 0 × 0 (off) or positive in both directions");
+  node.check(grid_cols >= 0 && grid_rows >= 0 && (grid_cols == 0) == (grid_rows == 0), "grid_cols",
+             "grid must be 0 × 0 (off) or positive in both directions");
   node.check(max_octaves >= 1, "max_octaves", "must be >= 1");
   node.check(max_base_side == 0 || max_base_side >= 64, "max_base_side", "must be 0 or >= 64");
   return node.status();
@@ -46,10 +46,9 @@ Status FastSift::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoint
     *keypoints = retainUniform(all_, gray.size(), a_.max_features, o_.grid_cols, o_.grid_rows);
   } else {
     *keypoints = all_;
-    std::stable_sort(keypoints->begin(), keypoints->end(),
-                     [](const cv::KeyPoint& x, const cv::KeyPoint& y) {
-                       return x.response > y.response;
-                     });
+    std::stable_sort(
+        keypoints->begin(), keypoints->end(),
+        [](const cv::KeyPoint& x, const cv::KeyPoint& y) { return x.response > y.response; });
     if (static_cast<int>(keypoints->size()) > a_.max_features)
       keypoints->resize(static_cast<std::size_t>(a_.max_features));
   }

@@ -14,7 +14,7 @@ float znccOf(float num, float sum, float sq, float n, float left_norm, float min
   const float var = sq - sum * sum / n;
   return var > min_var ? num / (left_norm * std::sqrt(var)) : 0.0f;
 }
-constexpr int kSecondPeakGap = 2;      // the second best lies this far from the best [px]
+constexpr int kSecondPeakGap = 2;  // the second best lies this far from the best [px]
 
 // Vertex of the parabola through (−1, a), (0, b), (1, c), clamped to ±limit.
 float parabolaPeak(float a, float b, float c, float limit) {
@@ -130,11 +130,10 @@ bool RowStereoSearch::searchOne(const cv::KeyPoint& kp, int dlo, int dhi, double
   float dy = 0.0f;
   if (vd_max > 0.0) {
     const float limit = static_cast<float>(std::min(vd_max, 0.5));  // half a row at most
-    dy = parabolaPeak(static_cast<float>(zncc(xr, v - 1)), s0,
-                      static_cast<float>(zncc(xr, v + 1)), limit);
+    dy = parabolaPeak(static_cast<float>(zncc(xr, v - 1)), s0, static_cast<float>(zncc(xr, v + 1)),
+                      limit);
   }
-  match->right = cv::Point2f(kp.pt.x - static_cast<float>(u - xr) + dx,
-                             kp.pt.y + dy);
+  match->right = cv::Point2f(kp.pt.x - static_cast<float>(u - xr) + dx, kp.pt.y + dy);
   match->score = s0;
   return true;
 }

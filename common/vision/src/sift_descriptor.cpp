@@ -9,12 +9,12 @@ namespace cvslam::vision {
 
 namespace {
 
-constexpr int kWidth = 4;                  // d: 4×4 spatial cells
-constexpr int kBins = 8;                   // n: orientation bins per cell
+constexpr int kWidth = 4;  // d: 4×4 spatial cells
+constexpr int kBins = 8;   // n: orientation bins per cell
 constexpr int kDescriptorBytes = kWidth * kWidth * kBins;
-constexpr float kCellScale = 3.0f;         // cell width = 3σ (Lowe)
-constexpr float kMagnitudeClip = 0.2f;     // illumination: clip large gradients (Lowe)
-constexpr float kByteScale = 512.0f;       // OpenCV's integer descriptor scale
+constexpr float kCellScale = 3.0f;      // cell width = 3σ (Lowe)
+constexpr float kMagnitudeClip = 0.2f;  // illumination: clip large gradients (Lowe)
+constexpr float kByteScale = 512.0f;    // OpenCV's integer descriptor scale
 constexpr int kOrientationBins = 36;
 constexpr float kOrientationSigma = 1.5f;  // window σ = 1.5 × keypoint σ (Lowe)
 constexpr float kOrientationRadius = 3.0f * kOrientationSigma;

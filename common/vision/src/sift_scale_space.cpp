@@ -102,7 +102,7 @@ bool extremumAcrossLevels(const float* prev, const float* next, int step, float 
 }
 
 struct Derivatives {
-  cv::Vec3f g;   // ∂D/∂x, ∂D/∂y, ∂D/∂σ
+  cv::Vec3f g;    // ∂D/∂x, ∂D/∂y, ∂D/∂σ
   cv::Matx33f h;  // Hessian
 };
 
@@ -120,12 +120,10 @@ Derivatives derivatives(const cv::Mat& prev, const cv::Mat& cur, const cv::Mat& 
   const float dxy = (at(cur, r + 1, c + 1) - at(cur, r + 1, c - 1) - at(cur, r - 1, c + 1) +
                      at(cur, r - 1, c - 1)) *
                     0.25f;
-  const float dxs = (at(next, r, c + 1) - at(next, r, c - 1) - at(prev, r, c + 1) +
-                     at(prev, r, c - 1)) *
-                    0.25f;
-  const float dys = (at(next, r + 1, c) - at(next, r - 1, c) - at(prev, r + 1, c) +
-                     at(prev, r - 1, c)) *
-                    0.25f;
+  const float dxs =
+      (at(next, r, c + 1) - at(next, r, c - 1) - at(prev, r, c + 1) + at(prev, r, c - 1)) * 0.25f;
+  const float dys =
+      (at(next, r + 1, c) - at(next, r - 1, c) - at(prev, r + 1, c) + at(prev, r - 1, c)) * 0.25f;
   d.h = cv::Matx33f(dxx, dxy, dxs, dxy, dyy, dys, dxs, dys, dss);
   return d;
 }
@@ -159,9 +157,8 @@ bool localise(const SiftScaleSpace& s, int o, int layer, int r, int c, double th
   const double scale = static_cast<double>(1 << o) / s.baseScale();  // octave → input pixels
   kp->pt = s.toInput(o, cv::Point2f(static_cast<float>(c) + x[0], static_cast<float>(r) + x[1]));
   kp->octave = o + (layer << 8) + (static_cast<int>(std::lround((x[2] + 0.5) * 255)) << 16);
-  kp->size = static_cast<float>(s.sigma0() *
-                                std::pow(2.0, (layer + x[2]) / static_cast<double>(s.layers())) *
-                                scale * 2.0);
+  kp->size = static_cast<float>(
+      s.sigma0() * std::pow(2.0, (layer + x[2]) / static_cast<double>(s.layers())) * scale * 2.0);
   kp->response = std::abs(contrast);
   kp->angle = -1.0f;
   return true;

@@ -52,10 +52,9 @@ Status StereoFrontEnd::matchAlongRows(const cv::Mat& left, const cv::Mat& right)
   row_search_->search(left, right, detected, o_.stereo, o_.row_search, &row_matches_);
   // max_observations applies before the descriptors are computed: the rest are not described.
   if (o_.max_observations > 0 && static_cast<int>(row_matches_.size()) > o_.max_observations) {
-    std::stable_sort(row_matches_.begin(), row_matches_.end(),
-                     [](const RowStereoMatch& a, const RowStereoMatch& b) {
-                       return a.score > b.score;
-                     });
+    std::stable_sort(
+        row_matches_.begin(), row_matches_.end(),
+        [](const RowStereoMatch& a, const RowStereoMatch& b) { return a.score > b.score; });
     row_matches_.resize(static_cast<std::size_t>(o_.max_observations));
     std::sort(row_matches_.begin(), row_matches_.end(),
               [](const RowStereoMatch& a, const RowStereoMatch& b) { return a.left < b.left; });

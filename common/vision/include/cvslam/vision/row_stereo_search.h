@@ -24,18 +24,18 @@ class ConfigNode;
 namespace cvslam::vision {
 
 struct RowSearchOptions {
-  int patch_radius = 5;       ///< (2r+1)² patch [px]
-  double min_zncc = 0.85;     ///< accept a best score at or above this
-  double uniqueness = 0.6;    ///< 1 − best < uniqueness·(1 − second best)
-  double min_patch_std = 2.0; ///< grey-level std of a patch; flatter ones are not compared
+  int patch_radius = 5;        ///< (2r+1)² patch [px]
+  double min_zncc = 0.85;      ///< accept a best score at or above this
+  double uniqueness = 0.6;     ///< 1 − best < uniqueness·(1 − second best)
+  double min_patch_std = 2.0;  ///< grey-level std of a patch; flatter ones are not compared
 
   Status load(const ConfigNode& node);
 };
 
 struct RowStereoMatch {
-  int left = -1;          ///< index of the left keypoint
-  cv::Point2f right;      ///< (u_R, v_R) [px]
-  double score = 0.0;     ///< ZNCC of the match
+  int left = -1;       ///< index of the left keypoint
+  cv::Point2f right;   ///< (u_R, v_R) [px]
+  double score = 0.0;  ///< ZNCC of the match
 };
 
 /// Searches the right image for left keypoints; buffers are kept between calls.
@@ -48,15 +48,15 @@ class RowStereoSearch {
               std::vector<RowStereoMatch>* matches);
 
  private:
-  bool searchOne(const cv::KeyPoint& kp, int dlo, int dhi, double vd_max,
-                 const RowSearchOptions& o, RowStereoMatch* match);
+  bool searchOne(const cv::KeyPoint& kp, int dlo, int dhi, double vd_max, const RowSearchOptions& o,
+                 RowStereoMatch* match);
   double zncc(int x, int y) const;  // left patch (prepared) against right patch at (x, y)
 
   cv::Mat left_f_, right_f_;
-  std::vector<float> patch_;     // zero-mean left patch, (2r+1)²
-  float patch_norm_ = 0.0f;      // its L2 norm
-  float patch_mean_ = 0.0f;      // its mean grey level
-  float min_var_ = 0.0f;         // n·min_patch_std²: flatter patches are not compared
+  std::vector<float> patch_;  // zero-mean left patch, (2r+1)²
+  float patch_norm_ = 0.0f;   // its L2 norm
+  float patch_mean_ = 0.0f;   // its mean grey level
+  float min_var_ = 0.0f;      // n·min_patch_std²: flatter patches are not compared
   int radius_ = 0;
   std::vector<float> num_, sum_, sq_, score_;
 };

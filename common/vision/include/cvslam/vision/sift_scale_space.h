@@ -58,6 +58,7 @@ class SiftScaleSpace {
   /// angle = −1 (not yet assigned).
   void findExtrema(double dog_threshold, double edge_threshold,
                    std::vector<cv::KeyPoint>* keypoints);
+
  private:
   int octaves_ = 0;
   float base_scale_ = 1.0f;

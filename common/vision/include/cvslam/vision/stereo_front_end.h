@@ -25,18 +25,18 @@ class ConfigNode;
 namespace cvslam::vision {
 
 struct StereoFrontEndOptions {
-  DetectorOptions detector;   ///< detector and its parameters
-  StereoMatchOptions stereo;  ///< disparity window, VD band, criterion, DistRatio
+  DetectorOptions detector;     ///< detector and its parameters
+  StereoMatchOptions stereo;    ///< disparity window, VD band, criterion, DistRatio
   RowSearchOptions row_search;  ///< fast_sift: the right image searched along the row
-  int max_observations = 0;   ///< keep the best (smallest descriptor distance) N; 0 = all
+  int max_observations = 0;     ///< keep the best (smallest descriptor distance) N; 0 = all
 
   Status load(const ConfigNode& node);
 };
 
 /// Intermediate results of the last process() call (for tests, tools and visualisation).
 struct StereoFrontEndFrame {
-  Features left;   ///< fast_sift: the matched (and described) left keypoints only
-  Features right;  ///< fast_sift: the found right points, no descriptors
+  Features left;                  ///< fast_sift: the matched (and described) left keypoints only
+  Features right;                 ///< fast_sift: the found right points, no descriptors
   std::size_t left_detected = 0;  ///< keypoints detected on the left
   std::vector<StereoMatch> matches;
 };
