@@ -2,8 +2,8 @@
 // Fast adaptive SIFT of our own (issue 15; thesis §4.2.4–4.2.5, docs/front_end.md): the same
 // adaptive scale factor and energy-relative DoG threshold as adaptive SIFT (adaptive_sift.h,
 // items 1, 2, 3 and 5), on our own scale space (sift_scale_space.h) that starts at the input
-// resolution, with the best N keypoints kept over a grid before any orientation or descriptor
-// is computed (sift_descriptor.h). Detection and description are separate calls so that a
+// resolution (large images: at a resampled base, max_base_side), with the best N keypoints
+// kept over a grid before any orientation or descriptor is computed (sift_descriptor.h). Detection and description are separate calls so that a
 // front end can describe only the keypoints it keeps (e.g. those with a stereo match).
 
 #include <vector>
@@ -22,7 +22,7 @@ namespace cvslam::vision {
 
 struct FastSiftOptions {
   int grid_cols = 8;    ///< keep the best N over a cols × rows grid (keypoint_grid.h); 0 = off
-  int grid_rows = 6;    ///<
+  int grid_rows = 6;    ///< (as ORB's grid, detector options)
   int max_octaves = 6;  ///< octaves of the scale space (fewer on small images)
   /// The scale space starts at the input resampled so that its longer side is at most this
   /// (the scales a large image needs: the finest octave of a 752×480 image holds most of the

@@ -41,6 +41,7 @@ struct StereoFrontEndFrame {
   std::vector<StereoMatch> matches;
 };
 
+/// Copies share the detector and its scratch buffers: one instance (create()) per thread.
 class StereoFrontEnd {
  public:
   /// `vocabulary` may be null: the index is then 0. Its descriptor type must match the
