@@ -55,7 +55,8 @@ options:
                           `render:` world, default aerial) through the real front end and
                           map association (configuration section `frontend:`)
   --world aerial|hall     images: overrides the scenario's render world kind
-  --detector NAME         images: overrides frontend.detector.type (adaptive_sift | sift | orb)
+  --detector NAME         images: overrides frontend.detector.type (adaptive_sift |
+                          fast_sift | sift | orb)
   --filter ekf|nhinf      overrides filter.type of the configuration
   --map knearest|full     overrides map.kind of the configuration
   --passes N              overrides slam.observation_passes (thesis §5.7.3)

@@ -188,21 +188,10 @@ TEST(VisionDetector, AdaptiveSiftIsOpenCvSiftWithAdaptedParameters) {
 // 4.6) reports doubled-image pixel x at x/2, but that pixel's centre is at x/2 − 1/4 of the
 // input: its keypoints sit +0.25 px off in u and v (stereo disparities are unaffected).
 TEST(VisionDetector, NoUpsampleKeepsKeypointCoordinates) {
-  cv::Mat img(240, 320, CV_32F, cv::Scalar(60.0));
   std::vector<cv::Point2f> centres;
-  for (int by = 0; by < 2; ++by)
-    for (int bx = 0; bx < 3; ++bx) {
-      const cv::Point2f c(60.0f + 100.3f * bx, 65.0f + 110.35f * by);
-      centres.push_back(c);
-      const double sigma = 4.0 + bx;  // blob scales: all above the doubled octave
-      for (int v = 0; v < img.rows; ++v)
-        for (int u = 0; u < img.cols; ++u) {
-          const double r2 = (u - c.x) * (u - c.x) + (v - c.y) * (v - c.y);
-          img.at<float>(v, u) += static_cast<float>(150.0 * std::exp(-r2 / (2 * sigma * sigma)));
-        }
-    }
-  cv::Mat gray;
-  img.convertTo(gray, CV_8U);
+  std::vector<double> sigmas;
+  // Blob scales 4, 5, 6 px: all above the doubled octave.
+  const cv::Mat gray = test::blobImage(4.0, &centres, &sigmas);
   AdaptiveSiftOptions o;
   o.min_features = 1;
   auto nearest = [&](const Features& f, const cv::Point2f& c) {

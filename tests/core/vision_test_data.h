@@ -4,6 +4,8 @@
 // EuRoC's camera sensor.yaml into a StereoCalibration (the project's full parser lives
 // elsewhere; this one reads only what the tests need).
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -76,6 +78,55 @@ inline bool readEurocCamera(const std::string& yaml, vision::CameraCalibration* 
 inline bool eurocCalibration(vision::StereoCalibration* calib) {
   return readEurocCamera(eurocMicroDir() + "/cam0/sensor.yaml", &calib->left) &&
          readEurocCamera(eurocMicroDir() + "/cam1/sensor.yaml", &calib->right);
+}
+
+/// 320×240 grey image of 6 Gaussian blobs (amplitude 150 on 60) at sub-pixel centres, σ =
+/// sigma_first, +1, +2 px along each row of blobs.
+inline cv::Mat blobImage(double sigma_first, std::vector<cv::Point2f>* centres,
+                         std::vector<double>* sigmas) {
+  cv::Mat img(240, 320, CV_32F, cv::Scalar(60.0));
+  for (int by = 0; by < 2; ++by)
+    for (int bx = 0; bx < 3; ++bx) {
+      const cv::Point2f c(60.0f + 100.3f * bx, 65.0f + 110.35f * by);
+      const double sigma = sigma_first + bx;
+      centres->push_back(c);
+      sigmas->push_back(sigma);
+      for (int v = 0; v < img.rows; ++v)
+        for (int u = 0; u < img.cols; ++u) {
+          const double r2 = (u - c.x) * (u - c.x) + (v - c.y) * (v - c.y);
+          img.at<float>(v, u) += static_cast<float>(150.0 * std::exp(-r2 / (2 * sigma * sigma)));
+        }
+    }
+  cv::Mat gray;
+  img.convertTo(gray, CV_8U);
+  return gray;
+}
+
+/// Stereo matches of the real rectified EuRoC pairs: how many, the median row error and the
+/// fraction "plausible" (row within 1 px, depth f·b/d between 0.4 and 12 m: the Vicon room).
+struct RealStereoSummary {
+  int total = 0;
+  double median_row_error = 0.0;
+  double plausible = 0.0;
+};
+inline RealStereoSummary summariseRealStereo(
+    const std::vector<std::pair<cv::Point2f, cv::Point2f>>& matches, double f, double baseline) {
+  RealStereoSummary s;
+  std::vector<double> row_err;
+  int good = 0;
+  for (const auto& [pl, pr] : matches) {
+    const double dv = std::abs(pl.y - pr.y);
+    const double z = f * baseline / (pl.x - pr.x);  // eq. 4.10
+    row_err.push_back(dv);
+    if (dv <= 1.0 && z > 0.4 && z < 12.0) ++good;
+  }
+  s.total = static_cast<int>(matches.size());
+  if (row_err.empty()) return s;
+  std::nth_element(row_err.begin(), row_err.begin() + static_cast<long>(row_err.size() / 2),
+                   row_err.end());
+  s.median_row_error = row_err[row_err.size() / 2];
+  s.plausible = static_cast<double>(good) / s.total;
+  return s;
 }
 
 }  // namespace cvslam::test

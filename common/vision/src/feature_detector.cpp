@@ -11,8 +11,10 @@ Status DetectorOptions::load(const ConfigNode& node) {
   node.getEnum("type", type,
                {{"adaptive_sift", DetectorType::kAdaptiveSift},
                 {"sift", DetectorType::kSift},
-                {"orb", DetectorType::kOrb}});
+                {"orb", DetectorType::kOrb},
+                {"fast_sift", DetectorType::kFastSift}});
   adaptive_sift.load(node.child("adaptive_sift"));
+  fast_sift.load(node.child("fast_sift"));
   node.get("sift_max_features", sift_max_features);
   node.get("sift_octave_layers", sift_octave_layers);
   node.get("sift_contrast_threshold", sift_contrast_threshold);
@@ -56,6 +58,18 @@ class AdaptiveSiftDetector final : public FeatureDetector {
 
  private:
   AdaptiveSiftOptions o_;
+};
+
+class FastSiftDetector final : public FeatureDetector {
+ public:
+  explicit FastSiftDetector(const DetectorOptions& o) : sift_(o.adaptive_sift, o.fast_sift) {}
+  Status detect(const cv::Mat& gray, Features* out) override {
+    return sift_.detectAndDescribe(gray, out);
+  }
+  DescriptorType descriptorType() const override { return DescriptorType::kSift; }
+
+ private:
+  FastSift sift_;
 };
 
 class SiftDetector final : public FeatureDetector {
@@ -114,6 +128,9 @@ Expected<std::unique_ptr<FeatureDetector>> makeFeatureDetector(const DetectorOpt
   switch (o.type) {
     case DetectorType::kAdaptiveSift:
       d = std::make_unique<AdaptiveSiftDetector>(o.adaptive_sift);
+      break;
+    case DetectorType::kFastSift:
+      d = std::make_unique<FastSiftDetector>(o);
       break;
     case DetectorType::kSift:
       d = std::make_unique<SiftDetector>(o);

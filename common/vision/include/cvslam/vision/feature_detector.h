@@ -1,12 +1,14 @@
 #pragma once
 // One interface for the front end's detectors (thesis §4.2.3–4.2.5, docs/front_end.md):
-// adaptive SIFT (the thesis's choice), plain SIFT (Lowe, the baseline) and ORB (fast option).
+// adaptive SIFT (the thesis's choice, on OpenCV's SIFT), fast SIFT (the same adaptation on our
+// own scale space, fast_sift.h), plain SIFT (Lowe, the baseline) and ORB.
 // A detector turns one grey image into keypoints plus descriptors.
 
 #include <memory>
 
 #include "cvslam/core/status.h"
 #include "cvslam/vision/adaptive_sift.h"
+#include "cvslam/vision/fast_sift.h"
 #include "cvslam/vision/features.h"
 
 namespace cvslam {
@@ -15,11 +17,12 @@ class ConfigNode;
 
 namespace cvslam::vision {
 
-enum class DetectorType { kAdaptiveSift, kSift, kOrb };
+enum class DetectorType { kAdaptiveSift, kSift, kOrb, kFastSift };
 
 struct DetectorOptions {
-  DetectorType type = DetectorType::kAdaptiveSift;  ///< adaptive_sift | sift | orb
-  AdaptiveSiftOptions adaptive_sift;                ///< §4.2.5 (used when type = adaptive_sift)
+  DetectorType type = DetectorType::kAdaptiveSift;  ///< adaptive_sift | fast_sift | sift | orb
+  AdaptiveSiftOptions adaptive_sift;  ///< §4.2.5 (adaptive_sift, and fast_sift's adaptation)
+  FastSiftOptions fast_sift;          ///< grid and octaves of fast_sift
   // Plain SIFT (Lowe 2004; OpenCV's defaults).
   int sift_max_features = 0;              ///< 0 = keep all (classical SIFT)
   int sift_octave_layers = 3;             ///< s, k = 2^(1/s)
