@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cvslam/coop/agent_config.h"
+#include "cvslam/io/build_info.h"
 #include "cvslam/io/effective_config.h"
 #include "cvslam/io/run_reader.h"
 #include "cvslam/io/run_writer.h"
@@ -154,6 +155,10 @@ TEST(AgentConfig, RunJsonRecordsWhatRepeatsTheRun) {
   EXPECT_EQ(back->agents, info.agents);
   EXPECT_EQ(back->config, info.config);
   EXPECT_EQ(back->program, "cvslam_run");
+  // The code the run came from: this build's commit (a git checkout: hex digits, maybe
+  // "-dirty"; "unknown" outside one).
+  EXPECT_EQ(back->commit, buildCommit());
+  EXPECT_FALSE(back->commit.empty());
   // Unset facts stay absent.
   ASSERT_TRUE(writeRunInfo(tmp / "bare", RunInfo{}).ok());
   auto bare = readRunInfo(tmp / "bare");

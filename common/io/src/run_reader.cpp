@@ -49,6 +49,7 @@ Expected<RunInfo> readRunInfo(const std::string& run_dir) {
   str("pixel_noise", info.pixel_noise);
   str("config", info.config);
   str("program", info.program);
+  str("commit", info.commit);
   if (const auto j = json->find("seed"); j != json->end() && j->is_number_unsigned())
     info.seed = j->get<uint64_t>();
   if (const auto j = json->find("duration_s"); j != json->end() && j->is_number())

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "cvslam/io/build_info.h"
 #include "cvslam/io/json_file.h"
 #include "cvslam/io/time_format.h"
 
@@ -217,6 +218,7 @@ Status writeRunInfo(const std::string& run_dir, const RunInfo& info) {
   if (!info.agents.empty()) root["agents"] = info.agents;
   text("config", info.config);
   text("program", info.program);
+  root["commit"] = info.commit.empty() ? std::string(buildCommit()) : info.commit;
   return writeJsonFile(run_dir + "/run.json", root);
 }
 

@@ -83,6 +83,10 @@ struct RunInfo {
   std::vector<int> agents;           ///< the UAVs that ran (ids)
   std::string config;                ///< the configuration file given (before overrides)
   std::string program;               ///< cvslam_run | cvslam_agent
+  /// The code the run came from (`git describe --always --dirty` at build time): with
+  /// config_used.yaml, which holds the file and overrides but not the built-in defaults,
+  /// it pins every option. writeRunInfo fills it in when empty.
+  std::string commit;
 };
 
 /// Everything read back for one agent.
