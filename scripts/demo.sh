@@ -8,7 +8,7 @@
 #   scripts/demo.sh [--out DIR] [--detector orb|adaptive_sift|sift] [--sensing images|features]
 #                   [--duration S] [--build DIR] [--no-build]
 #
-# Detector: adaptive SIFT (the image-sensing default, ≈ 13 min on 2 cores). ORB
+# Detector: adaptive SIFT (the image-sensing default, ≈ 2.5 min of runs on 2 idle cores). ORB
 # (--detector orb) is ≈ 3× faster and has its own feature-index vocabulary
 # (config/vocabulary_orb.cvoc), but its map association is less precise (docs/image_sensing.md).
 set -euo pipefail
