@@ -1,11 +1,13 @@
 // cvslam_agent on EuRoC-format folders (docs/run_format.md): calibration from the folder's
 // sensor.yaml files, start at the first ground-truth pose, rendered images through the real
-// front end; a start at rest on the real EuRoC micro sequence; and a clean end on SIGTERM.
+// front end; a start at rest on the real EuRoC micro sequence, also through
+// scripts/run_dataset.sh; and a clean end on SIGTERM.
 // Ports 27820–27829.
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <thread>
 
 #include "agent_test_util.h"
@@ -115,6 +117,35 @@ TEST(AgentEurocProcess, StartAtRestRefusesAMovingVehicle) {
             std::string::npos)
       << e;
   EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 1) << e;
+}
+
+// scripts/run_dataset.sh: the one command for a recorded folder (replay + agent at rest +
+// evaluation with the 4-DoF alignment + plots) on the real micro sequence; a bad folder is one
+// line and exit 2.
+TEST(AgentEurocProcess, RunDatasetScriptOnTheRealMicroSequence) {
+  test::TempFolder tmp;
+  const std::string build = std::filesystem::path(CVSLAM_EVAL_EXE).parent_path().parent_path();
+  const std::string script = test::sourceDir() + "/scripts/run_dataset.sh";
+  std::string out, err;
+  ASSERT_EQ(
+      test::run({"/bin/bash", script, test::sharedDataDir() + "/euroc_micro", "--out", tmp / "run",
+                 "--build", build, "--lcm-url", test::agentUrl(27824) + "&recv_buf_size=16777216"},
+                tmp / "script", &out, &err, 180s),
+      0)
+      << out << err;
+  auto summary = readJsonFile(tmp / "run/summary.json");
+  ASSERT_TRUE(summary.ok()) << summary.status().message();
+  EXPECT_EQ(summary->at("alignment"), "yaw");
+  const Json& ate = summary->at("agents").at("1").at("ate_rmse_m");
+  ASSERT_TRUE(ate.is_number()) << summary->dump();
+  EXPECT_LT(ate.get<double>(), 0.01);
+
+  EXPECT_EQ(test::run({"/bin/bash", script, tmp / "nothing_here"}, tmp / "bad", &out, &err, 30s),
+            2);
+  EXPECT_NE(err.find("run_dataset.sh: " + tmp / "nothing_here" + ": no mav0/ folder"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
 TEST(AgentEurocProcess, SigtermEndsCleanly) {
