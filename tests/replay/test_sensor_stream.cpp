@@ -6,8 +6,8 @@
 #include <fstream>
 #include <map>
 
-#include "cvslam/geometry/euler.h"
 #include "cvslam/dataset/euroc_dataset_writer.h"
+#include "cvslam/geometry/euler.h"
 #include "cvslam/sensors/euroc_sensor_stream.h"
 #include "cvslam/sensors/merged_sensor_source.h"
 #include "cvslam/simrun/render_world_choice.h"

@@ -3,8 +3,9 @@
 // adaptive scale factor and energy-relative DoG threshold as adaptive SIFT (adaptive_sift.h,
 // items 1, 2, 3 and 5), on our own scale space (sift_scale_space.h) that starts at the input
 // resolution (large images: at a resampled base, max_base_side), with the best N keypoints
-// kept over a grid before any orientation or descriptor is computed (sift_descriptor.h). Detection and description are separate calls so that a
-// front end can describe only the keypoints it keeps (e.g. those with a stereo match).
+// kept over a grid before any orientation or descriptor is computed (sift_descriptor.h). Detection
+// and description are separate calls so that a front end can describe only the keypoints it keeps
+// (e.g. those with a stereo match).
 
 #include <vector>
 
