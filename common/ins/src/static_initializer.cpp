@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <string>
 
-#include "cvslam/geometry/euler.h"
 #include "cvslam/io/config_node.h"
 
 namespace cvslam {
@@ -82,18 +81,19 @@ Expected<StaticInitialization> initializeAtRest(const std::vector<ImuSample>& sa
     accel_change = std::max(accel_change, (fs / m - f).cwiseAbs().maxCoeff());
     gyro_change = std::max(gyro_change, (ws / m - w).cwiseAbs().maxCoeff());
   }
+  const auto not_at_rest = [&](const char* what, double change, int digits, const char* unit,
+                               const char* key) {
+    char buf[256];
+    std::snprintf(buf, sizeof(buf),
+                  "static initialisation: the vehicle is not at rest in the first %.3f s (mean "
+                  "%s changes by %.*f %s, limit static_init.%s)",
+                  options.window_s, what, digits, change, unit, key);
+    return Status::Error(buf);
+  };
   if (accel_change > options.max_accel_mean_change)
-    return Status::Error(
-        format("static initialisation: the vehicle is not at rest in the first "
-               "%.3f s (mean specific force changes by %.3f m/s², limit "
-               "static_init.max_accel_mean_change)",
-               options.window_s, accel_change));
+    return not_at_rest("specific force", accel_change, 3, "m/s²", "max_accel_mean_change");
   if (gyro_change > options.max_gyro_mean_change)
-    return Status::Error(
-        format("static initialisation: the vehicle is not at rest in the first "
-               "%.3f s (mean angular rate changes by %.4f rad/s, limit "
-               "static_init.max_gyro_mean_change)",
-               options.window_s, gyro_change));
+    return not_at_rest("angular rate", gyro_change, 4, "rad/s", "max_gyro_mean_change");
   if (std::abs(f.norm() - gravity) > options.max_gravity_error)
     return Status::Error(
         format("static initialisation: mean specific force %.3f m/s² at rest, "
@@ -103,7 +103,6 @@ Expected<StaticInitialization> initializeAtRest(const std::vector<ImuSample>& sa
   const double roll = std::atan2(-f.y(), -f.z());
   const double pitch = std::atan2(f.x(), std::hypot(f.y(), f.z()));
   init.euler = Eigen::Vector3d(roll, pitch, 0.0);
-  init.R_BtoN = rotationBodyToNav<double>(init.euler);
   init.gyro_bias = w;
   init.gyro_bias_sigma = init.gyro_std / std::sqrt(count);
   init.tilt_sigma = accel_bias_sigma / gravity;

@@ -44,9 +44,8 @@ struct StaticInitializerOptions {
 
 /// The vehicle state found at rest, in the estimator's gravity-aligned NED frame.
 struct StaticInitialization {
-  int64_t t_us = 0;                                 ///< last sample of the window
-  Eigen::Vector3d euler = Eigen::Vector3d::Zero();  ///< φ θ ψ [rad], ψ = 0
-  Eigen::Matrix3d R_BtoN = Eigen::Matrix3d::Identity();
+  int64_t t_us = 0;                                     ///< last sample of the window
+  Eigen::Vector3d euler = Eigen::Vector3d::Zero();      ///< φ θ ψ [rad], ψ = 0
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();  ///< mean rate at rest [rad/s]
   /// 1σ of the gyro-bias estimate: the rate noise averaged over the window [rad/s].
   Eigen::Vector3d gyro_bias_sigma = Eigen::Vector3d::Zero();
