@@ -143,13 +143,10 @@ TEST(VisionFastSift, FrontEndOnRealPairsIsRowAlignedAndPlausible) {
   o.stereo.max_vertical_disparity_px = 4.0;  // rows refined within ±1 px
   auto fe = StereoFrontEnd::create(o, nullptr);
   ASSERT_TRUE(fe.ok()) << fe.status().message();
-  const auto stamps = test::eurocStereoStamps();
-  ASSERT_GE(stamps.size(), 60u);
+  std::vector<std::pair<cv::Mat, cv::Mat>> pairs;
+  ASSERT_TRUE(test::rectifiedEurocPairs(*rect, &pairs));
   std::vector<std::pair<cv::Point2f, cv::Point2f>> matches;
-  for (std::size_t k : {0u, 30u, 60u}) {
-    cv::Mat l, rt, lr, rr;
-    ASSERT_TRUE(test::loadEurocPair(stamps[k], &l, &rt));
-    ASSERT_TRUE(rect->rectify(l, rt, &lr, &rr).ok());
+  for (const auto& [lr, rr] : pairs) {
     std::vector<StereoObservation> obs;
     ASSERT_TRUE(fe->process(lr, rr, &obs).ok());
     for (const StereoObservation& ob : obs)

@@ -128,13 +128,10 @@ TEST_P(VisionStereoReal, RectifiedEurocPairHasRowAlignedPlausibleMatches) {
   o.baseline_m = r.baseline;
   o.min_depth_m = 0.4;
   o.max_vertical_disparity_px = 4.0;  // wide band, so that row errors could show
-  const auto stamps = test::eurocStereoStamps();
-  ASSERT_GE(stamps.size(), 60u);
+  std::vector<std::pair<cv::Mat, cv::Mat>> pairs;
+  ASSERT_TRUE(test::rectifiedEurocPairs(*rect, &pairs));
   std::vector<std::pair<cv::Point2f, cv::Point2f>> matches;
-  for (std::size_t k : {0u, 30u, 60u}) {
-    cv::Mat l, rt, lr, rr;
-    ASSERT_TRUE(test::loadEurocPair(stamps[k], &l, &rt));
-    ASSERT_TRUE(rect->rectify(l, rt, &lr, &rr).ok());
+  for (const auto& [lr, rr] : pairs) {
     Features fl, fr;
     ASSERT_TRUE((*det)->detect(lr, &fl).ok());
     ASSERT_TRUE((*det)->detect(rr, &fr).ok());

@@ -11,9 +11,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cvslam/vision/stereo_calibration.h"
+#include "cvslam/vision/stereo_rectifier.h"
 #include "test_paths.h"
 
 namespace cvslam::test {
@@ -48,6 +50,20 @@ inline bool loadEurocPair(const std::string& stamp, cv::Mat* left, cv::Mat* righ
   *left = cv::imread(eurocMicroDir() + "/cam0/data/" + stamp + ".png", cv::IMREAD_GRAYSCALE);
   *right = cv::imread(eurocMicroDir() + "/cam1/data/" + stamp + ".png", cv::IMREAD_GRAYSCALE);
   return !left->empty() && !right->empty();
+}
+
+/// The rectified real pairs of the real-stereo tests: frames 0, 30 and 60 of euroc_micro
+/// (three views of the Vicon room). False when one cannot be read or rectified.
+inline bool rectifiedEurocPairs(const vision::StereoRectifier& rect,
+                                std::vector<std::pair<cv::Mat, cv::Mat>>* pairs) {
+  const auto stamps = eurocStereoStamps();
+  if (stamps.size() <= 60) return false;
+  for (std::size_t k : {0u, 30u, 60u}) {
+    cv::Mat l, r, lr, rr;
+    if (!loadEurocPair(stamps[k], &l, &r) || !rect.rectify(l, r, &lr, &rr).ok()) return false;
+    pairs->emplace_back(lr, rr);
+  }
+  return true;
 }
 
 inline bool readEurocCamera(const std::string& yaml, vision::CameraCalibration* c) {
