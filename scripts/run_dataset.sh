@@ -3,7 +3,7 @@
 # (scripts/launch.sh), evaluate the result against the folder's ground truth when it has one
 # (cvslam_eval), and draw the plots (scripts/plot_run.py).
 #
-#   scripts/run_dataset.sh PATH [--out DIR] [--start rest|known] [--build DIR]
+#   scripts/run_dataset.sh PATH [--out DIR] [--start rest|known] [--duration S] [--build DIR]
 #                          [--lcm-url URL] [--agent-arg ARG ...]
 #
 #   PATH                 EuRoC ASL folder (PATH/mav0/...) with cam0, cam1, imu0 and their sensor.yaml
@@ -13,6 +13,7 @@
 #                        the estimate to the ground truth by yaw + translation (4-DoF)
 #   --start known        the agent starts at the folder's first ground-truth pose (a NED folder,
 #                        e.g. written by cvslam_simulate); no alignment
+#   --duration S         replay only the first S seconds of the folder (default: all of it)
 #   --build DIR          where the programs are (default build/)
 #   --lcm-url URL        LCM provider (default: launch.sh's)
 #   --agent-arg ARG      extra argument for the agent (repeatable), e.g. --detector fast_sift
@@ -21,7 +22,7 @@ set -uo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BUILD="$ROOT/build"
-DATA="" OUT="" START=rest URL=""
+DATA="" OUT="" START=rest URL="" DURATION=""
 EXTRA=()
 die() { echo "run_dataset.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -29,6 +30,7 @@ while [ $# -gt 0 ]; do
     -h|--help) sed -n '2,/^set -uo/p' "$0" | grep '^#' | sed 's/^# \{0,1\}//'; exit 0 ;;
     --out) OUT="${2:?--out needs a value}"; shift 2 ;;
     --start) START="${2:?--start needs a value}"; shift 2 ;;
+    --duration) DURATION="${2:?--duration needs a value}"; shift 2 ;;
     --build) BUILD="${2:?--build needs a value}"; shift 2 ;;
     --lcm-url) URL="${2:?--lcm-url needs a value}"; shift 2 ;;
     --agent-arg) EXTRA+=(--agent-arg "${2:?--agent-arg needs a value}"); shift 2 ;;
@@ -45,6 +47,7 @@ case "$START" in rest) ALIGN=yaw ;; known) ALIGN=none ;; *) die "--start must be
 launch=("$ROOT/scripts/launch.sh" --dataset "1:$DATA" --lockstep --out "$OUT" --build "$BUILD"
         --agent-arg --start --agent-arg "$START" "${EXTRA[@]}")
 [ -n "$URL" ] && launch+=(--lcm-url "$URL")
+[ -n "$DURATION" ] && launch+=(--duration "$DURATION")
 "${launch[@]}" || { echo "run_dataset.sh: the run failed (logs in $OUT/logs/)" >&2; exit 1; }
 
 "$BUILD/tools/cvslam_eval" --run "$OUT" --align "$ALIGN" --summary-json "$OUT/summary.json" ||

@@ -61,8 +61,10 @@ TEST(AgentEurocProcess, StartsAtRestOnTheRealMicroSequence) {
   test::Child agent({CVSLAM_AGENT_EXE, "--id", "1", "--calibration", euroc, "--start", "rest",
                      "--lcm-url", url, "--out", tmp / "lcm", "--idle-exit", "3", "--verbose"},
                     tmp / "a1");
+  // The folder holds 145 s of IMU but 4.7 s of frames: replay the frames' span only, so that
+  // no burst of IMU messages after the last frame floods the loopback under a loaded CI.
   test::Child replay({CVSLAM_REPLAY_EXE, "--dataset", "1:" + euroc, "--lockstep",
-                      "--lockstep-timeout", "30", "--lcm-url", url, "--quiet"},
+                      "--lockstep-timeout", "30", "--lcm-url", url, "--quiet", "--duration", "5"},
                      tmp / "replay");
   EXPECT_EQ(replay.wait(180s), 0) << replay.err();
   EXPECT_EQ(agent.wait(60s), 0) << agent.err();
@@ -127,11 +129,11 @@ TEST(AgentEurocProcess, RunDatasetScriptOnTheRealMicroSequence) {
   const std::string build = std::filesystem::path(CVSLAM_EVAL_EXE).parent_path().parent_path();
   const std::string script = test::sourceDir() + "/scripts/run_dataset.sh";
   std::string out, err;
-  ASSERT_EQ(
-      test::run({"/bin/bash", script, test::sharedDataDir() + "/euroc_micro", "--out", tmp / "run",
-                 "--build", build, "--lcm-url", test::agentUrl(27824) + "&recv_buf_size=16777216"},
-                tmp / "script", &out, &err, 180s),
-      0)
+  ASSERT_EQ(test::run({"/bin/bash", script, test::sharedDataDir() + "/euroc_micro", "--out",
+                       tmp / "run", "--duration", "5", "--build", build, "--lcm-url",
+                       test::agentUrl(27824) + "&recv_buf_size=16777216"},
+                      tmp / "script", &out, &err, 180s),
+            0)
       << out << err;
   auto summary = readJsonFile(tmp / "run/summary.json");
   ASSERT_TRUE(summary.ok()) << summary.status().message();
