@@ -79,7 +79,7 @@ struct LoopScene {
   LoopQuery query(const StereoCamera::Vector9d& x_estimate) const {
     LoopQuery q;
     q.t_us = kNow;
-    q.x_v = x_estimate;
+    q.x_v = EstimatedPose::fromEuler(x_estimate);
     q.position_sigma_m = 2.0;  // search radius 20 m, corrections up to 7 m (3.5 σ)
     return q;
   }

@@ -31,7 +31,7 @@ constexpr int64_t kUsPerS = 1000000;
 struct SceneVehicle {
   VariableKey key;
   int size = vehicle::kSizeNoBias;
-  vehicle_model::Pose truth = vehicle_model::Pose::Zero();
+  StereoCamera::Vector9d truth = StereoCamera::Vector9d::Zero();  ///< Euler layout
   Eigen::VectorXd x0;  ///< initial estimate (offset from the truth)
   Eigen::MatrixXd P0;
   std::vector<Eigen::Vector3d> landmarks;
@@ -69,7 +69,7 @@ StereoFrameObservations observe(const SceneVehicle& v, const StereoCamera& camer
                                 double error_px, const Eigen::Vector3d& shift = {0, 0, 0}) {
   StereoFrameObservations f;
   f.t_us = t_us;
-  vehicle_model::Pose seen_from = v.truth;
+  StereoCamera::Vector9d seen_from = v.truth;
   seen_from.head<3>() -= shift;
   for (std::size_t k = 0; k < v.landmarks.size(); ++k) {
     StereoObservation o;
@@ -89,7 +89,7 @@ struct VehicleModels {
         initialiser(v.key, camera, o),
         loop_closer(v.key, camera, o),
         ci(v.key) {
-    book.setVehicleYawDirection(vehicle_model::yawDirection(v.x0.head<3>(), v.size));
+    book.setVehicleYawDirection(vehicle_model::yawDirection(EstimatedPose::fromEuler(v.x0.head<9>()), v.size));
   }
   LandmarkBook book;
   StereoUpdater updater;
@@ -407,7 +407,7 @@ TEST(VehicleModel, PoseJacobianAndCorrectionOfTheVehicleBlock) {
   dx(vehicle::kAttitude + 2) = 3.0;
   dx(vehicle::kAccelBias) = 0.01;
   Eigen::VectorXd corrected = x_v;
-  vehicle_model::correct(corrected, dx);
+  vehicle_model::correct(corrected, dx, nullptr);
   EXPECT_NEAR(corrected(vehicle::kAttitude + 2), wrapAngle(0.7 + 3.0), 1e-15);
   EXPECT_LE(corrected(vehicle::kAttitude + 2), M_PI);
   EXPECT_EQ(corrected(vehicle::kAccelBias), 0.01);
@@ -417,7 +417,8 @@ TEST(VehicleModel, PoseJacobianAndCorrectionOfTheVehicleBlock) {
   EXPECT_NEAR(moved(vehicle::kAttitude + 2), 0.9, 1e-15);
   EXPECT_EQ(moved.segment<5>(vehicle::kVelocity), x_v.segment<5>(vehicle::kVelocity));
   // u_v: a global yaw moves the position by e3 × p and ψ by 1.
-  const Eigen::VectorXd u = vehicle_model::yawDirection(Eigen::Vector3d(1, -2, -10), 15);
+  const Eigen::VectorXd u = vehicle_model::yawDirection(
+      EstimatedPose::fromEuler((StereoCamera::Vector9d() << 1, -2, -10, 0, 0, 0, 0, 0, 0).finished()), 15);
   EXPECT_EQ(u.head<3>(), Eigen::Vector3d(2, 1, 0));
   EXPECT_EQ(u(vehicle::kAttitude + 2), 1.0);
   EXPECT_EQ(u.tail<6>(), Eigen::VectorXd::Zero(6));

@@ -9,6 +9,7 @@
 
 #include "cvslam/filter/vehicle_model.h"
 #include "cvslam/geometry/euler.h"
+#include "cvslam/geometry/so3.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/observability_constraint.h"
@@ -25,21 +26,52 @@ TEST(ObservabilityConstraint, ProjectedJacobianAnnihilatesTranslationAndYaw) {
   Eigen::Matrix<double, 9, 1> x;
   x << 12.0, -7.0, -10.0, 3.0, 0.2, 0.0, 0.05, -0.03, 0.8;
   const Eigen::Vector3d p_L(13.0, -6.0, 0.5);
-  StereoCamera::Matrix4x9d H_v;
-  StereoCamera::Matrix4x3d H_L;
-  camera.project(x, p_L, &H_v, &H_L);
-  // Directions taken at slightly different points (as the filter carries them).
-  const Eigen::VectorXd u_v =
-      vehicle_model::yawDirection(x.head<3>() + Eigen::Vector3d(0.3, -0.2, 0.0), 15);
-  const Eigen::Vector3d u_L = yawDirectionOfPoint(p_L + Eigen::Vector3d(-0.4, 0.1, 0.0));
-  const double before = (H_v * u_v.head<9>() + H_L * u_L).norm();
-  EXPECT_GT(before, 1.0);  // the unconstrained Jacobian "sees" this yaw direction
-  StereoCamera::Matrix4x9d H_v0 = H_v;
-  constrainStereoJacobian(u_v, u_L, &H_v, &H_L);
-  EXPECT_LT((H_v * u_v.head<9>() + H_L * u_L).norm(), 1e-9);
-  EXPECT_LT((H_v.leftCols<3>() + H_L).norm(), 1e-9);  // translation
-  // The change is small next to the Jacobian itself (a projection, not a new model).
-  EXPECT_LT((H_v - H_v0).norm(), 0.1 * H_v0.norm());
+  // The same pose with Euler angles and with the rotation error state.
+  const EstimatedPose euler_pose = EstimatedPose::fromEuler(x);
+  EstimatedPose error_pose = euler_pose;
+  error_pose.attitude = vehicle::Attitude::kErrorState;
+  for (const EstimatedPose& pose : {euler_pose, error_pose}) {
+    StereoCamera::Matrix4x9d H_v;
+    StereoCamera::Matrix4x3d H_L;
+    camera.project(pose, p_L, &H_v, &H_L);
+    // Directions taken at slightly different points (as the filter carries them).
+    EstimatedPose moved = pose;
+    moved.p_BinN += Eigen::Vector3d(0.3, -0.2, 0.0);
+    const Eigen::VectorXd u_v = vehicle_model::yawDirection(moved, 15);
+    const Eigen::Vector3d u_L = yawDirectionOfPoint(p_L + Eigen::Vector3d(-0.4, 0.1, 0.0));
+    const double before = (H_v * u_v.head<9>() + H_L * u_L).norm();
+    EXPECT_GT(before, 1.0);  // the unconstrained Jacobian "sees" this yaw direction
+    StereoCamera::Matrix4x9d H_v0 = H_v;
+    constrainStereoJacobian(u_v, u_L, &H_v, &H_L);
+    EXPECT_LT((H_v * u_v.head<9>() + H_L * u_L).norm(), 1e-9);
+    EXPECT_LT((H_v.leftCols<3>() + H_L).norm(), 1e-9);  // translation
+    // The change is small next to the Jacobian itself (a projection, not a new model).
+    EXPECT_LT((H_v - H_v0).norm(), 0.1 * H_v0.norm());
+  }
+}
+
+/// u_v is the derivative of the state coordinates under a global yaw α about N's z:
+/// p ↦ Rz(α) p, R ↦ Rz(α) R (Euler: ψ + α; error state: δθ = Log(R̂ᵀ Rz(α) R̂)).
+TEST(ObservabilityConstraint, YawDirectionMatchesFiniteDifferences) {
+  Eigen::Matrix<double, 9, 1> x;
+  x << 12.0, -7.0, -10.0, 3.0, 0.2, 0.0, 0.05, -0.03, 0.8;
+  const EstimatedPose euler_pose = EstimatedPose::fromEuler(x);
+  const double h = 1e-6;
+  const Eigen::Matrix3d Rz(Eigen::AngleAxisd(h, Eigen::Vector3d::UnitZ()));
+  const Eigen::Vector3d dp = (Rz * euler_pose.p_BinN - euler_pose.p_BinN) / h;
+  const Eigen::VectorXd u_euler = vehicle_model::yawDirection(euler_pose, 9);
+  const Eigen::Vector3d de =
+      (eulerFromRotationNavToBody((Rz * euler_pose.R_BtoN).transpose()) - euler_pose.euler) / h;
+  EXPECT_LT((u_euler.head<3>() - dp).norm(), 1e-6);
+  EXPECT_LT((u_euler.segment<3>(vehicle::kAttitude) - de).norm(), 1e-6);
+  EstimatedPose error_pose = euler_pose;
+  error_pose.attitude = vehicle::Attitude::kErrorState;
+  const Eigen::VectorXd u_error = vehicle_model::yawDirection(error_pose, 9);
+  const Eigen::Vector3d dtheta =
+      so3::log(error_pose.R_BtoN.transpose() * Rz * error_pose.R_BtoN) / h;
+  EXPECT_LT((u_error.head<3>() - dp).norm(), 1e-6);
+  EXPECT_LT((u_error.segment<3>(vehicle::kAttitude) - dtheta).norm(), 1e-6);
+  EXPECT_EQ(u_error.segment<3>(vehicle::kVelocity), Eigen::Vector3d::Zero());
 }
 
 TEST(ObservabilityConstraint, LoopAlignmentMovesTheYawDirection) {

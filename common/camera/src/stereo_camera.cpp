@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cvslam/geometry/euler.h"
+#include "cvslam/geometry/so3.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/io/config_node.h"
 
@@ -52,21 +53,37 @@ Status StereoCameraOptions::load(const ConfigNode& node) {
   return node.status();
 }
 
-Eigen::Vector3d StereoCamera::landmarkInCamera(const Eigen::Vector3d& p_BinN,
-                                               const Eigen::Vector3d& euler,
+Eigen::Vector3d StereoCamera::landmarkInCamera(const EstimatedPose& pose,
                                                const Eigen::Vector3d& p_LinN, Matrix3x9d* dpC_dxv,
                                                Eigen::Matrix3d* dpC_dpL) const {
-  const Eigen::Matrix3d R_NtoB = rotationNavToBody(euler);
-  const Eigen::Vector3d d_N = p_LinN - p_BinN;  // landmark relative to the body, in N
+  const bool euler = pose.attitude == vehicle::Attitude::kEuler;
+  // Euler: R from the angles, as the thesis's model (bit-identical to it).
+  const Eigen::Matrix3d R_NtoB =
+      euler ? rotationNavToBody(pose.euler) : Eigen::Matrix3d(pose.R_BtoN.transpose());
+  const Eigen::Vector3d d_N = p_LinN - pose.p_BinN;  // landmark relative to the body, in N
   const Eigen::Matrix3d R_NtoC = o_.R_BtoC * R_NtoB;
   if (dpC_dxv) {
     dpC_dxv->setZero();
     dpC_dxv->block<3, 3>(0, vehicle::kPosition) = -R_NtoC;
-    const auto dR = dRotationNavToBody_dEuler(euler);
-    for (int i = 0; i < 3; ++i) dpC_dxv->col(vehicle::kAttitude + i) = o_.R_BtoC * dR[i] * d_N;
+    if (euler) {
+      const auto dR = dRotationNavToBody_dEuler(pose.euler);
+      for (int i = 0; i < 3; ++i) dpC_dxv->col(vehicle::kAttitude + i) = o_.R_BtoC * dR[i] * d_N;
+    } else {
+      // R_NtoB(δθ) = Exp(−δθ) R̂ᵀ: ∂(R_NtoB d_N)/∂δθ = [R̂ᵀ d_N]×.
+      dpC_dxv->block<3, 3>(0, vehicle::kAttitude) = o_.R_BtoC * so3::skew<double>(R_NtoB * d_N);
+    }
   }
   if (dpC_dpL) *dpC_dpL = R_NtoC;
   return o_.R_BtoC * (R_NtoB * d_N - o_.p_CinB);
+}
+
+Eigen::Vector3d StereoCamera::landmarkInCamera(const Eigen::Vector3d& p_BinN,
+                                               const Eigen::Vector3d& euler,
+                                               const Eigen::Vector3d& p_LinN, Matrix3x9d* dpC_dxv,
+                                               Eigen::Matrix3d* dpC_dpL) const {
+  Vector9d x = Vector9d::Zero();
+  x << p_BinN, Eigen::Vector3d::Zero(), euler;
+  return landmarkInCamera(EstimatedPose::fromEuler(x), p_LinN, dpC_dxv, dpC_dpL);
 }
 
 Eigen::Vector4d StereoCamera::project(const Eigen::Vector3d& p_LinC, Matrix4x3d* dz_dpC) const {
@@ -85,19 +102,23 @@ Eigen::Vector4d StereoCamera::project(const Eigen::Vector3d& p_LinC, Matrix4x3d*
   return {u_l, v, u_r, v};
 }
 
-Eigen::Vector4d StereoCamera::project(const Vector9d& x_v, const Eigen::Vector3d& p_LinN,
+Eigen::Vector4d StereoCamera::project(const EstimatedPose& pose, const Eigen::Vector3d& p_LinN,
                                       Matrix4x9d* dz_dxv, Matrix4x3d* dz_dpL) const {
   Matrix3x9d dpC_dxv;
   Eigen::Matrix3d dpC_dpL;
   const bool need_chain = dz_dxv || dz_dpL;
-  const Eigen::Vector3d p_LinC =
-      landmarkInCamera(x_v.segment<3>(vehicle::kPosition), x_v.segment<3>(vehicle::kAttitude),
-                       p_LinN, need_chain ? &dpC_dxv : nullptr, need_chain ? &dpC_dpL : nullptr);
+  const Eigen::Vector3d p_LinC = landmarkInCamera(pose, p_LinN, need_chain ? &dpC_dxv : nullptr,
+                                                  need_chain ? &dpC_dpL : nullptr);
   Matrix4x3d dz_dpC;
   const Eigen::Vector4d z = project(p_LinC, need_chain ? &dz_dpC : nullptr);
   if (dz_dxv) *dz_dxv = dz_dpC * dpC_dxv;
   if (dz_dpL) *dz_dpL = dz_dpC * dpC_dpL;
   return z;
+}
+
+Eigen::Vector4d StereoCamera::project(const Vector9d& x_v, const Eigen::Vector3d& p_LinN,
+                                      Matrix4x9d* dz_dxv, Matrix4x3d* dz_dpL) const {
+  return project(EstimatedPose::fromEuler(x_v), p_LinN, dz_dxv, dz_dpL);
 }
 
 bool StereoCamera::isVisible(const Eigen::Vector3d& p_LinC) const {
@@ -136,25 +157,36 @@ Status StereoCamera::triangulateInCamera(const Eigen::Vector4d& z, Eigen::Vector
   return Status::Ok();
 }
 
-Status StereoCamera::triangulate(const Eigen::Vector4d& z, const Vector9d& x_v,
+Status StereoCamera::triangulate(const Eigen::Vector4d& z, const EstimatedPose& pose,
                                  Eigen::Vector3d* p_LinN, Matrix3x9d* dpL_dxv,
                                  Matrix3x4d* dpL_dz) const {
   Eigen::Vector3d p_LinC;
   Matrix3x4d dpC_dz;
   if (Status s = triangulateInCamera(z, &p_LinC, &dpC_dz); !s.ok()) return s;
-  const Eigen::Vector3d euler = x_v.segment<3>(vehicle::kAttitude);
-  const Eigen::Matrix3d R_BtoN = rotationBodyToNav(euler);
+  const bool euler = pose.attitude == vehicle::Attitude::kEuler;
+  const Eigen::Matrix3d R_BtoN = euler ? rotationBodyToNav(pose.euler) : pose.R_BtoN;
   // Landmark relative to the body origin, in B (inverse of landmarkInCamera).
   const Eigen::Vector3d p_LinB = o_.R_BtoC.transpose() * p_LinC + o_.p_CinB;
-  if (p_LinN) *p_LinN = x_v.segment<3>(vehicle::kPosition) + R_BtoN * p_LinB;
+  if (p_LinN) *p_LinN = pose.p_BinN + R_BtoN * p_LinB;
   if (dpL_dxv) {
     dpL_dxv->setZero();
     dpL_dxv->block<3, 3>(0, vehicle::kPosition).setIdentity();
-    const auto dR = dRotationNavToBody_dEuler(euler);  // R_BtoN = R_NtoBᵀ
-    for (int i = 0; i < 3; ++i) dpL_dxv->col(vehicle::kAttitude + i) = dR[i].transpose() * p_LinB;
+    if (euler) {
+      const auto dR = dRotationNavToBody_dEuler(pose.euler);  // R_BtoN = R_NtoBᵀ
+      for (int i = 0; i < 3; ++i) dpL_dxv->col(vehicle::kAttitude + i) = dR[i].transpose() * p_LinB;
+    } else {
+      // R̂ Exp(δθ) p_LinB: ∂/∂δθ = −R̂ [p_LinB]×.
+      dpL_dxv->block<3, 3>(0, vehicle::kAttitude) = -R_BtoN * so3::skew<double>(p_LinB);
+    }
   }
   if (dpL_dz) *dpL_dz = R_BtoN * o_.R_BtoC.transpose() * dpC_dz;
   return Status::Ok();
+}
+
+Status StereoCamera::triangulate(const Eigen::Vector4d& z, const Vector9d& x_v,
+                                 Eigen::Vector3d* p_LinN, Matrix3x9d* dpL_dxv,
+                                 Matrix3x4d* dpL_dz) const {
+  return triangulate(z, EstimatedPose::fromEuler(x_v), p_LinN, dpL_dxv, dpL_dz);
 }
 
 }  // namespace cvslam

@@ -106,6 +106,7 @@ Status CovarianceHelper::marginalize(SlamState& state, const VariableKey& key) {
   state.P_ = state.P_(keep, keep).eval();
   state.vars_.erase(state.vars_.begin() + static_cast<std::ptrdiff_t>(pos));
   state.slot_.erase(it);
+  state.nominal_.erase(key);
   for (std::size_t j = pos; j < state.vars_.size(); ++j) {
     state.vars_[j].index -= removed.size;
     state.slot_[state.vars_[j].key] = static_cast<int>(j);
@@ -193,7 +194,9 @@ void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx) 
     auto x = state.x_.segment(v.index, v.size);
     const auto d = dx.segment(v.index, v.size);
     if (v.key.kind == VariableKey::Kind::kVehicle) {
-      vehicle_model::correct(x, d);  // the vehicle block's own correction (angles wrapped)
+      // The vehicle block's own correction: angles wrapped, or δθ folded into the nominal.
+      const auto nominal = state.nominal_.find(v.key);
+      vehicle_model::correct(x, d, nominal == state.nominal_.end() ? nullptr : &nominal->second);
     } else {
       x += d;
     }

@@ -9,6 +9,11 @@ const StateVariable* SlamState::find(const VariableKey& key) const {
   return it == slot_.end() ? nullptr : &vars_[static_cast<std::size_t>(it->second)];
 }
 
+const Eigen::Quaterniond* SlamState::nominalAttitude(const VariableKey& vehicle) const {
+  const auto it = nominal_.find(vehicle);
+  return it == nominal_.end() ? nullptr : &it->second;
+}
+
 int SlamState::landmarkCount() const {
   return static_cast<int>(std::count_if(vars_.begin(), vars_.end(), [](const StateVariable& v) {
     return v.key.kind == VariableKey::Kind::kLandmark;

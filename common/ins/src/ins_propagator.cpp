@@ -18,6 +18,11 @@ Status InsPropagatorOptions::load(const ConfigNode& node) {
   node.get("estimate_imu_bias", estimate_imu_bias);
   node.get("gravity", gravity);
   node.get("max_dt", max_dt);
+  std::string attitude_name = attitude == vehicle::Attitude::kEuler ? "euler" : "error_state";
+  node.get("attitude", attitude_name);
+  node.check(attitude_name == "euler" || attitude_name == "error_state", "attitude",
+             "must be error_state or euler");
+  attitude = attitude_name == "euler" ? vehicle::Attitude::kEuler : vehicle::Attitude::kErrorState;
   node.check(gyro_noise_density > 0, "gyro_noise_density", "must be > 0");
   node.check(accel_noise_density > 0, "accel_noise_density", "must be > 0");
   node.check(gyro_random_walk > 0, "gyro_random_walk", "must be > 0");
@@ -36,7 +41,8 @@ std::string InsPropagatorOptions::print() const {
      << "accel_random_walk: " << accel_random_walk << "\n"
      << "estimate_imu_bias: " << (estimate_imu_bias ? "true" : "false") << "\n"
      << "gravity: " << gravity << "\n"
-     << "max_dt: " << max_dt << "\n";
+     << "max_dt: " << max_dt << "\n"
+     << "attitude: " << (attitude == vehicle::Attitude::kEuler ? "euler" : "error_state") << "\n";
   return os.str();
 }
 
@@ -47,7 +53,7 @@ namespace {
 template <typename T, int kN>
 Eigen::Matrix<T, kN, 1> rk4Step(const Eigen::Matrix<T, kN, 1>& x, const ImuSample& s0,
                                 const ImuSample& s1, const Eigen::Matrix<T, kN - 3, 1>& w,
-                                double dt, double gravity) {
+                                double dt, double gravity, const Eigen::Matrix3d* chart) {
   using Vec3 = Eigen::Matrix<T, 3, 1>;
   const Vec3 g0 = s0.gyro_B.cast<T>(), a0 = s0.accel_B.cast<T>();
   const Vec3 g1 = s1.gyro_B.cast<T>(), a1 = s1.accel_B.cast<T>();
@@ -55,34 +61,64 @@ Eigen::Matrix<T, kN, 1> rk4Step(const Eigen::Matrix<T, kN, 1>& x, const ImuSampl
   const Vec3 am = (0.5 * (s0.accel_B + s1.accel_B)).cast<T>();
   const T h(dt), half_h(0.5 * dt);
   using Prop = InsPropagator;
-  const Eigen::Matrix<T, kN, 1> k1 = Prop::dynamics<T, kN>(x, g0, a0, w, gravity);
-  const Eigen::Matrix<T, kN, 1> k2 = Prop::dynamics<T, kN>(x + half_h * k1, gm, am, w, gravity);
-  const Eigen::Matrix<T, kN, 1> k3 = Prop::dynamics<T, kN>(x + half_h * k2, gm, am, w, gravity);
-  const Eigen::Matrix<T, kN, 1> k4 = Prop::dynamics<T, kN>(x + h * k3, g1, a1, w, gravity);
+  const auto f = [&](const Eigen::Matrix<T, kN, 1>& xs, const Vec3& gyro, const Vec3& accel) {
+    return Prop::dynamics<T, kN>(xs, gyro, accel, w, gravity, chart);
+  };
+  const Eigen::Matrix<T, kN, 1> k1 = f(x, g0, a0);
+  const Eigen::Matrix<T, kN, 1> k2 = f(x + half_h * k1, gm, am);
+  const Eigen::Matrix<T, kN, 1> k3 = f(x + half_h * k2, gm, am);
+  const Eigen::Matrix<T, kN, 1> k4 = f(x + h * k3, g1, a1);
   return x + (h / T(6.0)) * (k1 + T(2.0) * k2 + T(2.0) * k3 + k4);
 }
 
 template <int kN>
 Eigen::VectorXd stepMeanFixed(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1,
-                              const Eigen::VectorXd& w, double dt, double gravity) {
+                              const Eigen::VectorXd& w, double dt, double gravity,
+                              const Eigen::Matrix3d* chart) {
   const Eigen::Matrix<double, kN, 1> xf = x;
   const Eigen::Matrix<double, kN - 3, 1> wf = w;
-  return rk4Step<double, kN>(xf, s0, s1, wf, dt, gravity);
+  return rk4Step<double, kN>(xf, s0, s1, wf, dt, gravity, chart);
 }
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
-  Eigen::Matrix3d S;
-  S << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
-  return S;
+  return so3::skew<double>(a);
+}
+
+/// The attitude terms of the dynamics, differentiated w.r.t. the attitude entries by a Jet:
+/// R_NtoB, the attitude rate and ∂(attitude rate)/∂ω (the latter's value only). Euler:
+/// eq. 2.4 (E(φ, θ), singular at θ = ±90°); error state: J_r(δθ)⁻¹ about the chart's R̂.
+template <typename Jet>
+void attitudeTerms(const Eigen::Vector3d& attitude, const Eigen::Vector3d& omega_B,
+                   const Eigen::Matrix3d* chart, Eigen::Matrix<Jet, 3, 3>* R_NtoB,
+                   Eigen::Matrix<Jet, 3, 1>* attitude_dot, Eigen::Matrix3d* E) {
+  Eigen::Matrix<Jet, 3, 1> a;
+  for (int i = 0; i < 3; ++i) a(i) = Jet(attitude(i), i);
+  const Eigen::Matrix<Jet, 3, 1> omega_jet = omega_B.cast<Jet>();
+  if (chart != nullptr) {
+    *R_NtoB = (chart->cast<Jet>() * so3::exp(a)).transpose();
+    const Eigen::Matrix<Jet, 3, 3> J_inv = so3::rightJacobianInverse(a);
+    *attitude_dot = J_inv * omega_jet;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) (*E)(i, j) = J_inv(i, j).a;
+    }
+    return;
+  }
+  *R_NtoB = rotationNavToBody(a);
+  *attitude_dot = eulerRates(a, omega_jet);
+  // ∂ė/∂ω = E(φ, θ) of eq. 2.4 (ė is linear in ω).
+  const double sr = std::sin(attitude(0)), cr = std::cos(attitude(0));
+  const double tp = std::tan(attitude(1)), cp = std::cos(attitude(1));
+  *E << 1.0, sr * tp, cr * tp, 0.0, cr, -sr, 0.0, sr / cp, cr / cp;
 }
 
 /// ẋ = f(x, u, 0) and its Jacobian D = [∂f/∂x | ∂f/∂w]. The attitude-dependent terms (DCM,
-/// eq. 2.4) are differentiated with a 3-dimensional Jet on the Euler angles; the rest is
-/// written out (a Jet over all kN + kW inputs costs ~5× more per IMU sample).
+/// eq. 2.4 or the chart's) are differentiated with a 3-dimensional Jet on the attitude; the
+/// rest is written out (a Jet over all kN + kW inputs costs ~5× more per IMU sample).
 template <int kN>
 Eigen::Matrix<double, kN, 1> dynamicsWithJacobian(const Eigen::Matrix<double, kN, 1>& x,
                                                   const Eigen::Vector3d& gyro_B,
                                                   const Eigen::Vector3d& accel_B, double gravity,
+                                                  const Eigen::Matrix3d* chart,
                                                   Eigen::Matrix<double, kN, 2 * kN - 3>* D) {
   using namespace vehicle;
   using Jet3 = ceres::Jet<double, 3>;
@@ -92,18 +128,12 @@ Eigen::Matrix<double, kN, 1> dynamicsWithJacobian(const Eigen::Matrix<double, kN
     f_B -= x.template segment<3>(kAccelBias);
     omega_B -= x.template segment<3>(kGyroBias);
   }
-  Eigen::Matrix<Jet3, 3, 1> euler;
-  for (int i = 0; i < 3; ++i) euler(i) = Jet3(x(kAttitude + i), i);
-  const Eigen::Matrix<Jet3, 3, 3> R_NtoB = rotationNavToBody(euler);
+  Eigen::Matrix<Jet3, 3, 3> R_NtoB;
+  Eigen::Matrix<Jet3, 3, 1> euler_dot;
+  Eigen::Matrix3d E;
+  attitudeTerms<Jet3>(x.template segment<3>(kAttitude), omega_B, chart, &R_NtoB, &euler_dot, &E);
   const Eigen::Matrix<Jet3, 3, 1> p_dot = R_NtoB.transpose() * v_B.cast<Jet3>();
   const Eigen::Matrix<Jet3, 3, 1> gravity_B = R_NtoB.col(2) * Jet3(gravity);  // R_NtoB g_N
-  const Eigen::Matrix<Jet3, 3, 1> omega_jet = omega_B.cast<Jet3>();
-  const Eigen::Matrix<Jet3, 3, 1> euler_dot = eulerRates(euler, omega_jet);
-  // ∂ė/∂ω = E(φ, θ) of eq. 2.4 (ė is linear in ω).
-  const double sr = std::sin(x(kAttitude)), cr = std::cos(x(kAttitude));
-  const double tp = std::tan(x(kAttitude + 1)), cp = std::cos(x(kAttitude + 1));
-  Eigen::Matrix3d E;
-  E << 1.0, sr * tp, cr * tp, 0.0, cr, -sr, 0.0, sr / cp, cr / cp;
 
   Eigen::Matrix<double, kN, 1> xdot = Eigen::Matrix<double, kN, 1>::Zero();
   D->setZero();
@@ -140,7 +170,7 @@ Eigen::Matrix<double, kN, 1> dynamicsWithJacobian(const Eigen::Matrix<double, kN
 template <int kN>
 void stepJacobiansFixed(const Eigen::Matrix<double, kN, 1>& x0, const ImuSample& s0,
                         const ImuSample& s1, double dt, double gravity,
-                        Eigen::Matrix<double, kN, 1>* x_next,
+                        const Eigen::Matrix3d* chart, Eigen::Matrix<double, kN, 1>* x_next,
                         Eigen::Matrix<double, kN, kN>* dx1_dx0,
                         Eigen::Matrix<double, kN, kN - 3>* dx1_dw) {
   constexpr int kW = kN - 3, kD = kN + kW;
@@ -154,7 +184,7 @@ void stepJacobiansFixed(const Eigen::Matrix<double, kN, 1>& x0, const ImuSample&
   Jac D, dk1, dk2, dk3, dk4;
   const auto stage = [&](const Vec& xs, const Jac& dxs, const Eigen::Vector3d& gyro,
                          const Eigen::Vector3d& accel, Jac* dk) {
-    const Vec k = dynamicsWithJacobian<kN>(xs, gyro, accel, gravity, &D);
+    const Vec k = dynamicsWithJacobian<kN>(xs, gyro, accel, gravity, chart, &D);
     // lazyProduct: at 9–15 rows Eigen's GEMM set-up costs more than the arithmetic.
     dk->noalias() = D.template leftCols<kN>().lazyProduct(dxs);
     dk->template rightCols<kW>() += D.template rightCols<kW>();
@@ -168,6 +198,18 @@ void stepJacobiansFixed(const Eigen::Matrix<double, kN, 1>& x0, const ImuSample&
   *x_next = x0 + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
   *dx1_dx0 = dx1.template leftCols<kN>();
   *dx1_dw = dx1.template rightCols<kW>();
+}
+
+/// Error state: folds the chart's δθ₁ of x into the nominal q (R̂₁ = R̂ Exp(δθ₁), δθ = 0)
+/// and maps the rows of the step's Jacobians into the new error: d(δθ new) = J_r(δθ₁) dδθ₁.
+template <int kN, typename MatF, typename MatG>
+void foldAttitude(Eigen::Matrix<double, kN, 1>* x, Eigen::Quaterniond* q, MatF* F, MatG* G) {
+  const Eigen::Vector3d d = x->template segment<3>(vehicle::kAttitude);
+  const Eigen::Matrix3d J_r = so3::rightJacobian<double>(d);
+  if (F != nullptr) F->template middleRows<3>(vehicle::kAttitude) = J_r * F->template middleRows<3>(vehicle::kAttitude);
+  if (G != nullptr) G->template middleRows<3>(vehicle::kAttitude) = J_r * G->template middleRows<3>(vehicle::kAttitude);
+  *q = (*q * Eigen::Quaterniond(so3::exp<double>(d))).normalized();
+  x->template segment<3>(vehicle::kAttitude).setZero();
 }
 
 /// Rejects steps at the Euler singularity and non-finite results.
@@ -205,46 +247,56 @@ Status checkInterval(const ImuSample& s0, const ImuSample& s1, double max_dt, do
 
 template <int kN>
 void stepDynamic(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1, double dt,
-                 double gravity, Eigen::VectorXd* x_next, Eigen::MatrixXd* dx1_dx0,
-                 Eigen::MatrixXd* dx1_dw) {
+                 double gravity, Eigen::Quaterniond* q, Eigen::VectorXd* x_next,
+                 Eigen::MatrixXd* dx1_dx0, Eigen::MatrixXd* dx1_dw) {
   Eigen::Matrix<double, kN, 1> x1;
   Eigen::Matrix<double, kN, kN> F;
   Eigen::Matrix<double, kN, kN - 3> G;
-  stepJacobiansFixed<kN>(x, s0, s1, dt, gravity, &x1, &F, &G);
+  const Eigen::Matrix3d R0 = q != nullptr ? q->toRotationMatrix() : Eigen::Matrix3d::Identity();
+  stepJacobiansFixed<kN>(x, s0, s1, dt, gravity, q != nullptr ? &R0 : nullptr, &x1, &F, &G);
+  if (q != nullptr) foldAttitude<kN>(&x1, q, &F, &G);
   *x_next = x1;
   *dx1_dx0 = F;
   *dx1_dw = G;
 }
 
 /// propagate() with fixed-size matrices: dynamic 9×9 products spent more time in GEMM set-up
-/// than in the model.
+/// than in the model. q: the nominal rotation (error state), null for Euler angles.
 template <int kN>
-Status propagateFixed(const InsPropagator& ins, const Eigen::VectorXd& x,
+Status propagateFixed(const InsPropagator& ins, const Eigen::VectorXd& x, Eigen::Quaterniond* q,
                       const std::vector<ImuSample>& samples, InsTransition* out) {
   using Mat = Eigen::Matrix<double, kN, kN>;
   Eigen::Matrix<double, kN, 1> xk = x, x_next;
   Mat Phi = Mat::Identity(), Qd = Mat::Zero(), F;
   Eigen::Matrix<double, kN, kN - 3> G;
+  Eigen::Matrix3d R0;
   for (std::size_t k = 1; k < samples.size(); ++k) {
     double dt = 0.0;
     const ImuSample &s0 = samples[k - 1], &s1 = samples[k];
     if (Status s = checkInterval(s0, s1, ins.options().max_dt, &dt); !s.ok()) return s;
-    if (Status s = checkStepInput(xk(vehicle::kAttitude + 1)); !s.ok()) return s;
-    stepJacobiansFixed<kN>(xk, s0, s1, dt, ins.options().gravity, &x_next, &F, &G);
+    if (q == nullptr) {
+      if (Status s = checkStepInput(xk(vehicle::kAttitude + 1)); !s.ok()) return s;
+    } else {
+      R0 = q->toRotationMatrix();
+    }
+    stepJacobiansFixed<kN>(xk, s0, s1, dt, ins.options().gravity, q != nullptr ? &R0 : nullptr,
+                           &x_next, &F, &G);
     const bool finite = x_next.allFinite() && F.allFinite() && G.allFinite();
     if (Status s = checkStepOutput(finite, s1.t_us); !s.ok()) return s;
-    const Eigen::Matrix<double, kN - 3, 1> q = ins.noiseVariances(dt);
+    if (q != nullptr) foldAttitude<kN>(&x_next, q, &F, &G);
+    const Eigen::Matrix<double, kN - 3, 1> qw = ins.noiseVariances(dt);
     xk = x_next;
     Phi = F.lazyProduct(Phi).eval();
     // Discrete Riccati without measurements (eq. 3.20): Qd ← F Qd Fᵀ + G Q_w Gᵀ.
     const Mat FQd = F.lazyProduct(Qd);
-    const Eigen::Matrix<double, kN, kN - 3> GQ = G * q.asDiagonal();
+    const Eigen::Matrix<double, kN, kN - 3> GQ = G * qw.asDiagonal();
     Qd = FQd.lazyProduct(F.transpose()) + GQ.lazyProduct(G.transpose());
   }
   out->x = xk;
   out->Phi = Phi;
   out->Qd = Qd;
   out->t_us = samples.back().t_us;
+  if (q != nullptr) out->q_BtoN = *q;
   return Status::Ok();
 }
 
@@ -271,17 +323,56 @@ Eigen::VectorXd InsPropagator::noiseVariances(double dt) const {
   return q;
 }
 
-Eigen::VectorXd InsPropagator::stepMean(const Eigen::VectorXd& x, const ImuSample& s0,
-                                        const ImuSample& s1, const Eigen::VectorXd& w) const {
+Eigen::VectorXd InsPropagator::stepMean(const Eigen::VectorXd& x,
+                                        const Eigen::Quaterniond& q_BtoN, const ImuSample& s0,
+                                        const ImuSample& s1, const Eigen::VectorXd& w,
+                                        Eigen::Quaterniond* q_next) const {
   const double dt = 1e-6 * static_cast<double>(s1.t_us - s0.t_us);
-  if (o_.estimate_imu_bias) {
-    return stepMeanFixed<vehicle::kSizeWithBias>(x, s0, s1, w, dt, o_.gravity);
+  const bool euler = o_.attitude == vehicle::Attitude::kEuler;
+  const Eigen::Matrix3d R0 = q_BtoN.toRotationMatrix();
+  const Eigen::Matrix3d* chart = euler ? nullptr : &R0;
+  Eigen::VectorXd x1 =
+      o_.estimate_imu_bias
+          ? stepMeanFixed<vehicle::kSizeWithBias>(x, s0, s1, w, dt, o_.gravity, chart)
+          : stepMeanFixed<vehicle::kSizeNoBias>(x, s0, s1, w, dt, o_.gravity, chart);
+  if (euler) {
+    if (q_next != nullptr) *q_next = q_BtoN;
+    return x1;
   }
-  return stepMeanFixed<vehicle::kSizeNoBias>(x, s0, s1, w, dt, o_.gravity);
+  const Eigen::Vector3d d = x1.segment<3>(vehicle::kAttitude);
+  *q_next = (q_BtoN * Eigen::Quaterniond(so3::exp<double>(d))).normalized();
+  x1.segment<3>(vehicle::kAttitude).setZero();
+  return x1;
 }
 
-Status InsPropagator::step(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1,
-                           Eigen::VectorXd* x_next, Eigen::MatrixXd* dx1_dx0,
+void InsPropagator::fromEulerLayout(const Eigen::VectorXd& x_euler, Eigen::VectorXd* x,
+                                    Eigen::Quaterniond* q_BtoN) const {
+  *x = x_euler;
+  *q_BtoN = Eigen::Quaterniond::Identity();
+  if (o_.attitude == vehicle::Attitude::kEuler) return;
+  const Eigen::Vector3d e = x_euler.segment<3>(vehicle::kAttitude);
+  *q_BtoN = Eigen::Quaterniond(rotationBodyToNav(e)).normalized();
+  x->segment<3>(vehicle::kAttitude).setZero();
+}
+
+Eigen::VectorXd InsPropagator::eulerLayout(const Eigen::VectorXd& x,
+                                           const Eigen::Quaterniond& q_BtoN) const {
+  if (o_.attitude == vehicle::Attitude::kEuler) return x;
+  Eigen::VectorXd out = x;
+  const Eigen::Matrix3d R_BtoN =
+      q_BtoN.toRotationMatrix() * so3::exp<double>(x.segment<3>(vehicle::kAttitude));
+  out.segment<3>(vehicle::kAttitude) = eulerFromRotationNavToBody(R_BtoN.transpose());
+  return out;
+}
+
+Eigen::VectorXd InsPropagator::stepMean(const Eigen::VectorXd& x, const ImuSample& s0,
+                                        const ImuSample& s1, const Eigen::VectorXd& w) const {
+  return stepMean(x, Eigen::Quaterniond::Identity(), s0, s1, w, nullptr);
+}
+
+Status InsPropagator::step(const Eigen::VectorXd& x, const Eigen::Quaterniond& q_BtoN,
+                           const ImuSample& s0, const ImuSample& s1, Eigen::VectorXd* x_next,
+                           Eigen::Quaterniond* q_next, Eigen::MatrixXd* dx1_dx0,
                            Eigen::MatrixXd* dx1_dw, Eigen::MatrixXd* Q_w) const {
   if (x.size() != stateSize()) {
     return Status::Error("INS state has size " + std::to_string(x.size()) + ", expected " +
@@ -289,31 +380,58 @@ Status InsPropagator::step(const Eigen::VectorXd& x, const ImuSample& s0, const 
   }
   double dt = 0.0;
   if (Status s = checkInterval(s0, s1, o_.max_dt, &dt); !s.ok()) return s;
-  if (Status s = checkStepInput(x(vehicle::kAttitude + 1)); !s.ok()) return s;
+  const bool euler = o_.attitude == vehicle::Attitude::kEuler;
+  if (euler) {
+    if (Status s = checkStepInput(x(vehicle::kAttitude + 1)); !s.ok()) return s;
+  }
+  Eigen::Quaterniond q = q_BtoN;
+  Eigen::Quaterniond* nominal = euler ? nullptr : &q;
   if (o_.estimate_imu_bias) {
-    stepDynamic<vehicle::kSizeWithBias>(x, s0, s1, dt, o_.gravity, x_next, dx1_dx0, dx1_dw);
+    stepDynamic<vehicle::kSizeWithBias>(x, s0, s1, dt, o_.gravity, nominal, x_next, dx1_dx0,
+                                        dx1_dw);
   } else {
-    stepDynamic<vehicle::kSizeNoBias>(x, s0, s1, dt, o_.gravity, x_next, dx1_dx0, dx1_dw);
+    stepDynamic<vehicle::kSizeNoBias>(x, s0, s1, dt, o_.gravity, nominal, x_next, dx1_dx0, dx1_dw);
   }
   const bool finite = x_next->allFinite() && dx1_dx0->allFinite() && dx1_dw->allFinite();
   if (Status s = checkStepOutput(finite, s1.t_us); !s.ok()) return s;
+  if (q_next != nullptr) *q_next = q;
   *Q_w = noiseVariances(dt).asDiagonal();
   return Status::Ok();
 }
 
-Status InsPropagator::propagate(const Eigen::VectorXd& x, const std::vector<ImuSample>& samples,
-                                InsTransition* out) const {
+Status InsPropagator::step(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1,
+                           Eigen::VectorXd* x_next, Eigen::MatrixXd* dx1_dx0,
+                           Eigen::MatrixXd* dx1_dw, Eigen::MatrixXd* Q_w) const {
+  if (o_.attitude != vehicle::Attitude::kEuler) {
+    return Status::Error("InsPropagator::step without a nominal rotation needs attitude: euler");
+  }
+  return step(x, Eigen::Quaterniond::Identity(), s0, s1, x_next, nullptr, dx1_dx0, dx1_dw, Q_w);
+}
+
+Status InsPropagator::propagate(const Eigen::VectorXd& x, const Eigen::Quaterniond& q_BtoN,
+                                const std::vector<ImuSample>& samples, InsTransition* out) const {
   if (samples.empty()) return Status::Error("no IMU samples to propagate with");
   if (x.size() != stateSize()) {
     return Status::Error("INS state has size " + std::to_string(x.size()) + ", expected " +
                          std::to_string(stateSize()));
   }
+  const bool euler = o_.attitude == vehicle::Attitude::kEuler;
+  Eigen::Quaterniond q = q_BtoN.normalized();
+  Eigen::Quaterniond* nominal = euler ? nullptr : &q;
   const Status s = o_.estimate_imu_bias
-                       ? propagateFixed<vehicle::kSizeWithBias>(*this, x, samples, out)
-                       : propagateFixed<vehicle::kSizeNoBias>(*this, x, samples, out);
+                       ? propagateFixed<vehicle::kSizeWithBias>(*this, x, nominal, samples, out)
+                       : propagateFixed<vehicle::kSizeNoBias>(*this, x, nominal, samples, out);
   if (!s.ok()) return s;
-  out->x(vehicle::kAttitude + 2) = wrapAngle(out->x(vehicle::kAttitude + 2));
+  if (euler) out->x(vehicle::kAttitude + 2) = wrapAngle(out->x(vehicle::kAttitude + 2));
   return Status::Ok();
+}
+
+Status InsPropagator::propagate(const Eigen::VectorXd& x, const std::vector<ImuSample>& samples,
+                                InsTransition* out) const {
+  if (o_.attitude != vehicle::Attitude::kEuler) {
+    return Status::Error("InsPropagator::propagate without a nominal rotation needs attitude: euler");
+  }
+  return propagate(x, Eigen::Quaterniond::Identity(), samples, out);
 }
 
 }  // namespace cvslam

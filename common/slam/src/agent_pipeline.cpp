@@ -19,8 +19,10 @@ AgentPipeline::AgentPipeline(int agent_id, const AgentFilterSetup& setup,
                              const StereoCamera& camera)
     : id_(agent_id),
       slam_(setup.options, camera),
-      dead_reckoning_(setup.options.ins),
-      x_ins_(setup.x0) {}
+      dead_reckoning_(setup.options.ins) {
+  dead_reckoning_.fromEulerLayout(setup.x0, &x_ins_, &q_ins_);
+  x_ins_euler_ = setup.x0;
+}
 
 Expected<std::unique_ptr<AgentPipeline>> AgentPipeline::create(int agent_id,
                                                                const AgentFilterSetup& setup,
@@ -42,8 +44,9 @@ void AgentPipeline::useImages(VisualSlamPipeline pipeline,
 Status AgentPipeline::addImu(const ImuSample& sample) {
   if (Status s = slam_.addImu(sample); !s.ok()) return s;
   if (have_imu_) {
-    x_ins_ = dead_reckoning_.stepMean(x_ins_, last_imu_, sample,
-                                      Eigen::VectorXd::Zero(dead_reckoning_.noiseSize()));
+    x_ins_ = dead_reckoning_.stepMean(x_ins_, q_ins_, last_imu_, sample,
+                                      Eigen::VectorXd::Zero(dead_reckoning_.noiseSize()), &q_ins_);
+    x_ins_euler_ = dead_reckoning_.eulerLayout(x_ins_, q_ins_);
   }
   last_imu_ = sample;
   have_imu_ = true;

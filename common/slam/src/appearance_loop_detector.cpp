@@ -186,7 +186,7 @@ LoopDetection AppearanceLoopDetector::detect(const std::vector<StereoObservation
   out.candidates = static_cast<int>(candidates.size());
   if (static_cast<int>(candidates.size()) < o_.min_inliers) return out;
   // 2. Geometric consensus.
-  const Eigen::Vector3d pivot = query.x_v.head<3>();
+  const Eigen::Vector3d pivot = query.x_v.p_BinN;
   std::vector<std::size_t> best_set = ransacConsensus(candidates, pivot, o_);
   out.inliers = static_cast<int>(best_set.size());
   if (static_cast<int>(best_set.size()) < o_.min_inliers) return out;

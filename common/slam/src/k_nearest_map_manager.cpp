@@ -21,12 +21,12 @@ Status MapManagerOptions::load(const ConfigNode& node) {
 
 Eigen::Vector3d KNearestMapManager::virtualPoint(const StereoCamera& camera,
                                                  const Eigen::Vector3d& p_BinN,
-                                                 const Eigen::Vector3d& euler, double depth) {
+                                                 const Eigen::Matrix3d& R_BtoN, double depth) {
   const StereoCameraOptions& c = camera.options();
   // Midpoint of the optical centres, in the left camera frame, then along z_C.
   const Eigen::Vector3d m_inC(0.5 * c.baseline, 0.0, depth);
   const Eigen::Vector3d m_inB = c.R_BtoC.transpose() * m_inC + c.p_CinB;
-  return p_BinN + rotationBodyToNav(euler) * m_inB;
+  return p_BinN + R_BtoN * m_inB;
 }
 
 double KNearestMapManager::sceneDepth(const std::vector<double>& observed_depths) const {

@@ -37,7 +37,7 @@ Status LandmarkInitialiser::initialise(SlamState& state, LandmarkBook& book,
     if (obs.z(0) - obs.z(2) < o_.min_init_disparity_px) continue;
     Eigen::Vector3d p_LinN;
     if (!camera_.triangulate(obs.z, x, &p_LinN).ok()) continue;
-    fresh.push_back({(p_LinN - x.head<3>()).squaredNorm(), i, p_LinN});
+    fresh.push_back({(p_LinN - x.p_BinN).squaredNorm(), i, p_LinN});
   }
   // The nearest points are the best triangulated ones (disparity grows as 1/depth).
   const std::size_t n_new =

@@ -77,7 +77,7 @@ int LoopCloser::align(SlamState& state, LandmarkBook& book, const StereoFrameObs
     pairs.push_back({p_observed, state.value(*lm)});
   }
   // Fit, drop pairs that disagree with the fit (wrong associations), fit again.
-  const Eigen::Vector3d pivot = x.head<3>();
+  const Eigen::Vector3d pivot = x.p_BinN;
   Expected<LoopAlignment> fit = alignLoop(pairs, pivot);
   for (int round = 0; round < 2 && fit.ok(); ++round) {
     std::vector<int64_t> kept_ids;
@@ -101,7 +101,7 @@ int LoopCloser::align(SlamState& state, LandmarkBook& book, const StereoFrameObs
   // Move the linearisation point: the vehicle and the landmarks that drifted with it (all
   // landmarks of the book but the loop ones) by the fitted rigid motion. The update that
   // follows then sees small innovations and corrects the covariance as usual.
-  vehicle_model::moveRigidly(state, *veh, fit->apply(x.head<3>()), fit->yaw);
+  vehicle_model::moveRigidly(state, *veh, fit->apply(x.p_BinN), fit->yaw);
   // The alignment moves the estimate along the unobservable directions; their tracked
   // directions move with it.
   Eigen::VectorXd u_v = book.vehicleYawDirection();

@@ -37,9 +37,8 @@ Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
   const StereoCamera& camera = slam.camera();
   const StateVariable* veh = state.find(VariableKey::vehicle(0));
   if (veh == nullptr) return Status::Error("predictMapObservations: no vehicle in the state");
-  const StereoCamera::Vector9d x = state.value(*veh).head<9>();
-  const Eigen::Vector3d p_BinN = x.head<3>();
-  const Eigen::Vector3d euler = x.segment<3>(vehicle::kAttitude);
+  const vehicle_model::Pose x = vehicle_model::pose(state, *veh);
+  const Eigen::Vector3d& p_BinN = x.p_BinN;
   const Eigen::MatrixXd& P = state.covariance();
   const Eigen::Matrix<double, 9, 9> P_vv = P.block<9, 9>(veh->index, veh->index);
   const double sigma2 = slam.options().slam.pixel_sigma * slam.options().slam.pixel_sigma;
@@ -52,7 +51,7 @@ Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
   auto predict = [&](int64_t id, const Eigen::Vector3d& p_LinN, const Eigen::Matrix3d& P_LL,
                      const Eigen::Matrix<double, 9, 3>* P_vL, bool archived) {
     if ((p_LinN - p_BinN).squaredNorm() > max_range2) return;
-    if (camera.landmarkInCamera(p_BinN, euler, p_LinN).z() <= camera.options().min_depth) return;
+    if (camera.landmarkInCamera(x, p_LinN).z() <= camera.options().min_depth) return;
     PredictedObservation pred;
     pred.landmark_id = id;
     pred.archived = archived;

@@ -51,7 +51,7 @@ Status StereoUpdater::pass(SlamState& state, const LandmarkBook& book,
     if (lm == nullptr) continue;
     const Eigen::Vector3d p_LinN = state.value(*lm);
     // Predicted landmark behind the camera: the linearisation is meaningless, skip it.
-    if (camera_.landmarkInCamera(x.head<3>(), x.segment<3>(vehicle::kAttitude), p_LinN).z() <=
+    if (camera_.landmarkInCamera(x, p_LinN).z() <=
         0.0) {
       continue;
     }

@@ -63,10 +63,13 @@ Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,
   state_ = SlamState();
   archive_ = LandmarkArchive();
   book_.clear();
-  if (Status s = CovarianceHelper::addVariable(state_, vehicle_, x_v, P_v); !s.ok()) return s;
+  if (Status s = vehicle_model::addVehicle(state_, vehicle_, x_v, P_v, o_.ins.attitude); !s.ok()) {
+    return s;
+  }
   t_us_ = t_us;
   imu_buffer_.clear();
-  book_.setVehicleYawDirection(vehicle_model::yawDirection(x_v.head<3>(), n));
+  book_.setVehicleYawDirection(
+      vehicle_model::yawDirection(vehicle_model::pose(state_, *state_.find(vehicle_)), n));
   initialized_ = true;
   return Status::Ok();
 }
@@ -113,7 +116,9 @@ Status VisualInertialSlam::propagateTo(int64_t t_us) {
   }
   if (segment.size() >= 2) {
     InsTransition tr;
-    if (Status s = propagator_.propagate(state_.value(*state_.find(vehicle_)), segment, &tr);
+    if (Status s = propagator_.propagate(state_.value(*state_.find(vehicle_)),
+                                         vehicle_model::nominalAttitude(state_, vehicle_), segment,
+                                         &tr);
         !s.ok()) {
       return s;
     }
@@ -121,6 +126,7 @@ Status VisualInertialSlam::propagateTo(int64_t t_us) {
         !s.ok()) {
       return s;
     }
+    vehicle_model::setNominalAttitude(state_, vehicle_, tr.q_BtoN);
     // Φ u_v: the transition's own image of u_v.
     book_.setVehicleYawDirection(tr.Phi * book_.vehicleYawDirection());
   }
@@ -138,7 +144,7 @@ const std::vector<uint8_t>* VisualInertialSlam::descriptorOf(int64_t landmark_id
 }
 
 void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameReport* report) {
-  const vehicle_model::Pose x = vehicle_model::pose(state_, *state_.find(vehicle_));
+  const vehicle_model::Pose x = vehiclePose();
   const StereoCameraOptions& c = camera_.options();
   std::vector<double> depths;
   depths.reserve(frame.observations.size());
@@ -147,8 +153,7 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
     if (disparity > 0.0) depths.push_back(c.fx * c.baseline / disparity);
   }
   const Eigen::Vector3d m_star = KNearestMapManager::virtualPoint(
-      camera_, x.segment<3>(vehicle::kPosition), x.segment<3>(vehicle::kAttitude),
-      map_manager_.sceneDepth(depths));
+      camera_, x.p_BinN, x.R_BtoN, map_manager_.sceneDepth(depths));
 
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());
@@ -261,11 +266,21 @@ Status VisualInertialSlam::processFrame(const StereoFrameObservations& frame, Fr
 }
 
 Eigen::VectorXd VisualInertialSlam::vehicleState() const {
-  return state_.value(*state_.find(vehicle_));
+  Eigen::VectorXd x;
+  Eigen::MatrixXd P;
+  vehicle_model::eulerLayout(state_, *state_.find(vehicle_), &x, &P);
+  return x;
 }
 
 Eigen::MatrixXd VisualInertialSlam::vehicleCovariance() const {
-  return state_.covarianceOf(*state_.find(vehicle_));
+  Eigen::VectorXd x;
+  Eigen::MatrixXd P;
+  vehicle_model::eulerLayout(state_, *state_.find(vehicle_), &x, &P);
+  return P;
+}
+
+vehicle_model::Pose VisualInertialSlam::vehiclePose() const {
+  return vehicle_model::pose(state_, *state_.find(vehicle_));
 }
 
 std::vector<MapLandmark> VisualInertialSlam::map() const {

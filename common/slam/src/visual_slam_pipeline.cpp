@@ -227,7 +227,7 @@ void VisualSlamPipeline::detectLoop(int64_t t_us, const VisualInertialSlam& slam
   std::vector<StereoObservation>& observations = result->frame.observations;
   LoopQuery query;
   query.t_us = t_us;
-  query.x_v = slam.vehicleState().head<9>();
+  query.x_v = slam.vehiclePose();
   const Eigen::Matrix2d P_horizontal = slam.vehicleCovariance().topLeftCorner<2, 2>();
   query.position_sigma_m = std::sqrt(std::max(
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(P_horizontal).eigenvalues().maxCoeff(), 0.0));
@@ -259,13 +259,13 @@ void VisualSlamPipeline::detectLoop(int64_t t_us, const VisualInertialSlam& slam
 void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
                                     std::vector<StereoObservation>* observations, int* confirmed) {
   const StereoCamera& camera = slam.camera();
-  const StereoCamera::Vector9d x = slam.vehicleState().head<9>();
+  const vehicle_model::Pose x = slam.vehiclePose();
   // Where the previous frame's unmapped points are expected now (the filter's motion).
   std::vector<Eigen::Vector4d> expected(previous_.size());
   std::vector<bool> ahead(previous_.size(), false);
   for (std::size_t j = 0; j < previous_.size(); ++j) {
     const Eigen::Vector3d p_C =
-        camera.landmarkInCamera(x.head<3>(), x.segment<3>(vehicle::kAttitude), previous_[j].p_LinN);
+        camera.landmarkInCamera(x, previous_[j].p_LinN);
     if (p_C.z() <= camera.options().min_depth) continue;
     expected[j] = camera.project(p_C);
     ahead[j] = true;
@@ -328,7 +328,7 @@ void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
 
 void VisualSlamPipeline::rememberUnmapped(const VisualInertialSlam& slam,
                                           const VisualFrameResult& result) {
-  const StereoCamera::Vector9d x = slam.vehicleState().head<9>();
+  const vehicle_model::Pose x = slam.vehiclePose();
   previous_observations_.clear();
   for (const StereoObservation& obs : result.frame.observations) {
     if (obs.type == ObservationType::kReobserved) continue;

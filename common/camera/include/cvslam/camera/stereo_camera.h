@@ -5,8 +5,8 @@
 // sits `baseline` metres along +x of CL (rectified pair). The pair's pose on the body is
 // T_BtoC: R_BtoC and p_CinB (left camera centre in the body frame).
 //
-// Observation of landmark p_LinN from vehicle state x_v = [p_BinN, v_B, euler]:
-//   p_LinC = R_BtoC (R_NtoB(euler) (p_LinN − p_BinN) − p_CinB)                    (eq. 5.9–5.14)
+// Observation of landmark p_LinN from the vehicle pose (ins/estimated_pose.h: p_BinN, R_BtoN):
+//   p_LinC = R_BtoC (R_NtoB (p_LinN − p_BinN) − p_CinB)                          (eq. 5.9–5.14)
 //   z = [fx x/z + cx, fy y/z + cy, fx (x − b)/z + cx, fy y/z + cy]                   (eq. 5.20)
 // The thesis writes eq. 5.20 with the 3×4 matrices I_c (Mh_c^n)^-1 of both cameras; for a
 // rectified pair these share the rotation, so the chain above is the same model, factored so
@@ -18,11 +18,16 @@
 //   p_LinN = p_BinN + R_NtoBᵀ (R_BtoCᵀ p_LinC + p_CinB)
 // with Jacobians dpL_dxv (3×9) and dpL_dz (3×4) for the augmentation
 //   P_LL = J_x P_vv J_xᵀ + J_z R J_zᵀ,  P_Lx = J_x P_v·.
+// Jacobians w.r.t. the vehicle have the columns [p_BinN, v_B (zero), attitude], the attitude
+// in the pose's coordinates: Euler angles (the thesis's model, evaluated from the angles) or
+// the rotation error δθ of R = R_BtoN · Exp(δθ) at δθ = 0 (docs/filter.md). The overloads
+// taking a 9-vector [p_BinN, v_B, φ θ ψ] are the Euler pose.
 
 #include <Eigen/Core>
 #include <optional>
 
 #include "cvslam/core/status.h"
+#include "cvslam/ins/estimated_pose.h"
 
 namespace cvslam {
 
@@ -59,8 +64,12 @@ class StereoCamera {
   explicit StereoCamera(const StereoCameraOptions& options = {}) : o_(options) {}
   const StereoCameraOptions& options() const { return o_; }
 
-  /// Landmark in the left camera frame. Optional Jacobians w.r.t. the vehicle state
-  /// x_v = [p_BinN, v_B, euler] (velocity columns zero) and w.r.t. p_LinN.
+  /// Landmark in the left camera frame. Optional Jacobians w.r.t. the vehicle pose
+  /// [p_BinN, v_B, attitude] (velocity columns zero) and w.r.t. p_LinN.
+  Eigen::Vector3d landmarkInCamera(const EstimatedPose& pose, const Eigen::Vector3d& p_LinN,
+                                   Matrix3x9d* dpC_dxv = nullptr,
+                                   Eigen::Matrix3d* dpC_dpL = nullptr) const;
+  /// The same for the Euler pose [p_BinN, ·, euler].
   Eigen::Vector3d landmarkInCamera(const Eigen::Vector3d& p_BinN, const Eigen::Vector3d& euler,
                                    const Eigen::Vector3d& p_LinN, Matrix3x9d* dpC_dxv = nullptr,
                                    Eigen::Matrix3d* dpC_dpL = nullptr) const;
@@ -69,9 +78,11 @@ class StereoCamera {
   /// (eq. 5.20), with optional dz_dpC (4×3). Does not check visibility.
   Eigen::Vector4d project(const Eigen::Vector3d& p_LinC, Matrix4x3d* dz_dpC = nullptr) const;
 
-  /// Full observation model h(x_v, p_LinN) (eq. 5.20) with optional dz_dxv (4×9, columns
-  /// [p_BinN, v_B, euler], velocity columns zero) and dz_dpL (4×3). x_v holds the first nine
-  /// vehicle states (vehicle_state_layout.h); bias states do not enter the observation.
+  /// Full observation model h(pose, p_LinN) (eq. 5.20) with optional dz_dxv (4×9, columns
+  /// [p_BinN, v_B, attitude], velocity columns zero) and dz_dpL (4×3).
+  Eigen::Vector4d project(const EstimatedPose& pose, const Eigen::Vector3d& p_LinN,
+                          Matrix4x9d* dz_dxv = nullptr, Matrix4x3d* dz_dpL = nullptr) const;
+  /// The same for the Euler pose x_v = [p_BinN, v_B, φ θ ψ].
   Eigen::Vector4d project(const Vector9d& x_v, const Eigen::Vector3d& p_LinN,
                           Matrix4x9d* dz_dxv = nullptr, Matrix4x3d* dz_dpL = nullptr) const;
 
@@ -85,9 +96,12 @@ class StereoCamera {
   Status triangulateInCamera(const Eigen::Vector4d& z, Eigen::Vector3d* p_LinC,
                              Matrix3x4d* dpC_dz = nullptr) const;
 
-  /// Inverse observation model: landmark p_LinN from z and the vehicle state, with optional
+  /// Inverse observation model: landmark p_LinN from z and the vehicle pose, with optional
   /// dpL_dxv (3×9, velocity columns zero) and dpL_dz (3×4). Same failure cases as
   /// triangulateInCamera; outputs are untouched on failure.
+  Status triangulate(const Eigen::Vector4d& z, const EstimatedPose& pose, Eigen::Vector3d* p_LinN,
+                     Matrix3x9d* dpL_dxv = nullptr, Matrix3x4d* dpL_dz = nullptr) const;
+  /// The same for the Euler pose x_v = [p_BinN, v_B, φ θ ψ].
   Status triangulate(const Eigen::Vector4d& z, const Vector9d& x_v, Eigen::Vector3d* p_LinN,
                      Matrix3x9d* dpL_dxv = nullptr, Matrix3x4d* dpL_dz = nullptr) const;
 

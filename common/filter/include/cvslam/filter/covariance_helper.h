@@ -68,7 +68,8 @@ class CovarianceHelper {
                        UpdateReport* report);
 
  private:
-  /// x ← x + dx; a vehicle block through vehicle_model::correct (angles kept in (−π, π]).
+  /// x ← x + dx; a vehicle block through vehicle_model::correct (angles kept in (−π, π], or
+  /// the rotation error folded into the nominal).
   static void correctMean(SlamState& state, const Eigen::VectorXd& dx);
   static Status append(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value);
 };

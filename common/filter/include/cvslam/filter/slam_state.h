@@ -11,6 +11,7 @@
 // goes through CovarianceHelper::addVariable instead).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <map>
 #include <vector>
@@ -64,12 +65,22 @@ class SlamState {
     x_.segment(v.index, v.size) = value;
   }
 
+  /// The nominal rotation R̂ (body to N) of a vehicle whose attitude entries are a rotation
+  /// error δθ, R_BtoN = R̂ Exp(δθ); nullptr for a vehicle with Euler angles (or none). Only
+  /// vehicle_model and the INS read it (vehicle_model.h).
+  const Eigen::Quaterniond* nominalAttitude(const VariableKey& vehicle) const;
+  /// Sets (or adds) the nominal rotation of `vehicle`; marginalising the vehicle drops it.
+  void setNominalAttitude(const VariableKey& vehicle, const Eigen::Quaterniond& q_BtoN) {
+    nominal_[vehicle] = q_BtoN;
+  }
+
  private:
   friend class CovarianceHelper;
   Eigen::VectorXd x_;
   Eigen::MatrixXd P_;
   std::vector<StateVariable> vars_;  // index order
   std::map<VariableKey, int> slot_;  // key -> position in vars_
+  std::map<VariableKey, Eigen::Quaterniond> nominal_;  // error-state vehicles' R̂
 };
 
 }  // namespace cvslam

@@ -1,32 +1,69 @@
 #pragma once
-// The vehicle block of a SlamState as the SLAM models see it: the ONE place that knows how the
-// vehicle's state is parametrised (ins/vehicle_state_layout.h: position, body velocity, ZYX
-// Euler angles, optional biases; docs/conventions.md). The stereo updater, the landmark
-// initialiser, the loop closer, the CI updater and CovarianceHelper's mean correction reach the
-// vehicle block only through these functions, for any VariableKey::vehicle(i) of the state.
+// The vehicle block of a SlamState as the SLAM models see it: the ONE place outside the INS
+// (ins/ins_propagator.h) that knows how the vehicle's state is parametrised
+// (ins/vehicle_state_layout.h: position, body velocity, attitude, optional biases;
+// docs/conventions.md, docs/filter.md). The stereo updater, the landmark initialiser, the loop
+// closer, the CI updater, CovarianceHelper's mean correction, the map prediction, the front
+// end's motion prior and the run record reach the vehicle block only through these functions,
+// for any VariableKey::vehicle(i) of the state.
 //
-// Issue #13 replaces the Euler angles by a rotation error state (quaternion nominal, 3-dof
-// error). That change is made here: `pose` then derives the camera model's pose from the
-// nominal, `setPoseJacobian` / `poseToBlockJacobian` chain ∂/∂pose into the error state, and
-// `correct` becomes the ⊞ of the error state; `moveRigidly` and `yawDirection` follow.
-// Outside the models, readers of the vehicle state that #13 points at `pose` as well: the image
-// path's map prediction (slam/map_prediction.cpp, pose and its 9×9 covariance block), the
-// front end's motion prior (slam/visual_slam_pipeline.cpp), the run record
-// (slam/agent_run_recorder.cpp), and the INS propagator (ins/), which owns the transition.
+// Attitude (issue #13): a vehicle with a nominal rotation in the state
+// (SlamState::nominalAttitude) has the rotation error state — its three attitude entries are
+// δθ with R_BtoN = R̂ · Exp(δθ) (right, body-frame perturbation), zero between updates —
+// otherwise they are the thesis's ZYX Euler angles. The block keeps its size (9/15) and slot
+// layout in both, so additive updates, CI, the covariance algebra and the landmark code are
+// the same for both. `correct` folds δθ into R̂ after every update and zeroes it; the reset
+// Jacobian ∂δθ⁺/∂δθ = I − ½[δθ]× is taken as I (|δθ| of one update is ≪ 1 rad, as in
+// OpenVINS and MSCKF implementations).
+//
+// Outside the estimator, vehicle states travel in the thesis's Euler layout (run record,
+// agent_state_t, gs_state_t; docs/messages.md): `eulerLayout` derives φ θ ψ from R̂ and maps
+// the covariance by ∂e/∂δθ; `addVehicle` takes that layout in (∂δθ/∂e).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
+#include "cvslam/core/status.h"
 #include "cvslam/filter/measurement_batch.h"
 #include "cvslam/filter/slam_state.h"
+#include "cvslam/ins/estimated_pose.h"
+#include "cvslam/ins/vehicle_state_layout.h"
 
 namespace cvslam::vehicle_model {
 
-/// Entries of the pose the camera model takes (camera/stereo_camera.h): [p_BinN, v_B, euler].
+/// Entries of the pose Jacobians the camera model returns: [p_BinN, v_B, attitude].
 constexpr int kPoseSize = 9;
-using Pose = Eigen::Matrix<double, kPoseSize, 1>;
+using Pose = EstimatedPose;
 
 /// The camera model's pose of the vehicle block (bias states do not enter the observation).
 Pose pose(const SlamState& state, const StateVariable& vehicle);
+
+/// The parametrisation of the vehicle's attitude in `state`.
+vehicle::Attitude attitudeOf(const SlamState& state, const VariableKey& vehicle);
+
+/// The nominal rotation R̂ the INS propagates from (identity for Euler angles).
+Eigen::Quaterniond nominalAttitude(const SlamState& state, const VariableKey& vehicle);
+
+/// After the INS propagated the block: sets the nominal rotation it ended at (no-op for a
+/// vehicle with Euler angles).
+void setNominalAttitude(SlamState& state, const VariableKey& vehicle,
+                        const Eigen::Quaterniond& q_BtoN);
+
+/// Adds a vehicle block from a mean and covariance in the Euler layout [p, v_B, φ θ ψ, (b)]
+/// with the attitude parametrised as `attitude` (error state: R̂ = R(φ θ ψ), δθ = 0,
+/// P mapped by ∂δθ/∂e).
+Status addVehicle(SlamState& state, const VariableKey& vehicle, const Eigen::VectorXd& x_euler,
+                  const Eigen::MatrixXd& P_euler, vehicle::Attitude attitude);
+
+/// Adds an error-state vehicle block at the rotation q_BtoN: x_v's attitude entries are
+/// ignored (δθ = 0) and P_v is in the error coordinates (any attitude, e.g. IMU x axis up).
+Status addVehicle(SlamState& state, const VariableKey& vehicle, const Eigen::VectorXd& x_v,
+                  const Eigen::Quaterniond& q_BtoN, const Eigen::MatrixXd& P_v);
+
+/// The vehicle's mean and covariance in the Euler layout (for the run record and messages).
+/// At pitch ±90° φ and ψ are split arbitrarily and their variances are large, not infinite.
+void eulerLayout(const SlamState& state, const StateVariable& vehicle, Eigen::VectorXd* x,
+                 Eigen::MatrixXd* P);
 
 /// Sets ∂h/∂x_v of one observation group of `batch` from ∂h/∂pose (4 × kPoseSize): the
 /// Jacobian w.r.t. the vehicle block (bias columns zero).
@@ -38,18 +75,21 @@ void setPoseJacobian(MeasurementBatch& batch, int group, const StateVariable& ve
 void poseToBlockJacobian(const Eigen::Matrix<double, 3, kPoseSize>& dy_dpose,
                          Eigen::MatrixXd* dy_dblock);
 
-/// Applies an additive correction dx_v to the vehicle block x_v (the update's x ← x + δx),
-/// keeping roll and yaw in (−π, π].
-void correct(Eigen::Ref<Eigen::VectorXd> x_v, const Eigen::Ref<const Eigen::VectorXd>& dx_v);
+/// Applies an additive correction dx_v to the vehicle block x_v (the update's x ← x + δx).
+/// nominal == nullptr (Euler angles): keeps roll and yaw in (−π, π]. Otherwise folds the
+/// corrected δθ into *nominal (R̂ ← R̂ Exp(δθ)) and zeroes it.
+void correct(Eigen::Ref<Eigen::VectorXd> x_v, const Eigen::Ref<const Eigen::VectorXd>& dx_v,
+             Eigen::Quaterniond* nominal);
 
 /// Moves the vehicle rigidly: its position to `position`, its heading by `delta_yaw` about
-/// N's z axis (the loop alignment, loop_alignment.h). Velocity (body frame), roll, pitch and
-/// biases are unchanged.
+/// N's z axis (the loop alignment, loop_alignment.h). Velocity (body frame), tilt and biases
+/// are unchanged.
 void moveRigidly(SlamState& state, const StateVariable& vehicle, const Eigen::Vector3d& position,
                  double delta_yaw);
 
-/// u_v: how the vehicle block (size `block_size`) at p_BinN moves per radian of global yaw
-/// (observability_constraint.h): e3 × p for the position, 1 for ψ, 0 elsewhere.
-Eigen::VectorXd yawDirection(const Eigen::Vector3d& p_BinN, int block_size);
+/// u_v: how the vehicle block (size `block_size`) at `pose` moves per radian of global yaw
+/// (observability_constraint.h): e3 × p for the position, and for the attitude 1 on ψ (Euler)
+/// or R̂ᵀ e3 (error state: Rz(α) R̂ = R̂ Exp(α R̂ᵀ e3)); 0 elsewhere.
+Eigen::VectorXd yawDirection(const Pose& pose, int block_size);
 
 }  // namespace cvslam::vehicle_model

@@ -1,13 +1,20 @@
 #pragma once
 // Strap-down INS process model (thesis §2.3.2, §5.3; docs/conventions.md) and its discretisation.
 //
-// State x_v = [p_BinN | v_B | φ θ ψ | (b_a | b_g)], see vehicle_state_layout.h.
+// State x_v = [p_BinN | v_B | attitude | (b_a | b_g)], see vehicle_state_layout.h.
 // Noise  w  = [n_a | n_g | (n_ba | n_bg)] (same order as the state it drives).
 // Continuous dynamics, with ω = gyro − b_g − n_g and f = accel − b_a − n_a:
 //   ṗ_N = R_BtoN v_B                          (eq. 2.7)
 //   v̇_B = f + R_NtoB g_N − ω × v_B            (eq. 2.5 with the sign fixed by docs/conventions.md)
-//   ė   = E(φ, θ) ω                           (eq. 2.4)
+//   ė   = E(φ, θ) ω                           (eq. 2.4; `attitude: euler`)
+//   δθ̇  = J_r(δθ)⁻¹ ω,  R_BtoN = R̂ Exp(δθ)    (`attitude: error_state`, so3.h)
 //   ḃ_a = n_ba,  ḃ_g = n_bg                   (random walks, beyond the thesis)
+// Error state (the default, docs/filter.md): each step integrates in the chart around the
+// nominal R̂ at its start (the rotation written as δθ, RK4 on the chart, which is the
+// quaternion's RK4 up to the chart's own terms), then folds δθ₁ into the nominal,
+// R̂₁ = R̂ Exp(δθ₁), δθ = 0. F and G are the exact Jacobians of that map in the error
+// coordinates, x₀⊞δ ↦ step(x₀⊞δ)⊟step(x₀): the chart step's, times J_r(δθ₁) on the attitude
+// rows for the fold. No singularity at any attitude.
 // Discretisation per IMU interval [t0, t1]: classical RK4 on the mean with the IMU input
 // interpolated linearly between the two samples and the noise held constant over the step
 // (zero-order hold). The discrete white noise then has covariance Q_w = diag(σ²/dt) for a
@@ -24,6 +31,7 @@
 
 #include "cvslam/core/status.h"
 #include "cvslam/geometry/euler.h"
+#include "cvslam/geometry/so3.h"
 #include "cvslam/ins/imu_sample.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 
@@ -46,6 +54,10 @@ struct InsPropagatorOptions {
   double gravity = 9.81;
   /// IMU intervals longer than this are rejected as a data gap [s].
   double max_dt = 0.1;
+  /// How the attitude is estimated (`attitude: error_state | euler`): a rotation error state
+  /// about a nominal rotation (no singularity), or the thesis's ZYX Euler angles (singular at
+  /// pitch ±90°; kept for the thesis comparisons).
+  vehicle::Attitude attitude = vehicle::Attitude::kErrorState;
 
   Status load(const ConfigNode& node);
   /// The options as YAML (one `key: value` per line); load() reads it back unchanged.
@@ -58,6 +70,8 @@ struct InsTransition {
   Eigen::MatrixXd Phi;  ///< ∂x_end/∂x_start (product of the per-step F)
   Eigen::MatrixXd Qd;   ///< accumulated process noise Σ Φ(end,k) G_k Q_k G_kᵀ Φ(end,k)ᵀ
   int64_t t_us = 0;     ///< time of x
+  /// error_state: the nominal rotation R̂ (body to N) at t_us; x's δθ is then zero.
+  Eigen::Quaterniond q_BtoN = Eigen::Quaterniond::Identity();
 };
 
 /// IMU sample at t_us by linear interpolation between a and b (a.t_us ≤ t_us ≤ b.t_us), to
@@ -76,27 +90,50 @@ class InsPropagator {
   Eigen::VectorXd noiseVariances(double dt) const;
 
   /// Mean of one RK4 step from s0 to s1 with the noise w held over the step (w may be zero).
-  /// No dt check: callers that take data from outside use step() or propagate().
+  /// x's attitude is read per options().attitude; error_state: about the nominal q_BtoN, and
+  /// the result's δθ is folded into *q_next (zero in the result). q_next may be null in Euler
+  /// mode. No dt check: callers that take data from outside use step() or propagate().
+  Eigen::VectorXd stepMean(const Eigen::VectorXd& x, const Eigen::Quaterniond& q_BtoN,
+                           const ImuSample& s0, const ImuSample& s1, const Eigen::VectorXd& w,
+                           Eigen::Quaterniond* q_next) const;
+
+  /// One step with Jacobians dx1_dx0 (F) and dx1_dw (G) and the noise covariance Q_w, in the
+  /// error coordinates (error_state: q_BtoN is the nominal, *q_next the new one).
+  /// Rejects dt ≤ 0 and dt > max_dt.
+  Status step(const Eigen::VectorXd& x, const Eigen::Quaterniond& q_BtoN, const ImuSample& s0,
+              const ImuSample& s1, Eigen::VectorXd* x_next, Eigen::Quaterniond* q_next,
+              Eigen::MatrixXd* dx1_dx0, Eigen::MatrixXd* dx1_dw, Eigen::MatrixXd* Q_w) const;
+
+  /// Propagates x (valid at samples.front().t_us; error_state: about the nominal q_BtoN)
+  /// through every consecutive pair of samples. Euler: the yaw of the result is wrapped to
+  /// (−π, π]; error_state: the result's δθ is zero and out->q_BtoN the nominal.
+  Status propagate(const Eigen::VectorXd& x, const Eigen::Quaterniond& q_BtoN,
+                   const std::vector<ImuSample>& samples, InsTransition* out) const;
+
+  /// A state in the Euler layout [p, v_B, φ θ ψ, (b)] as this propagator's (x, nominal):
+  /// error_state: R̂ = R(φ θ ψ), δθ = 0; Euler: unchanged (q = identity).
+  void fromEulerLayout(const Eigen::VectorXd& x_euler, Eigen::VectorXd* x,
+                       Eigen::Quaterniond* q_BtoN) const;
+  /// The inverse (error_state: φ θ ψ of R̂ Exp(δθ)), for outputs people read.
+  Eigen::VectorXd eulerLayout(const Eigen::VectorXd& x, const Eigen::Quaterniond& q_BtoN) const;
+
+  /// The three above for the Euler attitude (options().attitude must be euler).
   Eigen::VectorXd stepMean(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1,
                            const Eigen::VectorXd& w) const;
-
-  /// One step with Jacobians dx1_dx0 (F) and dx1_dw (G) and the noise covariance Q_w.
-  /// Rejects dt ≤ 0 and dt > max_dt.
   Status step(const Eigen::VectorXd& x, const ImuSample& s0, const ImuSample& s1,
               Eigen::VectorXd* x_next, Eigen::MatrixXd* dx1_dx0, Eigen::MatrixXd* dx1_dw,
               Eigen::MatrixXd* Q_w) const;
-
-  /// Propagates x (valid at samples.front().t_us) through every consecutive pair of samples.
-  /// The yaw of the result is wrapped to (−π, π].
   Status propagate(const Eigen::VectorXd& x, const std::vector<ImuSample>& samples,
                    InsTransition* out) const;
 
   /// Continuous dynamics ẋ = f(x, u, w), templated so that ceres::Jet can differentiate it.
+  /// `chart`: null for the Euler attitude, else the nominal R̂ (body to N) of the δθ chart.
   template <typename T, int kN>
   static Eigen::Matrix<T, kN, 1> dynamics(const Eigen::Matrix<T, kN, 1>& x,
                                           const Eigen::Matrix<T, 3, 1>& gyro_B,
                                           const Eigen::Matrix<T, 3, 1>& accel_B,
-                                          const Eigen::Matrix<T, kN - 3, 1>& w, double gravity);
+                                          const Eigen::Matrix<T, kN - 3, 1>& w, double gravity,
+                                          const Eigen::Matrix3d* chart = nullptr);
 
  private:
   InsPropagatorOptions o_;
@@ -109,24 +146,28 @@ Eigen::Matrix<T, kN, 1> InsPropagator::dynamics(const Eigen::Matrix<T, kN, 1>& x
                                                 const Eigen::Matrix<T, 3, 1>& gyro_B,
                                                 const Eigen::Matrix<T, 3, 1>& accel_B,
                                                 const Eigen::Matrix<T, kN - 3, 1>& w,
-                                                double gravity) {
+                                                double gravity, const Eigen::Matrix3d* chart) {
   static_assert(kN == vehicle::kSizeNoBias || kN == vehicle::kSizeWithBias);
   using Vec3 = Eigen::Matrix<T, 3, 1>;
   const Vec3 v_B = x.template segment<3>(vehicle::kVelocity);
-  const Vec3 euler = x.template segment<3>(vehicle::kAttitude);
+  const Vec3 attitude = x.template segment<3>(vehicle::kAttitude);
   Vec3 f_B = accel_B - w.template segment<3>(0);
   Vec3 omega_B = gyro_B - w.template segment<3>(3);
   if constexpr (kN == vehicle::kSizeWithBias) {
     f_B -= x.template segment<3>(vehicle::kAccelBias);
     omega_B -= x.template segment<3>(vehicle::kGyroBias);
   }
-  const Eigen::Matrix<T, 3, 3> R_NtoB = rotationNavToBody(euler);
+  const Eigen::Matrix<T, 3, 3> R_NtoB =
+      chart == nullptr ? rotationNavToBody(attitude)
+                       : Eigen::Matrix<T, 3, 3>((chart->cast<T>() * so3::exp(attitude)).transpose());
   const Vec3 g_N(T(0.0), T(0.0), T(gravity));
 
   Eigen::Matrix<T, kN, 1> xdot;
   xdot.template segment<3>(vehicle::kPosition) = R_NtoB.transpose() * v_B;
   xdot.template segment<3>(vehicle::kVelocity) = f_B + R_NtoB * g_N - omega_B.cross(v_B);
-  xdot.template segment<3>(vehicle::kAttitude) = eulerRates(euler, omega_B);
+  xdot.template segment<3>(vehicle::kAttitude) =
+      chart == nullptr ? eulerRates(attitude, omega_B)
+                       : Vec3(so3::rightJacobianInverse(attitude) * omega_B);
   if constexpr (kN == vehicle::kSizeWithBias) {
     xdot.template segment<3>(vehicle::kAccelBias) = w.template segment<3>(6);
     xdot.template segment<3>(vehicle::kGyroBias) = w.template segment<3>(9);

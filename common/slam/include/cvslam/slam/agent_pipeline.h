@@ -74,8 +74,8 @@ class AgentPipeline {
   int id() const { return id_; }
   VisualInertialSlam& slam() { return slam_; }
   const VisualInertialSlam& slam() const { return slam_; }
-  /// INS-only state (9 or 15 entries) after the last IMU sample.
-  const Eigen::VectorXd& insState() const { return x_ins_; }
+  /// INS-only state (9 or 15 entries, Euler layout) after the last IMU sample.
+  const Eigen::VectorXd& insState() const { return x_ins_euler_; }
   const AgentFrame& lastFrame() const { return last_; }
   long frames() const { return frames_; }
 
@@ -85,7 +85,9 @@ class AgentPipeline {
   int id_;
   VisualInertialSlam slam_;
   InsPropagator dead_reckoning_;
-  Eigen::VectorXd x_ins_;
+  Eigen::VectorXd x_ins_;     // the propagator's own parametrisation (ins.attitude)
+  Eigen::Quaterniond q_ins_;  // its nominal rotation (error state)
+  Eigen::VectorXd x_ins_euler_;  // x_ins_ in the Euler layout (insState)
   ImuSample last_imu_;
   bool have_imu_ = false;
   std::unique_ptr<VisualSlamPipeline> visual_;

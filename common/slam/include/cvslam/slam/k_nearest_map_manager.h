@@ -48,9 +48,9 @@ class KNearestMapManager {
   const MapManagerOptions& options() const { return o_; }
 
   /// The virtual point m* (§5.8): midway between the two optical centres, pushed along the
-  /// optical axis to `depth` metres.
+  /// optical axis to `depth` metres, for the vehicle at p_BinN with attitude R_BtoN.
   static Eigen::Vector3d virtualPoint(const StereoCamera& camera, const Eigen::Vector3d& p_BinN,
-                                      const Eigen::Vector3d& euler, double depth);
+                                      const Eigen::Matrix3d& R_BtoN, double depth);
 
   /// Scene depth for m*: the median camera depth of `observed_p_LinC` when enabled and
   /// non-empty, else the nominal depth.

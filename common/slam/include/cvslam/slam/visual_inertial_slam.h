@@ -31,6 +31,7 @@
 #include "cvslam/filter/covariance_helper.h"
 #include "cvslam/filter/slam_state.h"
 #include "cvslam/filter/update_policy.h"
+#include "cvslam/filter/vehicle_model.h"
 #include "cvslam/ins/imu_sample.h"
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/slam/ci_updater.h"
@@ -112,9 +113,12 @@ class VisualInertialSlam {
   const std::vector<uint8_t>* descriptorOf(int64_t landmark_id) const;
 
   int64_t time() const { return t_us_; }
-  /// Vehicle state and its covariance block.
+  /// Vehicle state and its covariance block in the Euler layout [p, v_B, φ θ ψ, (b)]
+  /// (vehicle_model::eulerLayout: derived from the nominal rotation in error-state mode).
   Eigen::VectorXd vehicleState() const;
   Eigen::MatrixXd vehicleCovariance() const;
+  /// The vehicle's pose (rotation-based; vehicle_model::pose).
+  vehicle_model::Pose vehiclePose() const;
   const SlamState& state() const { return state_; }
   /// Landmarks in the state, sorted by id.
   std::vector<StateLandmark> stateLandmarks() const;
