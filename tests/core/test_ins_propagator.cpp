@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "cvslam/geometry/so3.h"
 #include "cvslam/io/config_node.h"
 #include "jacobian_check.h"
 
@@ -34,10 +35,36 @@ Eigen::VectorXd movingState(bool with_bias) {
   return x;
 }
 
+/// Options with the thesis's Euler attitude.
+InsPropagatorOptions eulerOptions() {
+  InsPropagatorOptions o;
+  o.attitude = vehicle::Attitude::kEuler;
+  return o;
+}
+
+/// A state of the error-state INS: the moving state's Euler angles become the nominal.
+struct ErrorState {
+  Eigen::VectorXd x;
+  Eigen::Quaterniond q;
+};
+ErrorState errorState(const InsPropagator& ins, const Eigen::VectorXd& x_euler) {
+  ErrorState e;
+  ins.fromEulerLayout(x_euler, &e.x, &e.q);
+  return e;
+}
+
+/// x ⊟ reference of two error-state INS states: additive entries, and the attitude entries
+/// Log(R̂_refᵀ R̂) (both δθ zero after a step).
+Eigen::VectorXd boxMinus(const ErrorState& a, const ErrorState& ref) {
+  Eigen::VectorXd d = a.x - ref.x;
+  d.segment<3>(vehicle::kAttitude) = so3::log((ref.q.inverse() * a.q).toRotationMatrix());
+  return d;
+}
+
 class InsPropagatorBias : public ::testing::TestWithParam<bool> {};
 
 TEST_P(InsPropagatorBias, StepJacobiansMatchCentralDifferences) {
-  InsPropagatorOptions o;
+  InsPropagatorOptions o = eulerOptions();
   o.estimate_imu_bias = GetParam();
   const InsPropagator ins(o);
   const auto samples = knownMotion(0.01);
@@ -55,6 +82,82 @@ TEST_P(InsPropagatorBias, StepJacobiansMatchCentralDifferences) {
   // Q_w is the zero-order-hold discretisation σ²/dt.
   EXPECT_NEAR(Q(0, 0), o.accel_noise_density * o.accel_noise_density / 0.005, 1e-15);
   EXPECT_NEAR(Q(3, 3), o.gyro_noise_density * o.gyro_noise_density / 0.005, 1e-15);
+}
+
+/// Error state: F and G are the Jacobians of x₀⊞δ ↦ step(x₀⊞δ)⊟step(x₀), with ⊞ adding δ to
+/// every entry (δθ in the chart about R̂) and ⊟ as boxMinus.
+TEST_P(InsPropagatorBias, ErrorStateStepJacobiansMatchCentralDifferences) {
+  InsPropagatorOptions o;
+  o.estimate_imu_bias = GetParam();
+  const InsPropagator ins(o);
+  const auto samples = knownMotion(0.01);
+  const ImuSample &s0 = samples[0], &s1 = samples[1];
+  const ErrorState e0 = errorState(ins, movingState(o.estimate_imu_bias));
+  ErrorState e1;
+  Eigen::MatrixXd F, G, Q;
+  ASSERT_TRUE(ins.step(e0.x, e0.q, s0, s1, &e1.x, &e1.q, &F, &G, &Q).ok());
+  EXPECT_EQ(e1.x.segment<3>(vehicle::kAttitude), Eigen::Vector3d::Zero());
+  const Eigen::VectorXd w0 = Eigen::VectorXd::Zero(ins.noiseSize());
+  const auto stepped = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& w) {
+    ErrorState e;
+    e.x = ins.stepMean(x, e0.q, s0, s1, w, &e.q);
+    return boxMinus(e, e1);
+  };
+  EXPECT_LT(stepped(e0.x, w0).norm(), 1e-14);
+  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& x) { return stepped(x, w0); },
+                                    e0.x, F, 1e-6, 1e-8));
+  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& w) { return stepped(e0.x, w); },
+                                    w0, G, 1e-6, 1e-8));
+  // The same from a non-zero δθ (a state mid-update): the chart carries it.
+  Eigen::VectorXd x_off = e0.x;
+  x_off.segment<3>(vehicle::kAttitude) << 0.02, -0.01, 0.03;
+  ErrorState e1_off;
+  ASSERT_TRUE(ins.step(x_off, e0.q, s0, s1, &e1_off.x, &e1_off.q, &F, &G, &Q).ok());
+  const auto stepped_off = [&](const Eigen::VectorXd& x) {
+    ErrorState e;
+    e.x = ins.stepMean(x, e0.q, s0, s1, w0, &e.q);
+    return boxMinus(e, e1_off);
+  };
+  EXPECT_TRUE(test::jacobianMatches(stepped_off, x_off, F, 1e-6, 1e-8));
+}
+
+/// Pitch ±90° (IMU x axis vertical, as the EuRoC VI-sensor mounts it): a constant body rate
+/// about y carries the vehicle through pitch 90°. The error state follows the exact rotation
+/// R₀ Exp(ω t); the Euler model refuses at the singularity (eq. 2.4).
+TEST(InsPropagator, ErrorStateCrossesPitch90WhereEulerFails) {
+  const Eigen::Vector3d omega(0.0, 0.5, 0.0);
+  std::vector<ImuSample> samples;
+  for (int k = 0; k <= 400; ++k) {  // 2 s at 200 Hz: pitch 80° → 137°
+    ImuSample m;
+    m.t_us = int64_t{5000} * k;
+    m.gyro_B = omega;
+    samples.push_back(m);
+  }
+  Eigen::VectorXd x_euler = Eigen::VectorXd::Zero(9);
+  x_euler(vehicle::kAttitude + 1) = 80.0 * M_PI / 180.0;
+  const InsPropagator euler_ins(eulerOptions());
+  InsTransition tr;
+  const Status s = euler_ins.propagate(x_euler, samples, &tr);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("singularity"), std::string::npos) << s.message();
+
+  const InsPropagator ins;
+  const ErrorState e0 = errorState(ins, x_euler);
+  ASSERT_TRUE(ins.propagate(e0.x, e0.q, samples, &tr).ok());
+  const Eigen::Matrix3d R_true = e0.q.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0));
+  EXPECT_LT(so3::log(R_true.transpose() * tr.q_BtoN.toRotationMatrix()).norm(), 1e-9);
+  EXPECT_EQ(tr.x.segment<3>(vehicle::kAttitude), Eigen::Vector3d::Zero());
+  EXPECT_TRUE(tr.Phi.allFinite());
+  EXPECT_TRUE(tr.Qd.allFinite());
+  // Starting exactly at pitch 90° is fine too.
+  Eigen::VectorXd x_up = Eigen::VectorXd::Zero(9);
+  const Eigen::Quaterniond q_up(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+  ASSERT_TRUE(ins.propagate(x_up, q_up, samples, &tr).ok());
+  EXPECT_LT(so3::log((q_up.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0)))
+                         .transpose() *
+                     tr.q_BtoN.toRotationMatrix())
+                .norm(),
+            1e-9);
 }
 
 TEST(InsPropagator, DynamicsMatchEquation25WithCorrectedGravitySign) {
@@ -80,7 +183,7 @@ INSTANTIATE_TEST_SUITE_P(WithAndWithoutBias, InsPropagatorBias, ::testing::Bool(
 
 TEST(InsPropagator, LevelAtRestStaysAtRest) {
   // docs/conventions.md sign convention: a level IMU at rest reads f_B = [0 0 −g].
-  const InsPropagator ins;
+  const InsPropagator ins(eulerOptions());
   std::vector<ImuSample> samples(101);
   for (std::size_t k = 0; k < samples.size(); ++k) {
     samples[k].t_us = static_cast<int64_t>(k) * 5000;
@@ -100,7 +203,7 @@ TEST(InsPropagator, LevelAtRestStaysAtRest) {
 }
 
 TEST(InsPropagator, RejectsBadTimestampsAndSizes) {
-  const InsPropagator ins;
+  const InsPropagator ins(eulerOptions());
   auto samples = knownMotion(0.02);
   InsTransition tr;
   const Eigen::VectorXd x = movingState(false);
@@ -129,7 +232,7 @@ TEST(InsPropagator, RejectsBadTimestampsAndSizes) {
 TEST(InsPropagator, SplittingAnIntervalAtAnInterpolatedSampleMatches) {
   // Propagating to a camera time between two IMU samples and on from there equals the
   // single step to within the RK4 error (inputs are linear in time either way).
-  const InsPropagator ins;
+  const InsPropagator ins(eulerOptions());
   const auto samples = knownMotion(0.005);
   const ImuSample mid = interpolateImu(samples[0], samples[1], samples[0].t_us + 2000);
   EXPECT_EQ(mid.t_us, samples[0].t_us + 2000);
@@ -169,15 +272,24 @@ TEST(InsPropagatorOptions, LoadsAndValidates) {
   EXPECT_EQ(back.print(), o.print());
   EXPECT_EQ(back.gravity, 9.80665);
   EXPECT_TRUE(back.estimate_imu_bias);
+  EXPECT_EQ(back.attitude, vehicle::Attitude::kErrorState);
+  auto euler = ConfigNode::fromString("{attitude: euler}", "t.yaml");
+  InsPropagatorOptions o3;
+  ASSERT_TRUE(o3.load(*euler).ok());
+  EXPECT_EQ(o3.attitude, vehicle::Attitude::kEuler);
+  auto wrong = ConfigNode::fromString("{attitude: quaternion}", "t.yaml");
+  EXPECT_EQ(o3.load(*wrong).message(), "t.yaml: attitude: must be error_state or euler");
 }
 
 /// Monte-Carlo check of the covariance propagation (GTSAM practice): sample
 /// initial states from N(x0, P0) and the discrete noise from N(0, Q_w) at every step, push
 /// each through the nonlinear RK4 model for 1 s, and compare the sampled error covariance
 /// with Φ P0 Φᵀ + Qd from propagate().
-TEST_P(InsPropagatorBias, MonteCarloCovarianceMatchesPropagatedCovariance) {
+void checkMonteCarloCovariance(bool with_bias, vehicle::Attitude attitude) {
   InsPropagatorOptions o;
-  o.estimate_imu_bias = GetParam();
+  o.attitude = attitude;
+  o.estimate_imu_bias = with_bias;
+  const bool euler = attitude == vehicle::Attitude::kEuler;
   // Noisier than a real IMU so that process noise matters next to P0.
   o.accel_noise_density = 0.05;
   o.gyro_noise_density = 0.01;
@@ -186,14 +298,15 @@ TEST_P(InsPropagatorBias, MonteCarloCovarianceMatchesPropagatedCovariance) {
   const InsPropagator ins(o);
   const int n = ins.stateSize();
   const auto samples = knownMotion(1.0);
-  const Eigen::VectorXd x0 = movingState(o.estimate_imu_bias);
+  const ErrorState e0 = errorState(ins, movingState(o.estimate_imu_bias));
+  const Eigen::VectorXd& x0 = e0.x;
   Eigen::VectorXd sigma0(n);
   sigma0.head<9>() << 0.05, 0.05, 0.05, 0.03, 0.03, 0.03, 0.01, 0.01, 0.01;
   if (o.estimate_imu_bias) sigma0.tail<6>() << 0.02, 0.02, 0.02, 0.002, 0.002, 0.002;
   const Eigen::MatrixXd P0 = sigma0.array().square().matrix().asDiagonal();
 
   InsTransition nominal;
-  ASSERT_TRUE(ins.propagate(x0, samples, &nominal).ok());
+  ASSERT_TRUE(ins.propagate(x0, e0.q, samples, &nominal).ok());
   const Eigen::MatrixXd P1 = nominal.Phi * P0 * nominal.Phi.transpose() + nominal.Qd;
   // The process noise must matter, or a wrong G would go unnoticed.
   for (int i = vehicle::kVelocity; i < vehicle::kAttitude + 3; ++i) {
@@ -207,14 +320,18 @@ TEST_P(InsPropagatorBias, MonteCarloCovarianceMatchesPropagatedCovariance) {
   Eigen::MatrixXd errors(n, kRuns);
   Eigen::VectorXd w(ins.noiseSize());
   for (int r = 0; r < kRuns; ++r) {
-    Eigen::VectorXd x(n);
-    for (int i = 0; i < n; ++i) x(i) = x0(i) + sigma0(i) * normal(rng);
+    ErrorState e{Eigen::VectorXd(n), e0.q};
+    for (int i = 0; i < n; ++i) e.x(i) = x0(i) + sigma0(i) * normal(rng);
     for (std::size_t k = 1; k < samples.size(); ++k) {
       for (int j = 0; j < w.size(); ++j) w(j) = q_std(j) * normal(rng);
-      x = ins.stepMean(x, samples[k - 1], samples[k], w);
+      e.x = ins.stepMean(e.x, e.q, samples[k - 1], samples[k], w, &e.q);
     }
-    errors.col(r) = x - nominal.x;
-    errors(vehicle::kAttitude + 2, r) = wrapAngle(errors(vehicle::kAttitude + 2, r));
+    if (euler) {
+      errors.col(r) = e.x - nominal.x;
+      errors(vehicle::kAttitude + 2, r) = wrapAngle(errors(vehicle::kAttitude + 2, r));
+    } else {
+      errors.col(r) = boxMinus(e, {nominal.x, nominal.q_BtoN});
+    }
   }
   const Eigen::VectorXd mean = errors.rowwise().mean();
   const Eigen::MatrixXd centred = errors.colwise() - mean;
@@ -239,6 +356,14 @@ TEST_P(InsPropagatorBias, MonteCarloCovarianceMatchesPropagatedCovariance) {
   ASSERT_EQ(llt.info(), Eigen::Success);
   const double nees = llt.matrixL().solve(errors).colwise().squaredNorm().mean();
   EXPECT_NEAR(nees, n, 4.0 * std::sqrt(2.0 * n / kRuns)) << "average NEES";
+}
+
+TEST_P(InsPropagatorBias, MonteCarloCovarianceMatchesPropagatedCovariance) {
+  checkMonteCarloCovariance(GetParam(), vehicle::Attitude::kEuler);
+}
+
+TEST_P(InsPropagatorBias, ErrorStateMonteCarloCovarianceMatchesPropagatedCovariance) {
+  checkMonteCarloCovariance(GetParam(), vehicle::Attitude::kErrorState);
 }
 
 }  // namespace
