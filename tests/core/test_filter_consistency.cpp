@@ -66,6 +66,7 @@ struct RunResult {
 /// One Monte-Carlo run: 2 s of 200 Hz IMU, updates at 20 Hz with 6 landmarks.
 void runOnce(const UpdatePolicy& policy, unsigned seed, RunResult* result) {
   InsPropagatorOptions o;
+  o.attitude = vehicle::Attitude::kEuler;  // the state is handled as a plain vector here
   o.accel_noise_density = 0.05;
   o.gyro_noise_density = 0.005;
   const InsPropagator ins(o);

@@ -58,7 +58,8 @@ TEST(ObservabilityConstraint, YawDirectionMatchesFiniteDifferences) {
   const EstimatedPose euler_pose = EstimatedPose::fromEuler(x);
   const double h = 1e-6;
   const Eigen::Matrix3d Rz(Eigen::AngleAxisd(h, Eigen::Vector3d::UnitZ()));
-  const Eigen::Vector3d dp = (Rz * euler_pose.p_BinN - euler_pose.p_BinN) / h;
+  const Eigen::Matrix3d Rz_back(Eigen::AngleAxisd(-h, Eigen::Vector3d::UnitZ()));
+  const Eigen::Vector3d dp = (Rz * euler_pose.p_BinN - Rz_back * euler_pose.p_BinN) / (2.0 * h);
   const Eigen::VectorXd u_euler = vehicle_model::yawDirection(euler_pose, 9);
   const Eigen::Vector3d de =
       (eulerFromRotationNavToBody((Rz * euler_pose.R_BtoN).transpose()) - euler_pose.euler) / h;
