@@ -12,6 +12,7 @@
 
 #include "cvslam/filter/covariance_helper.h"
 #include "cvslam/filter/vehicle_model.h"
+#include "cvslam/geometry/so3.h"
 #include "cvslam/geometry/euler.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/slam/ci_updater.h"
@@ -422,6 +423,89 @@ TEST(VehicleModel, PoseJacobianAndCorrectionOfTheVehicleBlock) {
   EXPECT_EQ(u.head<3>(), Eigen::Vector3d(2, 1, 0));
   EXPECT_EQ(u(vehicle::kAttitude + 2), 1.0);
   EXPECT_EQ(u.tail<6>(), Eigen::VectorXd::Zero(6));
+}
+
+/// Error state: ∂h/∂δθ of the stereo observation and ∂landmark/∂pose of the inverse model
+/// against central differences of R̂ Exp(δθ), at a level attitude and at pitch 90° (IMU x
+/// axis up); the correction folds δθ into R̂; the rigid move turns R̂ about N's z; the Euler
+/// layout round-trips.
+TEST(VehicleModel, ErrorStatePoseJacobiansCorrectionAndEulerLayout) {
+  const StereoCamera camera;
+  const VariableKey key = VariableKey::vehicle(2);
+  Eigen::VectorXd x_v = Eigen::VectorXd::Zero(vehicle::kSizeWithBias);
+  x_v.head<6>() << 1.0, -2.0, -10.0, 2.0, 0.1, 0.0;
+  const Eigen::Quaterniond level(rotationBodyToNav(Eigen::Vector3d(0.03, -0.02, 0.7)));
+  // Pitch 90°, camera still looking at the point: the nose points up, the camera forward.
+  const Eigen::Quaterniond up(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+  for (const Eigen::Quaterniond& q : {level, up}) {
+    SlamState s;
+    ASSERT_TRUE(
+        vehicle_model::addVehicle(s, key, x_v, q, Eigen::MatrixXd::Identity(15, 15)).ok());
+    const StateVariable& veh = *s.find(key);
+    const vehicle_model::Pose pose = vehicle_model::pose(s, veh);
+    EXPECT_EQ(pose.attitude, vehicle::Attitude::kErrorState);
+    // A landmark in front of the camera whatever the attitude.
+    const Eigen::Vector3d p_C(0.3, -0.2, 4.0);
+    const StereoCameraOptions& c = camera.options();
+    const Eigen::Vector3d p_LinN = pose.p_BinN + pose.R_BtoN * (c.R_BtoC.transpose() * p_C + c.p_CinB);
+    StereoCamera::Matrix4x9d dz_dpose;
+    camera.project(pose, p_LinN, &dz_dpose);
+    const auto moved = [&](const Eigen::VectorXd& x) {
+      SlamState t = s;
+      t.setValue(*t.find(key), x);
+      return vehicle_model::pose(t, *t.find(key));
+    };
+    const auto h = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+      return camera.project(moved(x), p_LinN);
+    };
+    Eigen::MatrixXd dz_dblock = Eigen::MatrixXd::Zero(4, 15);
+    dz_dblock.leftCols<9>() = dz_dpose;
+    EXPECT_TRUE(test::jacobianMatches(h, x_v, dz_dblock));
+    const Eigen::Vector4d z = camera.project(pose, p_LinN);
+    StereoCamera::Matrix3x9d dpL_dpose;
+    Eigen::Vector3d p;
+    ASSERT_TRUE(camera.triangulate(z, pose, &p, &dpL_dpose).ok());
+    EXPECT_LT((p - p_LinN).norm(), 1e-9);
+    Eigen::MatrixXd dpL_dblock = Eigen::MatrixXd::Zero(3, 15);
+    vehicle_model::poseToBlockJacobian(dpL_dpose, &dpL_dblock);
+    const auto g_inv = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+      Eigen::Vector3d out;
+      EXPECT_TRUE(camera.triangulate(z, moved(x), &out).ok());
+      return out;
+    };
+    EXPECT_TRUE(test::jacobianMatches(g_inv, x_v, dpL_dblock));
+  }
+
+  // Correction: δθ folded into R̂, the entries zeroed, the rest added.
+  Eigen::VectorXd corrected = x_v;
+  Eigen::VectorXd dx = Eigen::VectorXd::Zero(15);
+  dx.segment<3>(vehicle::kAttitude) << 0.01, 0.02, -0.03;
+  dx(vehicle::kAccelBias) = 0.01;
+  Eigen::Quaterniond nominal = level;
+  vehicle_model::correct(corrected, dx, &nominal);
+  EXPECT_EQ(corrected.segment<3>(vehicle::kAttitude), Eigen::Vector3d::Zero());
+  EXPECT_EQ(corrected(vehicle::kAccelBias), 0.01);
+  const Eigen::Matrix3d expected = level.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(dx.segment<3>(vehicle::kAttitude)));
+  EXPECT_LT((nominal.toRotationMatrix() - expected).norm(), 1e-12);
+
+  // Rigid move and the Euler layout (round trip of mean and covariance).
+  SlamState s;
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(15, 15) * 0.01;
+  P(vehicle::kAttitude, vehicle::kAttitude + 2) = P(vehicle::kAttitude + 2, vehicle::kAttitude) = 0.002;
+  Eigen::VectorXd x_euler = x_v;
+  x_euler.segment<3>(vehicle::kAttitude) << 0.03, -0.02, 0.7;
+  ASSERT_TRUE(vehicle_model::addVehicle(s, key, x_euler, P, vehicle::Attitude::kErrorState).ok());
+  Eigen::VectorXd x_out;
+  Eigen::MatrixXd P_out;
+  vehicle_model::eulerLayout(s, *s.find(key), &x_out, &P_out);
+  EXPECT_LT((x_out - x_euler).norm(), 1e-12);
+  EXPECT_LT((P_out - P).norm(), 1e-12);
+  vehicle_model::moveRigidly(s, *s.find(key), Eigen::Vector3d(5, 6, -9), 0.2);
+  vehicle_model::eulerLayout(s, *s.find(key), &x_out, &P_out);
+  EXPECT_EQ(x_out.head<3>(), Eigen::Vector3d(5, 6, -9));
+  EXPECT_NEAR(x_out(vehicle::kAttitude + 2), 0.9, 1e-12);
+  EXPECT_NEAR(x_out(vehicle::kAttitude), 0.03, 1e-12);
+  EXPECT_EQ(s.value(*s.find(key)).segment<3>(vehicle::kAttitude), Eigen::Vector3d::Zero());
 }
 
 }  // namespace
