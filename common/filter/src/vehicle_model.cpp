@@ -89,6 +89,11 @@ Status addVehicle(SlamState& state, const VariableKey& vehicle, const Eigen::Vec
   return Status::Ok();
 }
 
+Eigen::Matrix3d errorCovarianceFromNav(const Eigen::Quaterniond& q_BtoN, const Eigen::Matrix3d& P_N) {
+  const Eigen::Matrix3d R = q_BtoN.toRotationMatrix();
+  return R.transpose() * P_N * R;
+}
+
 void eulerLayout(const SlamState& state, const StateVariable& vehicle, Eigen::VectorXd* x,
                  Eigen::MatrixXd* P) {
   *x = state.value(vehicle);
@@ -149,6 +154,13 @@ Eigen::VectorXd yawDirection(const Pose& pose, int block_size) {
   } else {
     u.segment<3>(vehicle::kAttitude) = pose.R_BtoN.transpose().col(2);  // R̂ᵀ e3
   }
+  return u;
+}
+
+Eigen::VectorXd yawDirectionAt(const Pose& pose, const Eigen::VectorXd& u_v) {
+  if (pose.attitude == vehicle::Attitude::kEuler) return u_v;
+  Eigen::VectorXd u = u_v;
+  u.segment<3>(vehicle::kAttitude) = pose.R_BtoN.transpose().col(2);  // R̂ᵀ e3
   return u;
 }
 

@@ -33,6 +33,25 @@ std::string format(const char* fmt, double a, double b) {
 
 }  // namespace
 
+namespace {
+
+/// R_BtoN with N's z along gravity (−f_B at rest) and N's x along the horizontal part of the
+/// body axis least aligned with the vertical (StaticInitialization::q_BtoN).
+Eigen::Quaterniond gravityAlignedRotation(const Eigen::Vector3d& f_B) {
+  const Eigen::Vector3d down_B = -f_B.normalized();  // N's z in B
+  Eigen::Index axis = 0;
+  down_B.cwiseAbs().minCoeff(&axis);
+  const Eigen::Vector3d a = Eigen::Vector3d::Unit(axis);
+  const Eigen::Vector3d north_B = (a - a.dot(down_B) * down_B).normalized();  // N's x in B
+  Eigen::Matrix3d R_NtoB;  // columns: N's axes in B
+  R_NtoB.col(0) = north_B;
+  R_NtoB.col(2) = down_B;
+  R_NtoB.col(1) = down_B.cross(north_B);
+  return Eigen::Quaterniond(R_NtoB.transpose()).normalized();
+}
+
+}  // namespace
+
 Expected<StaticInitialization> initializeAtRest(const std::vector<ImuSample>& samples,
                                                 const StaticInitializerOptions& options,
                                                 double gravity, double accel_bias_sigma) {
@@ -103,6 +122,7 @@ Expected<StaticInitialization> initializeAtRest(const std::vector<ImuSample>& sa
   const double roll = std::atan2(-f.y(), -f.z());
   const double pitch = std::atan2(f.x(), std::hypot(f.y(), f.z()));
   init.euler = Eigen::Vector3d(roll, pitch, 0.0);
+  init.q_BtoN = gravityAlignedRotation(f);
   init.gyro_bias = w;
   init.gyro_bias_sigma = init.gyro_std / std::sqrt(count);
   init.tilt_sigma = accel_bias_sigma / gravity;

@@ -44,9 +44,15 @@ Expected<AgentCalibration> calibrationFromEuroc(const std::string& dir,
   if (!stereo.ok()) return stereo.status();
   auto imu = readEurocImuYaml(mav0 + "/imu0/sensor.yaml");
   if (!imu.ok()) return imu.status();
-  if (!imu->T_BS.isIdentity(1e-9)) {
-    return Status::Error(mav0 + "/imu0/sensor.yaml: T_BS must be the identity (body = IMU frame)");
-  }
+  // The estimator's body frame is the IMU frame, whatever its mounting (docs/conventions.md):
+  // the cameras' T_BS (camera → recording body) become camera → IMU, T_ItoBᵀ-composed with
+  // the IMU's own T_BS (IMU → recording body; rigid, checked by readEurocImuYaml).
+  const Eigen::Matrix3d R_ItoB = imu->T_BS.topLeftCorner<3, 3>();
+  Eigen::Matrix4d T_BtoI = Eigen::Matrix4d::Identity();
+  T_BtoI.topLeftCorner<3, 3>() = R_ItoB.transpose();
+  T_BtoI.topRightCorner<3, 1>() = -R_ItoB.transpose() * imu->T_BS.topRightCorner<3, 1>();
+  stereo->left.T_CtoB = T_BtoI * stereo->left.T_CtoB;
+  stereo->right.T_CtoB = T_BtoI * stereo->right.T_CtoB;
   AgentCalibration c;
   c.source = mav0;
   c.options = options;

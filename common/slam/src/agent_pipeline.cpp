@@ -21,7 +21,8 @@ AgentPipeline::AgentPipeline(int agent_id, const AgentFilterSetup& setup,
       slam_(setup.options, camera),
       dead_reckoning_(setup.options.ins) {
   dead_reckoning_.fromEulerLayout(setup.x0, &x_ins_, &q_ins_);
-  x_ins_euler_ = setup.x0;
+  if (setup.q0_BtoN) q_ins_ = *setup.q0_BtoN;
+  x_ins_euler_ = dead_reckoning_.eulerLayout(x_ins_, q_ins_);
 }
 
 Expected<std::unique_ptr<AgentPipeline>> AgentPipeline::create(int agent_id,
@@ -29,7 +30,10 @@ Expected<std::unique_ptr<AgentPipeline>> AgentPipeline::create(int agent_id,
                                                                const StereoCamera& camera) {
   if (auto p = setup.options.filter.policy(); !p.ok()) return p.status();
   std::unique_ptr<AgentPipeline> a(new AgentPipeline(agent_id, setup, camera));
-  if (Status s = a->slam_.initialize(setup.t0_us, setup.x0, setup.P0); !s.ok()) {
+  const Status init = setup.q0_BtoN
+                          ? a->slam_.initialize(setup.t0_us, setup.x0, *setup.q0_BtoN, setup.P0)
+                          : a->slam_.initialize(setup.t0_us, setup.x0, setup.P0);
+  if (Status s = init; !s.ok()) {
     return Status::Error("agent " + std::to_string(agent_id) + ": " + s.message());
   }
   return a;

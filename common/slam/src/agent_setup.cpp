@@ -1,5 +1,6 @@
 #include "cvslam/slam/agent_setup.h"
 
+#include "cvslam/filter/vehicle_model.h"
 #include "cvslam/geometry/euler.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 
@@ -42,6 +43,13 @@ AgentFilterSetup restSetup(const StaticInitialization& rest, const InitialUncert
   at_rest.attitude_sigma.head<2>().setConstant(rest.tilt_sigma);
   AgentFilterSetup s = initialEstimateSetup(rest.t_us, Eigen::Vector3d::Zero(),
                                             Eigen::Vector3d::Zero(), rest.euler, at_rest, options);
+  if (options.ins.attitude == vehicle::Attitude::kErrorState) {
+    // The rotation itself (no Euler angles at any mounting), σ about N's axes.
+    s.q0_BtoN = rest.q_BtoN;
+    const Eigen::Vector3d sigma_N = at_rest.attitude_sigma;
+    s.P0.block<3, 3>(vehicle::kAttitude, vehicle::kAttitude) = vehicle_model::errorCovarianceFromNav(
+        rest.q_BtoN, sigma_N.array().square().matrix().asDiagonal());
+  }
   if (options.ins.estimate_imu_bias) {
     s.x0.segment<3>(vehicle::kGyroBias) = rest.gyro_bias;
     const Eigen::Vector3d gyro_sigma =

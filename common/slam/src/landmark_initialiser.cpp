@@ -63,7 +63,8 @@ Status LandmarkInitialiser::initialise(SlamState& state, LandmarkBook& book,
       return s;
     }
     // u_L = ∂p_L/∂x_v u_v: the landmark inherits the vehicle's tracked yaw direction.
-    const Eigen::Vector3d u_L = dpL_dvehicle * book.vehicleYawDirection();
+    const Eigen::Vector3d u_L =
+        dpL_dvehicle * vehicle_model::yawDirectionAt(x, book.vehicleYawDirection());
     book.add(id, {obs.index, t_us, t_us, obs.descriptor, p_LinN, u_L, true});
     ++*initialised;
   }

@@ -52,6 +52,21 @@ void VisualInertialSlam::setObservabilityConstrained(bool on) {
 
 Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,
                                       const Eigen::MatrixXd& P_v) {
+  return initializeVehicle(t_us, x_v, nullptr, P_v);
+}
+
+Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,
+                                      const Eigen::Quaterniond& q_BtoN,
+                                      const Eigen::MatrixXd& P_v) {
+  if (o_.ins.attitude != vehicle::Attitude::kErrorState) {
+    return Status::Error("initial rotation given, but ins.attitude is not error_state");
+  }
+  return initializeVehicle(t_us, x_v, &q_BtoN, P_v);
+}
+
+Status VisualInertialSlam::initializeVehicle(int64_t t_us, const Eigen::VectorXd& x_v,
+                                             const Eigen::Quaterniond* q_BtoN,
+                                             const Eigen::MatrixXd& P_v) {
   if (!policy_status_.ok()) return policy_status_;
   const int n = propagator_.stateSize();
   if (x_v.size() != n || P_v.rows() != n || P_v.cols() != n) {
@@ -63,9 +78,10 @@ Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,
   state_ = SlamState();
   archive_ = LandmarkArchive();
   book_.clear();
-  if (Status s = vehicle_model::addVehicle(state_, vehicle_, x_v, P_v, o_.ins.attitude); !s.ok()) {
-    return s;
-  }
+  const Status added = q_BtoN != nullptr
+                           ? vehicle_model::addVehicle(state_, vehicle_, x_v, *q_BtoN, P_v)
+                           : vehicle_model::addVehicle(state_, vehicle_, x_v, P_v, o_.ins.attitude);
+  if (!added.ok()) return added;
   t_us_ = t_us;
   imu_buffer_.clear();
   book_.setVehicleYawDirection(

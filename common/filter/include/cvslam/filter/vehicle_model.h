@@ -60,6 +60,10 @@ Status addVehicle(SlamState& state, const VariableKey& vehicle, const Eigen::Vec
 Status addVehicle(SlamState& state, const VariableKey& vehicle, const Eigen::VectorXd& x_v,
                   const Eigen::Quaterniond& q_BtoN, const Eigen::MatrixXd& P_v);
 
+/// Covariance of δθ (body frame) for an attitude uncertainty P_N given about N's axes (tilt
+/// about x and y, heading about z): R̂ Exp(δθ) = Exp(R̂ δθ) R̂, so P_δθ = R̂ᵀ P_N R̂.
+Eigen::Matrix3d errorCovarianceFromNav(const Eigen::Quaterniond& q_BtoN, const Eigen::Matrix3d& P_N);
+
 /// The vehicle's mean and covariance in the Euler layout (for the run record and messages).
 /// At pitch ±90° φ and ψ are split arbitrarily and their variances are large, not infinite.
 void eulerLayout(const SlamState& state, const StateVariable& vehicle, Eigen::VectorXd* x,
@@ -91,5 +95,11 @@ void moveRigidly(SlamState& state, const StateVariable& vehicle, const Eigen::Ve
 /// (observability_constraint.h): e3 × p for the position, and for the attitude 1 on ψ (Euler)
 /// or R̂ᵀ e3 (error state: Rz(α) R̂ = R̂ Exp(α R̂ᵀ e3)); 0 elsewhere.
 Eigen::VectorXd yawDirection(const Pose& pose, int block_size);
+
+/// The tracked u_v (propagated by Φ, moved by loop alignments) with its attitude part taken at
+/// `pose`, where the Jacobians it constrains are evaluated. Euler: u_v unchanged (its ψ entry
+/// is 1 at any attitude). Error state: R̂ᵀ e3 — every update folds δθ into R̂, which turns
+/// the body-frame yaw axis; a stale one would let the observations inform global yaw.
+Eigen::VectorXd yawDirectionAt(const Pose& pose, const Eigen::VectorXd& u_v);
 
 }  // namespace cvslam::vehicle_model

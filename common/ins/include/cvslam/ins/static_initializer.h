@@ -12,6 +12,7 @@
 // σ_tilt ≈ σ_ba / g.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
 
@@ -46,6 +47,11 @@ struct StaticInitializerOptions {
 struct StaticInitialization {
   int64_t t_us = 0;                                     ///< last sample of the window
   Eigen::Vector3d euler = Eigen::Vector3d::Zero();      ///< φ θ ψ [rad], ψ = 0
+  /// R_BtoN at rest for any IMU mounting (the error-state attitude, docs/filter.md): gravity
+  /// along N's z, and N's x the horizontal projection of the body axis farthest from the
+  /// vertical (body x for an FRD IMU, so that this is the rotation of `euler`; body z for the
+  /// EuRoC VI-sensor's x-up IMU, whose Euler angles are singular).
+  Eigen::Quaterniond q_BtoN = Eigen::Quaterniond::Identity();
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();  ///< mean rate at rest [rad/s]
   /// 1σ of the gyro-bias estimate: the rate noise averaged over the window [rad/s].
   Eigen::Vector3d gyro_bias_sigma = Eigen::Vector3d::Zero();

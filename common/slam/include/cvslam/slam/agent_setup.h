@@ -8,6 +8,8 @@
 //    initialiser (ins/static_initializer.h: no ground truth needed).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <optional>
 #include <cstdint>
 
 #include "cvslam/core/status.h"
@@ -21,8 +23,12 @@ namespace cvslam {
 struct AgentFilterSetup {
   VisualInertialSlamOptions options;
   int64_t t0_us = 0;
-  Eigen::VectorXd x0;  ///< 9 or 15 entries (options.ins.estimate_imu_bias)
+  Eigen::VectorXd x0;  ///< 9 or 15 entries (options.ins.estimate_imu_bias), Euler layout
   Eigen::MatrixXd P0;
+  /// Set (error-state attitude only): the initial rotation R_BtoN; x0's attitude entries are
+  /// then ignored and P0's attitude block is in the error coordinates δθ (any attitude,
+  /// e.g. an IMU mounted x-up, where Euler angles are singular).
+  std::optional<Eigen::Quaterniond> q0_BtoN;
 };
 
 /// An agent started at the estimate x0 = [p_BinN, v_B, euler] with P0 = diag(sigma²); the

@@ -99,6 +99,10 @@ class VisualInertialSlam {
   /// Starts the filter at t_us with the vehicle state (9 or 15 entries, matching
   /// options.ins.estimate_imu_bias) and its covariance.
   Status initialize(int64_t t_us, const Eigen::VectorXd& x_v, const Eigen::MatrixXd& P_v);
+  /// The same at the rotation q_BtoN (options.ins.attitude must be error_state): x_v's
+  /// attitude entries are ignored and P_v's are in the error coordinates δθ.
+  Status initialize(int64_t t_us, const Eigen::VectorXd& x_v, const Eigen::Quaterniond& q_BtoN,
+                    const Eigen::MatrixXd& P_v);
   bool initialized() const { return initialized_; }
 
   /// Buffers an IMU sample; the vehicle is propagated lazily at the next frame.
@@ -145,6 +149,8 @@ class VisualInertialSlam {
   const StereoCamera& camera() const { return camera_; }
 
  private:
+  Status initializeVehicle(int64_t t_us, const Eigen::VectorXd& x_v,
+                           const Eigen::Quaterniond* q_BtoN, const Eigen::MatrixXd& P_v);
   void manageMap(const StereoFrameObservations& frame, FrameReport* report);
   /// Step 4: the gated stereo updates of the observations not used by loop closing.
   Status updateObserved(const StereoFrameObservations& frame, FrameReport* report);
