@@ -56,6 +56,8 @@ options:
   --mode single|dc        single: alone; dc: decentralised cooperation (default single)
   --filter ekf|nhinf      overrides filter.type of the configuration
   --map knearest|full     overrides map.kind of the configuration
+  --attitude error_state|euler
+                          overrides ins.attitude (euler: the thesis's model)
   --passes N              overrides slam.observation_passes (thesis §5.7.3)
   --detector NAME         images: overrides frontend.detector.type (adaptive_sift | sift | orb)
   --ci METHOD             dc: overrides coop.ci_method (adaptive | fast | optimal_trace |

@@ -4,21 +4,20 @@
 # two builds' results after a refactoring (scripts/compare_runs.py). ≈ 8 min on 2 cores,
 # most of it the full-map run.
 #
-#   scripts/regression_runs.sh [--build-dir build] [--config FILE] --out DIR
+#   scripts/regression_runs.sh [--build-dir build] [--attitude euler] --out DIR
 #   scripts/compare_runs.py BEFORE_DIR AFTER_DIR
-# --config: the agent configuration (default config/agent.yaml), e.g. one with
-# `ins: {attitude: euler}` to compare the thesis's model with a build from before the
-# rotation error state (issue #13).
+# --attitude: passed to every run (cvslam_run --attitude), e.g. euler to compare the thesis's
+# model with a build from before the rotation error state (issue #13).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 BUILD=build
-CONFIG=config/agent.yaml
+EXTRA=()
 OUT=
 while [ $# -gt 0 ]; do
   case "$1" in
     --build-dir) BUILD=${2:?--build-dir needs a value}; shift 2 ;;
-    --config) CONFIG=${2:?--config needs a value}; shift 2 ;;
+    --attitude) EXTRA=(--attitude "${2:?--attitude needs a value}"); shift 2 ;;
     --out) OUT=${2:?--out needs a value}; shift 2 ;;
     -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "regression_runs.sh: unknown option '$1' (try --help)" >&2; exit 2 ;;
@@ -27,14 +26,13 @@ done
 [ -n "$OUT" ] || { echo "regression_runs.sh: --out DIR is required (try --help)" >&2; exit 2; }
 RUN="$BUILD/tools/cvslam_run"
 [ -x "$RUN" ] || { echo "regression_runs.sh: $RUN not built" >&2; exit 2; }
-[ -f "$CONFIG" ] || { echo "regression_runs.sh: no configuration $CONFIG" >&2; exit 2; }
 mkdir -p "$OUT"
 
 failed=0
 run() {  # name, then cvslam_run arguments
   local name=$1; shift
   echo "regression_runs.sh: $name"
-  if ! "$RUN" --quiet --config "$CONFIG" --out "$OUT/$name" "$@" > "$OUT/$name.log" 2>&1; then
+  if ! "$RUN" --quiet --config config/agent.yaml "${EXTRA[@]}" --out "$OUT/$name" "$@" > "$OUT/$name.log" 2>&1; then
     echo "regression_runs.sh: $name FAILED (see $OUT/$name.log)" >&2
     failed=1
   fi

@@ -5,12 +5,13 @@
 # seeds the tests do not use.
 #
 #   scripts/seed_sweep.sh --scenario FILE --seeds FIRST-LAST [--config FILE] [--mode M]
-#                         [--build-dir build] [--duration S] --out DIR
+#                         [--attitude error_state|euler] [--build-dir build] [--duration S]
+#                         --out DIR
 # Prints one line per seed and a summary line; DIR/<seed>/ keeps each run and summary.json.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-BUILD=build CONFIG=config/agent.yaml MODE=single SCENARIO= SEEDS= OUT= DURATION=()
+BUILD=build CONFIG=config/agent.yaml MODE=single SCENARIO= SEEDS= OUT= DURATION=() ATTITUDE=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenario) SCENARIO=${2:?--scenario needs a value}; shift 2 ;;
@@ -19,8 +20,9 @@ while [ $# -gt 0 ]; do
     --mode) MODE=${2:?--mode needs a value}; shift 2 ;;
     --build-dir) BUILD=${2:?--build-dir needs a value}; shift 2 ;;
     --duration) DURATION=(--duration "${2:?--duration needs a value}"); shift 2 ;;
+    --attitude) ATTITUDE=(--attitude "${2:?--attitude needs a value}"); shift 2 ;;
     --out) OUT=${2:?--out needs a value}; shift 2 ;;
-    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "seed_sweep.sh: unknown option '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -34,7 +36,7 @@ mkdir -p "$OUT"
 for seed in $(seq "$FIRST" "$LAST"); do
   dir="$OUT/$seed"
   if ! "$BUILD/tools/cvslam_run" --quiet --config "$CONFIG" --scenario "$SCENARIO" --mode "$MODE" \
-      --seed "$seed" "${DURATION[@]}" --out "$dir" > "$OUT/$seed.log" 2>&1; then
+      --seed "$seed" "${DURATION[@]}" "${ATTITUDE[@]}" --out "$dir" > "$OUT/$seed.log" 2>&1; then
     echo "seed $seed: cvslam_run failed (see $OUT/$seed.log)"
     continue
   fi

@@ -59,6 +59,8 @@ options:
                           fast_sift | sift | orb)
   --filter ekf|nhinf      overrides filter.type of the configuration
   --map knearest|full     overrides map.kind of the configuration
+  --attitude error_state|euler
+                          overrides ins.attitude (euler: the thesis's model)
   --passes N              overrides slam.observation_passes (thesis §5.7.3)
   --pixel-noise KIND      overrides every UAV's pixel noise kind: gaussian |
                           non_gaussian_centred | non_centred (thesis §5.9)

@@ -20,6 +20,7 @@ void AgentConfigArgs::addTo(CLI::App& app) {
   app.add_option("--config", config);
   app.add_option("--filter", filter);
   app.add_option("--map", map);
+  app.add_option("--attitude", attitude);
   app.add_option("--detector", detector);
   app.add_option("--ci", ci);
   app.add_option("--passes", passes)
@@ -55,6 +56,11 @@ Expected<AgentConfig> AgentConfig::load(
       return s;
   if (!args.map.empty())
     if (Status s = e.override(c.slam.map, {"map"}, "kind", args.map, "--map"); !s.ok()) return s;
+  if (!args.attitude.empty()) {
+    if (Status s = e.override(c.slam.ins, {"ins"}, "attitude", args.attitude, "--attitude");
+        !s.ok())
+      return s;
+  }
   if (args.passes > 0) {
     const std::string n = std::to_string(args.passes);
     if (Status s = e.override(c.slam.slam, {"slam"}, "observation_passes", n, "--passes"); !s.ok())

@@ -3,8 +3,8 @@
 // config/agent.yaml — filter/ins/map/slam (VisualInertialSlamOptions), frontend
 // (VisualFrontEndOptions), coop (DcCooperationOptions) and whatever the tool reads itself
 // (cvslam_agent's `agent:`) — plus the command-line overrides the tools share (--filter,
-// --map, --passes, --detector, --ci, --both-ways, --one-way), kept as the effective YAML
-// (io/effective_config.h) that the run records in agent_<id>/config_used.yaml
+// --map, --attitude, --passes, --detector, --ci, --both-ways, --one-way), kept as the
+// effective YAML (io/effective_config.h) that the run records in agent_<id>/config_used.yaml
 // (docs/run_format.md). It lives in coop, the lowest module that knows every section.
 
 #include <CLI/CLI.hpp>
@@ -22,11 +22,11 @@ namespace cvslam {
 /// The shared command-line options (each empty / 0 / false: not given).
 struct AgentConfigArgs {
   std::string config;  ///< --config FILE ("" : default_config when it exists, else defaults)
-  std::string filter, map, detector, ci;
+  std::string filter, map, detector, ci, attitude;
   int passes = 0;
   bool both_ways = false, one_way = false;
 
-  /// Adds --config, --filter, --map, --passes, --detector, --ci, --both-ways and --one-way to
+  /// Adds --config, --filter, --map, --attitude, --passes, --detector, --ci, --both-ways and --one-way to
   /// `app` (help texts: the tool's usage text).
   void addTo(CLI::App& app);
   /// The options that need cooperation (--ci, --both-ways, --one-way) were given.
