@@ -47,11 +47,12 @@ options:
   --scenario FILE         calibration, IMU noise and initial estimate of agent N of a
                           simulated scenario (as cvslam_run builds them)
   --calibration DIR       EuRoC folder (DIR/mav0 or DIR): cam0/cam1/imu0 sensor.yaml; the
-                          filter starts at the first UAV<N>/GT pose (or --start rest)
-  --start known|rest      overrides agent.start: known — the scenario's initial estimate,
-                          else the first ground truth; rest — from the IMU's first rest
-                          period in the agent's own gravity-aligned frame, no ground truth
-                          (evaluate with cvslam_eval --align yaw)
+                          filter starts at the first UAV<N>/GT pose (or --start rest|dynamic|auto)
+  --start MODE            overrides agent.start: known — the scenario's initial estimate,
+                          else the first ground truth; without ground truth, in the agent's
+                          own gravity-aligned frame (evaluate with cvslam_eval --align yaw):
+                          rest — from the IMU's first rest period; dynamic — in motion, from
+                          the first frames and the IMU; auto — rest if at rest, else dynamic
   --config FILE           agent configuration (default: config/agent.yaml of the source tree)
   --mode single|dc        single: alone; dc: decentralised cooperation (default single)
   --filter ekf|nhinf      overrides filter.type of the configuration
@@ -112,7 +113,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
   app.add_option("--duration", a->duration)->check(cvslam::cli::kPositive);
   app.add_option("--idle-exit", a->idle_exit)->check(cvslam::cli::kPositive);
-  app.add_option("--start", a->start)->check(CLI::IsMember({"known", "rest"}));
+  app.add_option("--start", a->start)->check(CLI::IsMember({"known", "rest", "dynamic", "auto"}));
   app.add_flag("--verbose", a->verbose);
   a->config.addTo(app);
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return exit_code;

@@ -3,14 +3,16 @@
 # (scripts/launch.sh), evaluate the result against the folder's ground truth when it has one
 # (cvslam_eval), and draw the plots (scripts/plot_run.py).
 #
-#   scripts/run_dataset.sh PATH [--out DIR] [--start rest|known] [--duration S] [--build DIR]
+#   scripts/run_dataset.sh PATH [--out DIR] [--start auto|rest|dynamic|known] [--duration S] [--build DIR]
 #                          [--lcm-url URL] [--agent-arg ARG ...]
 #
 #   PATH                 EuRoC ASL folder (PATH/mav0/...) with cam0, cam1, imu0 and their sensor.yaml
 #   --out DIR            run folder (default runs/<folder name>)
-#   --start rest         (default) the agent starts from the IMU's first rest period in its own
-#                        gravity-aligned frame, no ground truth needed; the evaluation aligns
-#                        the estimate to the ground truth by yaw + translation (4-DoF)
+#   --start auto         (default) the agent starts without ground truth in its own
+#                        gravity-aligned frame: from the IMU's first rest period, or in motion
+#                        from the first frames and the IMU (rest | dynamic force one); the
+#                        evaluation aligns the estimate to the ground truth by yaw +
+#                        translation (4-DoF)
 #   --start known        the agent starts at the folder's first ground-truth pose (a NED folder,
 #                        e.g. written by cvslam_simulate); no alignment
 #   --duration S         replay only the first S seconds of the folder (default: all of it)
@@ -22,7 +24,7 @@ set -uo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BUILD="$ROOT/build"
-DATA="" OUT="" START=rest URL="" DURATION=""
+DATA="" OUT="" START=auto URL="" DURATION=""
 EXTRA=()
 die() { echo "run_dataset.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -40,7 +42,7 @@ while [ $# -gt 0 ]; do
 done
 [ -n "$DATA" ] || die "give the EuRoC folder (try --help)"
 [ -d "$DATA/mav0" ] || [ "$(basename "$DATA")" = mav0 ] || die "$DATA: no mav0/ folder (not a EuRoC ASL dataset)"
-case "$START" in rest) ALIGN=yaw ;; known) ALIGN=none ;; *) die "--start must be rest or known" ;; esac
+case "$START" in auto|rest|dynamic) ALIGN=yaw ;; known) ALIGN=none ;; *) die "--start must be auto, rest, dynamic or known" ;; esac
 [ -n "$OUT" ] || OUT="runs/$(basename "$(cd "$DATA" && pwd)")"
 [ -x "$BUILD/tools/cvslam_eval" ] || die "$BUILD/tools/cvslam_eval not built (cmake --build build)"
 

@@ -18,15 +18,20 @@
 #include <string>
 #include <vector>
 
+#include "cvslam/camera/euroc_calibration.h"
 #include "cvslam/dataset/euroc_dataset_writer.h"
 #include "cvslam/io/cli.h"
 #include "cvslam/sensors/merged_sensor_source.h"
+#include "cvslam/sim/resting_start.h"
+#include "cvslam/sim/scenario.h"
+#include "cvslam/sim/tum_trajectory.h"
+#include "cvslam/simrun/as_recorded_rig.h"
 #include "cvslam/simrun/render_world_choice.h"
 #include "cvslam/simrun/simulated_sensor_stream.h"
-#include "cvslam/sim/scenario.h"
 
 namespace {
 
+using cvslam::Expected;
 using cvslam::Status;
 
 constexpr const char* kUsage = R"(usage: cvslam_simulate --scenario FILE --out DIR [options]
@@ -36,7 +41,8 @@ DIR/uav<id>/mav0/{cam0,cam1,imu0,state_groundtruth_estimate0} (rendered rectifie
 stereo PNGs, IMU, ground truth at the IMU rate, sensor.yaml), plus DIR/landmarks.csv
 (3-D ground truth of the rendered world: the corners of its boxes, NED) and
 DIR/sensors.yaml (scenario, world and per-UAV calibration summary).
-Ground truth and IMU are in the scenario's NED frame; body = IMU frame.
+Ground truth and IMU are in the scenario's NED frame; body = IMU frame (unless
+--as-recorded).
 
 options:
   --scenario FILE     scenario YAML (config/scenarios/*.yaml)            [required]
@@ -45,12 +51,16 @@ options:
   --duration S        simulate only the first S seconds
   --world KIND        aerial | hall (default: hall for TUM-trajectory scenarios,
                       aerial otherwise)
+  --as-recorded MAV0  write the folders as a real rig records them: z-up world,
+                      IMU in the axes and images with the calibration (unrectified,
+                      distorted) of the EuRoC folder MAV0 (its cam0/cam1/sensor.yaml);
+                      ground truth = pose of the IMU in the z-up world
   --quiet             no progress output
   -h, --help          this text
 )";
 
 struct Args {
-  std::string scenario, out, world;
+  std::string scenario, out, world, as_recorded;
   long long seed = -1;
   double duration = -1.0;
   bool quiet = false;
@@ -69,6 +79,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   app.add_option("--world", a.world);
   app.add_option("--seed", a.seed)->check(cvslam::cli::kCount);
   app.add_option("--duration", a.duration)->check(cvslam::cli::kPositive);
+  app.add_option("--as-recorded", a.as_recorded);
   app.add_flag("--quiet", a.quiet);
   return cvslam::cli::parse(app, argc, argv, kUsage);
 }
@@ -79,9 +90,12 @@ std::string agentFolder(const std::string& out, int id) {
 
 // Corners of the rendered world's boxes (buildings, machines, pallets): exact 3-D points
 // that the images show, the natural ground truth for a rendered world.
-Status writeLandmarks(const std::string& path, const cvslam::render::World& world) {
+Status writeLandmarks(const std::string& path, const cvslam::render::World& world, bool z_up) {
   std::ofstream f(path);
-  f << "# id, x [m], y [m], z [m]: corners of the rendered world's boxes, NED\n";
+  f << "# id, x [m], y [m], z [m]: corners of the rendered world's boxes, "
+    << (z_up ? "z-up world of the ground truth\n" : "NED\n");
+  const Eigen::Matrix3d R =
+      z_up ? cvslam::AsRecordedRig::R_NtoW() : Eigen::Matrix3d(Eigen::Matrix3d::Identity());
   f.precision(17);
   int id = 0;
   for (const auto& box : world.boxes()) {
@@ -89,7 +103,8 @@ Status writeLandmarks(const std::string& path, const cvslam::render::World& worl
       const double x = (c & 1) ? box.hi_N.x() : box.lo_N.x();
       const double y = (c & 2) ? box.hi_N.y() : box.lo_N.y();
       const double z = (c & 4) ? box.hi_N.z() : box.lo_N.z();
-      f << id++ << ',' << x << ',' << y << ',' << z << '\n';
+      const Eigen::Vector3d p = R * Eigen::Vector3d(x, y, z);
+      f << id++ << ',' << p.x() << ',' << p.y() << ',' << p.z() << '\n';
     }
   }
   f.close();
@@ -106,14 +121,18 @@ std::string row(const Eigen::MatrixXd& m) {
 }
 
 Status writeSensorsYaml(const std::string& path, const cvslam::sim::Scenario& scenario,
-                        const std::string& world_reason) {
+                        const std::string& world_reason, const std::string& as_recorded) {
   std::ofstream f(path);
   f.precision(17);
   f << "# Written by cvslam_simulate: what was simulated, and each UAV's rectified stereo\n"
        "# camera and IMU (the same values as in uav<id>/mav0/*/sensor.yaml).\n";
   f << "scenario: " << scenario.source << "\nname: " << scenario.name << "\nseed: " << scenario.seed
-    << "\nduration: " << scenario.duration << "\nrender_world: \"" << world_reason
-    << "\"\nframe: NED\nagents:\n";
+    << "\nduration: " << scenario.duration << "\nrender_world: \"" << world_reason << "\"\nframe: "
+    << (as_recorded.empty() ? "NED"
+                            : "z-up  # as recorded: W = NED with y, z flipped; images, IMU axes "
+                              "and calibration of " +
+                                  as_recorded)
+    << "\nagents:\n";
   for (const auto& a : scenario.agents) {
     const auto& c = a.camera;
     f << "  - id: " << a.id << "\n    folder: uav" << a.id
@@ -125,6 +144,107 @@ Status writeSensorsYaml(const std::string& path, const cvslam::sim::Scenario& sc
   }
   f.close();
   return f ? Status::Ok() : Status::Error("cannot write " + path);
+}
+
+// One UAV's output: its folder writer and, with --as-recorded, the real rig it records with.
+struct AgentOutput {
+  cvslam::EurocDatasetWriter writer;
+  std::optional<cvslam::AsRecordedRig> rig;
+  int64_t epoch_ns = 0;  // recording clock at simulation time 0
+  uint64_t frames = 0;
+};
+
+// As recorded, timestamps are on a recorder's clock (EuRoC: ns since 1970). A TUM flight keeps
+// its own clock (rest included: the recorder ran while the vehicle stood still); other
+// flights start at a fixed date of EuRoC's era, so the numbers have a real recording's size.
+int64_t recordingEpochNs(const cvslam::sim::AgentSimulator& agent) {
+  constexpr int64_t kSyntheticEpochNs = 1'400'000'000'000'000'000;  // 2014-05-13
+  const cvslam::sim::Trajectory* t = &agent.trajectory();
+  double rest = 0.0;
+  if (const auto* r = dynamic_cast<const cvslam::sim::RestingStartTrajectory*>(t)) {
+    rest = r->rest();
+    t = &r->base();
+  }
+  const auto* tum = dynamic_cast<const cvslam::sim::TumTrajectory*>(t);
+  if (tum == nullptr) return kSyntheticEpochNs;
+  return std::llround((tum->startTime() - rest) * 1e6) * 1000;
+}
+
+Expected<std::map<int, AgentOutput>> createOutputs(
+    const Args& args, const cvslam::sim::Scenario& scenario,
+    const cvslam::sim::Simulator& simulator, std::shared_ptr<const cvslam::render::World> world) {
+  std::optional<cvslam::EurocStereoCalibration> rig_calibration;
+  if (!args.as_recorded.empty()) {
+    auto c = cvslam::loadEurocStereoCalibration(args.as_recorded);
+    if (!c.ok()) return c.status();
+    rig_calibration = *c;
+  }
+  std::map<int, AgentOutput> outputs;
+  for (const auto& a : scenario.agents) {
+    cvslam::EurocWriterOptions o;
+    o.camera = a.camera;
+    o.camera_rate_hz = a.camera_rate_hz;
+    o.imu.comment = a.imu.noise ? "cvslam simulated IMU" : "cvslam simulated IMU (noise-free)";
+    o.imu.rate_hz = a.imu.rate_hz;
+    o.imu.gyroscope_noise_density = a.imu.gyro_noise_density;
+    o.imu.gyroscope_random_walk = a.imu.gyro_random_walk;
+    o.imu.accelerometer_noise_density = a.imu.accel_noise_density;
+    o.imu.accelerometer_random_walk = a.imu.accel_random_walk;
+    std::optional<cvslam::AsRecordedRig> rig;
+    if (rig_calibration) {
+      auto r = cvslam::AsRecordedRig::create(world, *rig_calibration, a.camera);
+      if (!r.ok()) return r.status();
+      rig = std::move(*r);
+      o.cameras = {rig->cameraInfo(false, a.camera_rate_hz),
+                   rig->cameraInfo(true, a.camera_rate_hz)};
+    }
+    auto w = cvslam::EurocDatasetWriter::create(agentFolder(args.out, a.id), o);
+    if (!w.ok()) return w.status();
+    const int64_t epoch_ns = rig ? recordingEpochNs(*simulator.agentById(a.id)) : 0;
+    outputs.emplace(a.id, AgentOutput{std::move(*w), std::move(rig), epoch_ns});
+  }
+  return outputs;
+}
+
+// Writes one event; as recorded: IMU in the rig's axes, truth in the z-up world, images
+// rendered by the rig at the frame's true pose (the stream then carries features only).
+Status writeEvent(const cvslam::SensorEvent& e, const cvslam::sim::Simulator& simulator,
+                  AgentOutput& out) {
+  cvslam::EurocDatasetWriter& w = out.writer;
+  const int64_t t_ns = out.epoch_ns + e.t_us * 1000;
+  if (e.type == cvslam::SensorEventType::kImu) {
+    if (!out.rig) return w.addImu(e.imu);
+    cvslam::ImuSample s = out.rig->imu(e.imu);
+    s.t_us = t_ns / 1000;
+    return w.addImu(s);
+  }
+  if (e.type == cvslam::SensorEventType::kGroundTruth) {
+    if (out.rig) {
+      cvslam::EurocGroundTruth g = out.rig->groundTruth(e.t_us, e.truth);
+      g.t_ns = t_ns;
+      return w.addGroundTruth(g);
+    }
+    cvslam::EurocGroundTruth g;
+    g.t_ns = e.t_us * 1000;
+    g.p_SinR = e.truth.p_BinN;
+    g.q_StoR = e.truth.q_BtoN;
+    g.v_SinR = e.truth.v_N;
+    g.gyro_bias = e.truth.gyro_bias;
+    g.accel_bias = e.truth.accel_bias;
+    return w.addGroundTruth(g);
+  }
+  if (e.type == cvslam::SensorEventType::kStereoImage) {
+    ++out.frames;
+    return w.addStereoFrame(e.t_us * 1000, e.left, e.right);
+  }
+  if (e.type == cvslam::SensorEventType::kFeatures && out.rig) {
+    const auto* agent = simulator.agentById(e.agent_id);
+    if (agent == nullptr) return Status::Error("no agent " + std::to_string(e.agent_id));
+    cv::Mat left, right;
+    out.rig->render(cvslam::vehiclePose(agent->truth(e.t_us)), out.frames++, &left, &right);
+    return w.addStereoFrame(t_ns, left, right);
+  }
+  return Status::Ok();
 }
 
 }  // namespace
@@ -142,29 +262,25 @@ int main(int argc, char** argv) {
   if (!world.ok()) return fail(world.status().message());
   cvslam::SimulatedSensorOptions sim_options;
   sim_options.render_world = world->options;
+  // As recorded, the rig renders its own (distorted) images; the stream only times the frames.
+  sim_options.render = args.as_recorded.empty();
   auto team = cvslam::simulateTeam(*scenario, sim_options);
   if (!team.ok()) return fail(team.status().message());
+  std::shared_ptr<const cvslam::render::World> render_world = team->render_world;
+  if (!render_world) {
+    auto w = cvslam::render::World::create(world->options);
+    if (!w.ok()) return fail(w.status().message());
+    render_world = *w;
+  }
   if (!args.quiet)
-    std::fprintf(stderr, "cvslam_simulate: rendering world %s\n", world->reason.c_str());
+    std::fprintf(stderr, "cvslam_simulate: rendering world %s%s\n", world->reason.c_str(),
+                 args.as_recorded.empty() ? "" : ", as recorded");
 
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (ec) return fail("cannot create " + args.out + ": " + ec.message());
-  std::map<int, cvslam::EurocDatasetWriter> writers;
-  for (const auto& a : scenario->agents) {
-    cvslam::EurocWriterOptions o;
-    o.camera = a.camera;
-    o.camera_rate_hz = a.camera_rate_hz;
-    o.imu.comment = a.imu.noise ? "cvslam simulated IMU" : "cvslam simulated IMU (noise-free)";
-    o.imu.rate_hz = a.imu.rate_hz;
-    o.imu.gyroscope_noise_density = a.imu.gyro_noise_density;
-    o.imu.gyroscope_random_walk = a.imu.gyro_random_walk;
-    o.imu.accelerometer_noise_density = a.imu.accel_noise_density;
-    o.imu.accelerometer_random_walk = a.imu.accel_random_walk;
-    auto w = cvslam::EurocDatasetWriter::create(agentFolder(args.out, a.id), o);
-    if (!w.ok()) return fail(w.status().message());
-    writers.emplace(a.id, std::move(*w));
-  }
+  auto outputs = createOutputs(args, *scenario, *team->simulator, render_world);
+  if (!outputs.ok()) return fail(outputs.status().message());
 
   cvslam::MergedSensorSource source(std::move(team->streams));
   const bool tty = isatty(STDERR_FILENO) != 0;
@@ -173,24 +289,11 @@ int main(int argc, char** argv) {
   cvslam::SensorEvent e;
   int64_t frames = 0;
   while (source.next(e)) {
-    cvslam::EurocDatasetWriter& w = writers.at(e.agent_id);
-    Status s;
-    if (e.type == cvslam::SensorEventType::kImu) {
-      s = w.addImu(e.imu);
-    } else if (e.type == cvslam::SensorEventType::kGroundTruth) {
-      cvslam::EurocGroundTruth g;
-      g.t_ns = e.t_us * 1000;
-      g.p_SinR = e.truth.p_BinN;
-      g.q_StoR = e.truth.q_BtoN;
-      g.v_SinR = e.truth.v_N;
-      g.gyro_bias = e.truth.gyro_bias;
-      g.accel_bias = e.truth.accel_bias;
-      s = w.addGroundTruth(g);
-    } else if (e.type == cvslam::SensorEventType::kStereoImage) {
-      s = w.addStereoFrame(e.t_us * 1000, e.left, e.right);
-      ++frames;
-    }
+    AgentOutput& out = outputs->at(e.agent_id);
+    const uint64_t before = out.frames;
+    Status s = writeEvent(e, *team->simulator, out);
     if (!s.ok()) return fail(s.message());
+    frames += static_cast<int64_t>(out.frames - before);
     const auto now = std::chrono::steady_clock::now();
     if (!args.quiet && now - last_print > std::chrono::seconds(1)) {
       last_print = now;
@@ -200,19 +303,20 @@ int main(int argc, char** argv) {
     }
   }
   if (!source.status().ok()) return fail(source.status().message());
-  for (auto& [id, w] : writers) {
-    Status s = w.close();
+  for (auto& [id, out] : *outputs) {
+    Status s = out.writer.close();
     if (!s.ok()) return fail(s.message());
   }
-  Status s = writeLandmarks(args.out + "/landmarks.csv", *team->render_world);
-  if (s.ok()) s = writeSensorsYaml(args.out + "/sensors.yaml", *scenario, world->reason);
+  Status s = writeLandmarks(args.out + "/landmarks.csv", *render_world, !args.as_recorded.empty());
+  if (s.ok())
+    s = writeSensorsYaml(args.out + "/sensors.yaml", *scenario, world->reason, args.as_recorded);
   if (!s.ok()) return fail(s.message());
   if (!args.quiet) {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(
         stderr, "%scvslam_simulate: wrote %zu UAV folders, %lld stereo pairs to %s in %.1f s\n",
-        tty ? "\n" : "", writers.size(), static_cast<long long>(frames), args.out.c_str(), wall);
+        tty ? "\n" : "", outputs->size(), static_cast<long long>(frames), args.out.c_str(), wall);
   }
   return 0;
 }

@@ -2,12 +2,14 @@
 // sensor.yaml files, start at the first ground-truth pose, rendered images through the real
 // front end; a start at rest on the real EuRoC micro sequence, also through
 // scripts/run_dataset.sh; and a clean end on SIGTERM.
+// A start in motion (no rest, no ground truth) on a folder written as a real rig records it.
 // Ports 27820–27829.
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "agent_test_util.h"
@@ -148,6 +150,56 @@ TEST(AgentEurocProcess, RunDatasetScriptOnTheRealMicroSequence) {
             std::string::npos)
       << err;
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+}
+
+// start: auto on a folder written as the VI-sensor records it (cvslam_simulate --as-recorded:
+// z-up world, IMU x up, distorted images, EuRoC-like turn-on biases) that begins in mid-flight
+// along the real V1_02 trajectory: no rest, so the agent initialises in motion from its first
+// second of frames and IMU, and then tracks the flight.
+TEST(AgentEurocProcess, StartsInMotionOnAnAsRecordedFlight) {
+  test::TempFolder tmp;
+  const std::string data = test::sharedDataDir();
+  std::ofstream(tmp / "s.yaml")
+      << "name: in_flight\nseed: 5\nduration: 4.0\n"
+         "render: {world: {kind: hall, seed: 11, hall: {min_N: [-4.5, -5.0, -4.2],"
+         " max_N: [4.5, 4.5, -0.85]}}}\n"
+         "agents:\n  - id: 1\n"
+         "    trajectory: {kind: tum, file: "
+      << data
+      << "/euroc/V1_02_medium.tum,"
+         " z_up_to_ned: true, knot_interval: 0.1, R_TtoB: [0, 0, 1, 0, 1, 0, -1, 0, 0],"
+         " time_offset: 15.0}\n"
+         "    imu: {rate_hz: 200, gyro_bias: [0.0758, 0.0207, 0.0022],"
+         " accel_bias: [0.0931, 0.1035, 0.0133]}\n"
+         "    camera: {fx: 458.654, fy: 457.296, cx: 367.215, cy: 248.375, width: 752,"
+         " height: 480, baseline: 0.110078, R_BtoC: [-0.025774, 0.999557, -0.014866,"
+         " 0.003756, 0.014967, 0.999881, 0.999661, 0.025716, -0.004140],"
+         " p_CinB: [0.00981073, -0.06467699, 0.02164015], min_depth: 0.3}\n"
+         "    camera_rate_hz: 20.0\n";
+  std::string err;
+  ASSERT_EQ(test::run({CVSLAM_SIMULATE_EXE, "--scenario", tmp / "s.yaml", "--out", tmp / "data",
+                       "--as-recorded", data + "/euroc_micro/mav0", "--quiet"},
+                      tmp / "sim", nullptr, &err, 120s),
+            0)
+      << err;
+  const std::string url = test::agentUrl(27825) + "&recv_buf_size=16777216";
+  test::Child agent(
+      {CVSLAM_AGENT_EXE, "--id", "1", "--calibration", tmp / "data/uav1", "--start", "auto",
+       "--lcm-url", url, "--out", tmp / "lcm", "--idle-exit", "3", "--verbose"},
+      tmp / "a1");
+  test::Child replay({CVSLAM_REPLAY_EXE, "--dataset", "1:" + tmp / "data/uav1", "--lockstep",
+                      "--lockstep-timeout", "30", "--lcm-url", url, "--quiet"},
+                     tmp / "replay");
+  EXPECT_EQ(replay.wait(180s), 0) << replay.err();
+  EXPECT_EQ(agent.wait(60s), 0) << agent.err();
+  EXPECT_NE(agent.err().find("not at rest"), std::string::npos) << agent.err();
+  EXPECT_NE(agent.err().find("started in motion"), std::string::npos) << agent.err();
+  auto trajectory = readTumTrajectory(tmp / "lcm/agent_1/trajectory.tum");
+  ASSERT_TRUE(trajectory.ok()) << trajectory.status().message();
+  EXPECT_GE(trajectory->size(), 55u);  // 81 frames, about 1 s of them before the start
+  const auto ate = test::ateOf(tmp / "lcm", tmp / "eval", "yaw");
+  ASSERT_EQ(ate.count(1), 1u) << agent.out() << agent.err();
+  EXPECT_LT(ate.at(1), 0.1);
 }
 
 TEST(AgentEurocProcess, SigtermEndsCleanly) {

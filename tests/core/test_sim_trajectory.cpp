@@ -1,6 +1,6 @@
 // Trajectories (cvslam/sim): analytic derivatives against central finite differences,
-// Euler-rate / body-rate consistency (thesis eq. 2.4), body-velocity dynamics (docs/conventions.md),
-// TUM loading with the z-up → NED conversion.
+// Euler-rate / body-rate consistency (thesis eq. 2.4), body-velocity dynamics
+// (docs/conventions.md), TUM loading with the z-up → NED conversion.
 
 #include <gtest/gtest.h>
 
@@ -10,6 +10,7 @@
 #include "cvslam/geometry/euler.h"
 #include "cvslam/sim/flight_trajectory.h"
 #include "cvslam/sim/position_path.h"
+#include "cvslam/sim/resting_start.h"
 #include "cvslam/sim/tum_trajectory.h"
 #include "sim_test_helpers.h"
 #include "test_paths.h"
@@ -84,6 +85,30 @@ void checkDerivatives(const Trajectory& traj, double t, const std::string& what)
 TEST(SimTrajectory, DerivativesMatchFiniteDifferences) {
   for (const auto& n : parametricTrajectories()) {
     for (double t = 0.37; t < n.t_end; t += n.t_end / 23.0) checkDerivatives(*n.traj, t, n.name);
+  }
+}
+
+// A resting start: the first pose held still, a smooth ramp into the base motion (every
+// derivative continuous, so the checks hold in the rest, across the ramp and after it), then
+// the base trajectory delayed by rest + ramp/2.
+TEST(SimTrajectory, RestingStartIsStillThenSmoothThenTheBaseFlight) {
+  for (const auto& n : parametricTrajectories()) {
+    const RestingStartTrajectory traj(n.traj, 3.0, 2.0);
+    for (double t = 0.05; t < 9.0; t += 0.13) checkDerivatives(traj, t, "resting " + n.name);
+    const TrajectoryState base0 = n.traj->state(0.0);
+    for (double t : {0.0, 1.0, 2.999}) {
+      const TrajectoryState s = traj.state(t);
+      EXPECT_EQ(s.p_BinN, base0.p_BinN) << n.name;
+      EXPECT_EQ(s.R_NtoB, base0.R_NtoB) << n.name;
+      EXPECT_EQ(s.v_N.norm() + s.a_N.norm() + s.omega_B.norm(), 0.0) << n.name;
+    }
+    for (double t : {5.0, 7.3, 12.0}) {
+      const TrajectoryState s = traj.state(t), b = n.traj->state(t - 4.0);
+      EXPECT_LT((s.p_BinN - b.p_BinN).norm(), 1e-12) << n.name;
+      EXPECT_LT((s.v_N - b.v_N).norm(), 1e-12) << n.name;
+      EXPECT_LT((s.a_N - b.a_N).norm(), 1e-12) << n.name;
+    }
+    EXPECT_DOUBLE_EQ(traj.duration(), n.traj->duration() + 4.0);
   }
 }
 

@@ -12,9 +12,9 @@
 #include "core/sim_test_helpers.h"
 #include "cvslam/dataset/euroc_dataset.h"
 #include "cvslam/sensors/merged_sensor_source.h"
+#include "cvslam/sim/imu_recording.h"
 #include "cvslam/simrun/render_world_choice.h"
 #include "cvslam/simrun/simulated_sensor_stream.h"
-#include "cvslam/sim/imu_recording.h"
 #include "euroc_test_folder.h"
 #include "process_util.h"
 #include "small_scenario.h"
@@ -102,7 +102,36 @@ TEST(SimulateProcess, ReadBackEqualsTheSimulation) {
 }
 
 // RK4 strapdown integration over the recorded samples (step 2 samples: k, k+1 as the
-// midpoint, k+2), started from the recorded ground truth.
+// midpoint, k+2), started from the recorded ground truth; g_R = gravity in the ground
+// truth's frame R (NED: +9.81 z, z-up: −9.81 z).
+sim::simtest::NavState integrateImu(const std::vector<ImuSample>& imu,
+                                    const EurocGroundTruth& start, const Eigen::Vector3d& g) {
+  sim::simtest::NavState x{start.q_StoR.toRotationMatrix(), start.v_SinR, start.p_SinR};
+  struct D {
+    Eigen::Matrix3d dR;
+    Eigen::Vector3d dv, dp;
+  };
+  auto f = [&](const sim::simtest::NavState& s, const ImuSample& m) {
+    return D{s.R_BtoN * sim::simtest::skew(m.gyro_B), s.R_BtoN * m.accel_B + g, s.v_N};
+  };
+  auto add = [](const sim::simtest::NavState& s, const D& k, double h) {
+    return sim::simtest::NavState{s.R_BtoN + h * k.dR, s.v_N + h * k.dv, s.p_N + h * k.dp};
+  };
+  for (std::size_t k = 0; k + 2 < imu.size(); k += 2) {
+    const double h = 1e-6 * static_cast<double>(imu[k + 2].t_us - imu[k].t_us);
+    const D k1 = f(x, imu[k]);
+    const D k2 = f(add(x, k1, h / 2), imu[k + 1]);
+    const D k3 = f(add(x, k2, h / 2), imu[k + 1]);
+    const D k4 = f(add(x, k3, h), imu[k + 2]);
+    x.R_BtoN += h / 6 * (k1.dR + 2 * k2.dR + 2 * k3.dR + k4.dR);
+    x.v_N += h / 6 * (k1.dv + 2 * k2.dv + 2 * k3.dv + k4.dv);
+    x.p_N += h / 6 * (k1.dp + 2 * k2.dp + 2 * k3.dp + k4.dp);
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(x.R_BtoN, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    x.R_BtoN = svd.matrixU() * svd.matrixV().transpose();
+  }
+  return x;
+}
+
 TEST(SimulateProcess, NoiseFreeImuIntegratesToTheGroundTruth) {
   test::TempFolder tmp;
   const std::string scenario = test::writeSmallScenario(tmp / "s.yaml", 4.0, false);
@@ -112,34 +141,10 @@ TEST(SimulateProcess, NoiseFreeImuIntegratesToTheGroundTruth) {
     SCOPED_TRACE(id);
     auto d = EurocDataset::open(tmp / ("out/uav" + std::to_string(id)));
     ASSERT_TRUE(d.ok()) << d.status().message();
-    const auto& imu = d->imu();
     const auto& gt = d->groundTruth();
-    ASSERT_EQ(imu.size(), 801u);
+    ASSERT_EQ(d->imu().size(), 801u);
     ASSERT_EQ(gt.size(), 801u);
-    sim::simtest::NavState x{gt[0].q_StoR.toRotationMatrix(), gt[0].v_SinR, gt[0].p_SinR};
-    const Eigen::Vector3d g(0, 0, 9.81);
-    struct D {
-      Eigen::Matrix3d dR;
-      Eigen::Vector3d dv, dp;
-    };
-    auto f = [&](const sim::simtest::NavState& s, const ImuSample& m) {
-      return D{s.R_BtoN * sim::simtest::skew(m.gyro_B), s.R_BtoN * m.accel_B + g, s.v_N};
-    };
-    auto add = [](const sim::simtest::NavState& s, const D& k, double h) {
-      return sim::simtest::NavState{s.R_BtoN + h * k.dR, s.v_N + h * k.dv, s.p_N + h * k.dp};
-    };
-    for (std::size_t k = 0; k + 2 < imu.size(); k += 2) {
-      const double h = 1e-6 * static_cast<double>(imu[k + 2].t_us - imu[k].t_us);
-      const D k1 = f(x, imu[k]);
-      const D k2 = f(add(x, k1, h / 2), imu[k + 1]);
-      const D k3 = f(add(x, k2, h / 2), imu[k + 1]);
-      const D k4 = f(add(x, k3, h), imu[k + 2]);
-      x.R_BtoN += h / 6 * (k1.dR + 2 * k2.dR + 2 * k3.dR + k4.dR);
-      x.v_N += h / 6 * (k1.dv + 2 * k2.dv + 2 * k3.dv + k4.dv);
-      x.p_N += h / 6 * (k1.dp + 2 * k2.dp + 2 * k3.dp + k4.dp);
-      Eigen::JacobiSVD<Eigen::Matrix3d> svd(x.R_BtoN, Eigen::ComputeFullU | Eigen::ComputeFullV);
-      x.R_BtoN = svd.matrixU() * svd.matrixV().transpose();
-    }
+    const sim::simtest::NavState x = integrateImu(d->imu(), gt[0], Eigen::Vector3d(0, 0, 9.81));
     const EurocGroundTruth& end = gt.back();
     EXPECT_LT((x.p_N - end.p_SinR).norm(), 1e-4);
     EXPECT_LT((x.v_N - end.v_SinR).norm(), 1e-4);
@@ -147,6 +152,57 @@ TEST(SimulateProcess, NoiseFreeImuIntegratesToTheGroundTruth) {
     // And it really moved: metres, not a hover.
     EXPECT_GT((end.p_SinR - gt[0].p_SinR).norm(), 5.0);
   }
+}
+
+// --as-recorded: the real rig's calibration in sensor.yaml, a recorder's clock, a z-up world
+// and the IMU in the rig's axes — checked by physics: at rest the accelerometer reads gravity
+// in the IMU axes of the ground-truth attitude, and the IMU integrates (z-up gravity) to the
+// ground truth after take-off.
+TEST(SimulateProcess, AsRecordedFolderIsARealRigsRecording) {
+  test::TempFolder tmp;
+  std::string yaml = test::smallScenarioYaml(4.0, false);
+  const std::string needle = "tilt: quadrotor}";
+  yaml.replace(yaml.find(needle), needle.size(), "tilt: quadrotor, rest: 1.0, rest_ramp: 1.0}");
+  std::ofstream(tmp / "s.yaml") << yaml;
+  const std::string mav0 = test::sharedDataDir() + "/euroc_micro/mav0";
+  std::string err;
+  ASSERT_EQ(simulate({"--scenario", tmp / "s.yaml", "--out", tmp / "out", "--as-recorded", mav0},
+                     tmp / "sim", &err),
+            0)
+      << err;
+  auto real = EurocDataset::open(test::sharedDataDir() + "/euroc_micro");
+  ASSERT_TRUE(real.ok());
+  auto d = EurocDataset::open(tmp / "out/uav1");
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  ASSERT_TRUE(d->cam0Info() && d->cam1Info());
+  EXPECT_LT((d->cam0Info()->T_BS - real->cam0Info()->T_BS).norm(), 1e-12);
+  EXPECT_LT((d->cam1Info()->T_BS - real->cam1Info()->T_BS).norm(), 1e-12);
+  EXPECT_EQ(d->cam0Info()->distortion, real->cam0Info()->distortion);
+  EXPECT_EQ(d->imageSize(), cv::Size(752, 480));
+  EXPECT_EQ(d->frameCount(), 41u);  // 10 Hz over 0..4 s
+
+  const auto& gt = d->groundTruth();
+  const auto& imu = d->imu();
+  ASSERT_EQ(imu.size(), 801u);
+  EXPECT_GE(gt.front().t_ns, int64_t{1'400'000'000'000'000'000});  // a recorder's clock
+  for (std::size_t k = 0; k < 190; ++k) {  // standing still for the first second
+    SCOPED_TRACE(k);
+    EXPECT_LT((gt[k].p_SinR - gt[0].p_SinR).norm(), 1e-12);
+    const Eigen::Vector3d f_S = gt[k].q_StoR.conjugate() * Eigen::Vector3d(0, 0, 9.81);
+    EXPECT_LT((imu[k].accel_B - f_S).norm(), 1e-9);
+    EXPECT_LT(imu[k].gyro_B.norm(), 1e-12);
+  }
+  const sim::simtest::NavState x = integrateImu(imu, gt[0], Eigen::Vector3d(0, 0, -9.81));
+  EXPECT_LT((x.p_N - gt.back().p_SinR).norm(), 1e-3);
+  EXPECT_LT((x.R_BtoN - gt.back().q_StoR.toRotationMatrix()).norm(), 1e-5);
+  EXPECT_GT((gt.back().p_SinR - gt[0].p_SinR).norm(), 3.0);
+  // The world is z-up: the flight 10 m above N's ground is at z ≈ +10.
+  EXPECT_GT(gt[0].p_SinR.z(), 5.0);
+  auto frame = d->loadFrame(20);
+  ASSERT_TRUE(frame.ok());
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(frame->left, mean, stddev);
+  EXPECT_GT(stddev[0], 10.0);  // textured, not background
 }
 
 // The EuRoC hall scenario: rendered in the hall with EuRoC's camera, UAV 3 carrying the real

@@ -59,8 +59,18 @@ Status AgentNodeOptions::load(const ConfigNode& node) {
   imu_queue = static_cast<std::size_t>(std::max(imu, 1));
   frame_queue = static_cast<std::size_t>(std::max(frames, 1));
   if (node.has("initial")) initial_sigma.load(node.child("initial"));
-  node.getEnum("start", start, {{"known", Start::kKnown}, {"rest", Start::kRest}});
-  if (node.has("static_init")) static_init.load(node.child("static_init"));
+  node.getEnum("start", start,
+               {{"known", Start::kKnown},
+                {"rest", Start::kRest},
+                {"dynamic", Start::kDynamic},
+                {"auto", Start::kAuto}});
+  unknown_pose.mode = start == Start::kRest      ? UnknownPoseStartMode::kRest
+                      : start == Start::kDynamic ? UnknownPoseStartMode::kDynamic
+                                                 : UnknownPoseStartMode::kAuto;
+  if (node.has("static_init")) unknown_pose.static_init.load(node.child("static_init"));
+  if (node.has("dynamic_init")) unknown_pose.dynamic_init.load(node.child("dynamic_init"));
+  node.get("start_give_up_s", unknown_pose.give_up_s);
+  node.check(unknown_pose.give_up_s > 0.0, "start_give_up_s", "must be > 0");
   return node.status();
 }
 
@@ -189,36 +199,45 @@ Status AgentNode::startPipeline(const AgentFilterSetup& setup) {
   return Status::Ok();
 }
 
-Status AgentNode::startAtRest(const ImuSample& sample) {
-  rest_imu_.push_back(sample);
-  const int64_t window_us = static_cast<int64_t>(std::llround(o_.static_init.window_s * 1e6));
-  if (sample.t_us - rest_imu_.front().t_us < window_us) return Status::Ok();
-  const VisualInertialSlamOptions& options = calibration_.options;
-  auto rest = initializeAtRest(rest_imu_, o_.static_init, options.ins.gravity,
-                               options.slam.initial_accel_bias_sigma);
-  if (!rest.ok()) {
-    fatal_ = rest.status();  // no start, no estimate: the node stops (run() returns it)
+Status AgentNode::startUnknownPose(const SensorEvent& e) {
+  if (!unknown_start_) {
+    std::optional<vision::StereoFrontEnd> front_end;
+    if (images_) front_end = images_->frontEnd();  // a copy: shares the detector (one thread)
+    unknown_start_ = std::make_unique<UnknownPoseStart>(o_.unknown_pose, calibration_,
+                                                        o_.initial_sigma, std::move(front_end));
+  }
+  UnknownPoseStart& start = *unknown_start_;
+  Status s;
+  switch (e.type) {
+    case SensorEventType::kImu:
+      s = start.addImu(e.imu);
+      break;
+    case SensorEventType::kFeatures:
+      s = start.addFeatures(e.features);
+      ++before_start_;
+      break;
+    case SensorEventType::kStereoImage:
+      s = start.addImages(e.t_us, e.left, e.right);
+      ++before_start_;
+      break;
+    case SensorEventType::kGroundTruth:
+      return Status::Ok();  // recorded once started
+  }
+  if (!s.ok()) {
+    fatal_ = s;  // no start, no estimate: the node stops (run() returns it)
     return Status::Ok();
   }
-  if (o_.verbose)
-    std::fprintf(stderr,
-                 "cvslam_agent %d: started at rest at t = %.6f s (roll %.2f°, pitch %.2f°, gyro "
-                 "bias %.4f %.4f %.4f rad/s)\n",
-                 o_.id, static_cast<double>(rest->t_us) * 1e-6, rest->euler(0) * 180.0 / M_PI,
-                 rest->euler(1) * 180.0 / M_PI, rest->gyro_bias(0), rest->gyro_bias(1),
-                 rest->gyro_bias(2));
-  if (Status s = startPipeline(restSetup(*rest, o_.initial_sigma, options)); !s.ok()) return s;
-  rest_imu_.clear();
-  return agent_->addImu(sample);  // the window's last sample is at the start time
+  if (!start.started()) return Status::Ok();
+  if (o_.verbose) std::fprintf(stderr, "cvslam_agent %d: %s\n", o_.id, start.report().c_str());
+  if (Status st = startPipeline(start.setup()); !st.ok()) return st;
+  for (const ImuSample& sample : start.imuFromStart())
+    if (Status st = agent_->addImu(sample); !st.ok()) return st;
+  unknown_start_.reset();
+  return Status::Ok();
 }
 
 Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
-  if (!agent_ && o_.start == AgentNodeOptions::Start::kRest) {
-    if (e.type == SensorEventType::kImu) return startAtRest(e.imu);
-    if (e.type == SensorEventType::kGroundTruth) return Status::Ok();  // recorded once started
-    ++before_start_;
-    return Status::Ok();
-  }
+  if (!agent_ && o_.start != AgentNodeOptions::Start::kKnown) return startUnknownPose(e);
   if (!agent_ && !start_decided_) {
     // A known initial estimate (scenario) holds only when the data starts there; an agent
     // (re)started in the middle of a run starts at the first ground truth instead.

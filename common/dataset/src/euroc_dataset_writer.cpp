@@ -66,13 +66,18 @@ Expected<EurocDatasetWriter> EurocDatasetWriter::create(const std::string& path,
     fs::create_directories(w.mav0_ + "/" + sub, ec);
     if (ec) return Status::Error(w.mav0_ + "/" + sub + ": cannot create: " + ec.message());
   }
+  const bool raw = options.cameras.size() == 2;
+  if (!raw && !options.cameras.empty())
+    return Status::Error(w.mav0_ + ": give both cameras' sensor.yaml or none");
   Status s = writeText(
       w.mav0_ + "/cam0/sensor.yaml",
-      formatEurocCameraYaml(eurocCameraInfo(options.camera, false, options.camera_rate_hz)));
+      formatEurocCameraYaml(raw ? options.cameras[0]
+                                : eurocCameraInfo(options.camera, false, options.camera_rate_hz)));
   if (s.ok())
     s = writeText(
         w.mav0_ + "/cam1/sensor.yaml",
-        formatEurocCameraYaml(eurocCameraInfo(options.camera, true, options.camera_rate_hz)));
+        formatEurocCameraYaml(raw ? options.cameras[1]
+                                  : eurocCameraInfo(options.camera, true, options.camera_rate_hz)));
   if (s.ok()) s = writeText(w.mav0_ + "/imu0/sensor.yaml", formatEurocImuYaml(options.imu));
   if (s.ok())
     s = writeText(w.mav0_ + "/state_groundtruth_estimate0/sensor.yaml",
@@ -103,7 +108,9 @@ Status EurocDatasetWriter::addStereoFrame(int64_t t_ns, const cv::Mat& left, con
   if (t_ns <= last_frame_ns_)
     return Status::Error(mav0_ + ": frame timestamp " + std::to_string(t_ns) +
                          " does not increase");
-  const cv::Size size(options_.camera.width, options_.camera.height);
+  const cv::Size size = options_.cameras.size() == 2
+                            ? cv::Size(options_.cameras[0].width, options_.cameras[0].height)
+                            : cv::Size(options_.camera.width, options_.camera.height);
   for (const cv::Mat* m : {&left, &right})
     if (m->type() != CV_8UC1 || m->size() != size)
       return Status::Error(mav0_ + ": frame " + std::to_string(t_ns) + ": images must be " +

@@ -48,6 +48,7 @@ AgentEvaluation evaluateAgent(const AgentRun& run, const AgentTruth& truth,
     const AteOptions ate_options{options.time_tolerance_s, options.alignment};
     if (auto ate = absoluteTrajectoryError(run.trajectory, true_poses, ate_options); ate.ok()) {
       ev.ate_rmse_m = ate->rmse_m;
+      ev.ate_max_m = ate->max_m;
       if (ate->vertical_flipped)
         ev.notes.push_back(
             "ate: yaw alignment found the vertical axes opposite (estimate turned "
@@ -152,6 +153,7 @@ Json vector3(const Eigen::Vector3d& v) {
 Json agentSummary(const AgentEvaluation& ev) {
   Json a = Json::object();
   a["ate_rmse_m"] = optionalNumber(ev.ate_rmse_m);
+  a["ate_max_m"] = optionalNumber(ev.ate_max_m);
   a["ins_ate_rmse_m"] = optionalNumber(ev.ins_ate_rmse_m);
   a["rpe_m_per_10m"] = optionalNumber(ev.rpe_m_per_10m);
   a["nees_mean"] = optionalNumber(ev.nees_mean);

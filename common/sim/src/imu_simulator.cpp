@@ -21,6 +21,12 @@ Status ImuOptions::load(const ConfigNode& node) {
   node.get("accel_random_walk", accel_random_walk);
   node.get("gyro_bias", gyro_bias);
   node.get("accel_bias", accel_bias);
+  node.get("vibration_accel", vibration_accel);
+  node.get("vibration_gyro", vibration_gyro);
+  node.get("vibration_hz", vibration_hz);
+  node.check(vibration_accel >= 0.0, "vibration_accel", "must be >= 0");
+  node.check(vibration_gyro >= 0.0, "vibration_gyro", "must be >= 0");
+  node.check(vibration_hz >= 0.0, "vibration_hz", "must be >= 0");
   node.get("recording", recording);
   node.get("recording_R_StoB", recording_R_StoB);
   node.get("recording_start", recording_start);
@@ -42,7 +48,12 @@ ImuSimulator::ImuSimulator(std::shared_ptr<const Trajectory> trajectory, const I
       rng_(seed),
       time_offset_(time_offset),
       gyro_bias_(options.noise ? options.gyro_bias : Eigen::Vector3d::Zero()),
-      accel_bias_(options.noise ? options.accel_bias : Eigen::Vector3d::Zero()) {}
+      accel_bias_(options.noise ? options.accel_bias : Eigen::Vector3d::Zero()) {
+  // Drawn only when vibration is on, so that scenarios without it keep their noise sequence.
+  vibration_phase_.setZero();
+  if (o_.noise && o_.vibration_hz > 0.0)
+    for (int i = 0; i < 6; ++i) vibration_phase_(i) = 2.0 * M_PI * rng_.uniform();
+}
 
 ImuSample ImuSimulator::perfectSample(const TrajectoryState& state, int64_t t_us) {
   ImuSample s;
@@ -84,6 +95,13 @@ ImuSample ImuSimulator::sample(int64_t t_us) {
   const double sqrt_rate = std::sqrt(o_.rate_hz);
   s.gyro_B += gyro_bias_ + noiseVector(o_.gyro_noise_density * sqrt_rate);
   s.accel_B += accel_bias_ + noiseVector(o_.accel_noise_density * sqrt_rate);
+  if (o_.vibration_hz > 0.0) {
+    const double arg = 2.0 * M_PI * o_.vibration_hz * 1e-6 * static_cast<double>(t_us);
+    for (int i = 0; i < 3; ++i) {
+      s.gyro_B(i) += o_.vibration_gyro * std::sin(arg + vibration_phase_(i));
+      s.accel_B(i) += o_.vibration_accel * std::sin(arg + vibration_phase_(3 + i));
+    }
+  }
   return s;
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cvslam/geometry/euler.h"
+#include "cvslam/sim/resting_start.h"
 #include "cvslam/sim/tum_trajectory.h"
 
 namespace cvslam::sim {
@@ -21,10 +22,19 @@ Status attachImuRecording(const AgentSpec& spec, const Trajectory& trajectory, d
   if (o.recording.empty()) return Status::Ok();
   auto recording = ImuRecording::load(o.recording, o.recording_R_StoB);
   if (!recording.ok()) return recording.status();
+  // A resting start (resting_start.h) plays the recording from `rest` seconds before the
+  // trajectory's first pose: the vehicle stood there while the IMU was already recording.
+  const auto* resting = dynamic_cast<const RestingStartTrajectory*>(&trajectory);
+  if (resting != nullptr && resting->ramp() > 0.0)
+    return Status::Error("agent " + std::to_string(spec.id) +
+                         ": trajectory.rest_ramp must be 0 with imu.recording (the recording "
+                         "keeps its own timing)");
+  const double rest = resting != nullptr ? resting->rest() : 0.0;
+  const Trajectory& base = resting != nullptr ? resting->base() : trajectory;
   double start = o.recording_start;
   if (std::isnan(start)) {
-    const auto* tum = dynamic_cast<const TumTrajectory*>(&trajectory);
-    start = tum != nullptr ? tum->startTime() : (*recording)->startTime();
+    const auto* tum = dynamic_cast<const TumTrajectory*>(&base);
+    start = tum != nullptr ? tum->startTime() - rest : (*recording)->startTime();
   }
   const double first = start + spec.trajectory.time_offset;
   const double last = first + duration;

@@ -45,6 +45,10 @@ Status TrajectorySpec::load(const ConfigNode& node, const std::string& base_dir)
                 {"tum", TrajectoryKind::kTum},
                 {"hover", TrajectoryKind::kHover}});
   node.get("time_offset", time_offset);
+  node.get("rest", rest);
+  node.get("rest_ramp", rest_ramp);
+  node.check(rest >= 0.0, "rest", "must be >= 0");
+  node.check(rest_ramp >= 0.0, "rest_ramp", "must be >= 0");
   if (kind != TrajectoryKind::kTum) loadAttitude(node, attitude);
   switch (kind) {
     case TrajectoryKind::kLoop:
@@ -157,6 +161,13 @@ Status TrajectorySpec::load(const ConfigNode& node, const std::string& base_dir)
 }
 
 Expected<std::shared_ptr<const Trajectory>> TrajectorySpec::build() const {
+  auto base = buildBase();
+  if (!base.ok() || rest <= 0.0) return base;
+  return std::shared_ptr<const Trajectory>(
+      std::make_shared<RestingStartTrajectory>(*base, rest, rest_ramp));
+}
+
+Expected<std::shared_ptr<const Trajectory>> TrajectorySpec::buildBase() const {
   std::shared_ptr<const PositionPath> path;
   switch (kind) {
     case TrajectoryKind::kLoop:

@@ -59,4 +59,29 @@ AgentFilterSetup restSetup(const StaticInitialization& rest, const InitialUncert
   return s;
 }
 
+AgentFilterSetup dynamicSetup(const DynamicInitialization& d, const InitialUncertainty& sigma,
+                              const VisualInertialSlamOptions& options) {
+  InitialUncertainty in_motion = sigma;
+  in_motion.attitude_sigma.head<2>().setConstant(d.tilt_sigma);
+  in_motion.velocity_sigma.setConstant(d.velocity_sigma);
+  const Eigen::Matrix3d R_BtoN = d.q_BtoN.toRotationMatrix();
+  AgentFilterSetup s =
+      initialEstimateSetup(d.t_us, Eigen::Vector3d::Zero(), R_BtoN.transpose() * d.v_N,
+                           eulerFromRotationNavToBody(R_BtoN.transpose()), in_motion, options);
+  if (options.ins.attitude == vehicle::Attitude::kErrorState) {
+    // The rotation itself (an IMU mounted x-up has no usable Euler angles), σ about N's axes.
+    s.q0_BtoN = d.q_BtoN;
+    const Eigen::Vector3d sigma_N = in_motion.attitude_sigma;
+    s.P0.block<3, 3>(vehicle::kAttitude, vehicle::kAttitude) = vehicle_model::errorCovarianceFromNav(
+        d.q_BtoN, sigma_N.array().square().matrix().asDiagonal());
+  }
+  if (options.ins.estimate_imu_bias) {
+    s.x0.segment<3>(vehicle::kGyroBias) = d.gyro_bias;
+    const Eigen::Vector3d sigma_bg =
+        d.gyro_bias_sigma.cwiseMax(options.slam.initial_gyro_bias_sigma);
+    s.P0.diagonal().segment<3>(vehicle::kGyroBias) = sigma_bg.array().square().matrix();
+  }
+  return s;
+}
+
 }  // namespace cvslam

@@ -26,6 +26,7 @@
 #include "cvslam/slam/agent_calibration.h"
 #include "cvslam/slam/agent_pipeline.h"
 #include "cvslam/slam/agent_run_recorder.h"
+#include "cvslam/slam/unknown_pose_start.h"
 
 namespace cvslam::transport {
 
@@ -47,18 +48,19 @@ struct AgentNodeOptions {
   /// the frame's position and yaw when it starts at rest.
   InitialUncertainty initial_sigma;
   /// How the filter starts. known: at the scenario's initial estimate, else at the first
-  /// ground truth (thesis §6.3.1, a team in one frame). rest: from the IMU's first rest
-  /// period, in the agent's own gravity-aligned frame, no ground truth needed (static_init;
-  /// evaluate with `cvslam_eval --align yaw`).
-  enum class Start { kKnown, kRest };
+  /// ground truth (thesis §6.3.1, a team in one frame). rest | dynamic | auto: without ground
+  /// truth, in the agent's own gravity-aligned frame (slam/unknown_pose_start.h: static_init,
+  /// dynamic_init, give_up_s; evaluate with `cvslam_eval --align yaw`).
+  enum class Start { kKnown, kRest, kDynamic, kAuto };
   Start start = Start::kKnown;
-  StaticInitializerOptions static_init;
+  UnknownPoseStartOptions unknown_pose;
   bool verbose = false;
 
   /// agent.yaml section `agent:` (status_period_s, summary_period_s, flush_period_s,
   /// max_wait_s, imu_queue, frame_queue, initial: {position_sigma, velocity_sigma,
-  /// attitude_sigma_deg}, start: known | rest, static_init: {window_s, segments,
-  /// max_accel_mean_change, max_gyro_mean_change, max_gravity_error}); id, mode, url,
+  /// attitude_sigma_deg}, start: known | rest | dynamic | auto, static_init: {window_s,
+  /// segments, max_accel_mean_change, max_gyro_mean_change, max_gravity_error},
+  /// dynamic_init: {...}, start_give_up_s); id, mode, url,
   /// out_dir, idle_exit_s come from the command line.
   Status load(const ConfigNode& node);
 };
@@ -108,8 +110,8 @@ class AgentNode {
   Status processEvent(SensorEvent& event, double arrival_s);
   void handle(SensorEvent& event, double arrival_s);
   Status startPipeline(const AgentFilterSetup& setup);
-  /// start: rest — collects the IMU samples of the rest window and starts from them.
-  Status startAtRest(const ImuSample& sample);
+  /// start: rest | dynamic | auto — an event before the start, then the start once found.
+  Status startUnknownPose(const SensorEvent& event);
   Status afterFrame(double arrival_s);
   Status publishStatus();
   /// Wall time of the latest sensor message, or of the start [s].
@@ -137,8 +139,8 @@ class AgentNode {
   int64_t late_ = 0;                                // out of order (orderer)
   int64_t before_start_ = 0;                        // IMU / frames before the first pose
   std::optional<ImuSample> pre_start_imu_;
-  std::vector<ImuSample> rest_imu_;  // start: rest — the IMU samples of the rest window
-  Status fatal_;                     // the node cannot go on (no rest at the start)
+  std::unique_ptr<UnknownPoseStart> unknown_start_;  // start: rest | dynamic | auto
+  Status fatal_;  // the node cannot go on (no start without ground truth)
   bool start_decided_ = false;
   std::optional<std::pair<int64_t, Vector9d>> truth_;  // latest ground truth
   int64_t processed_us_ = -1;

@@ -1,5 +1,6 @@
 #pragma once
-// Writer for EuRoC ASL folders, the counterpart of EurocDataset (docs/run_format.md, docs/architecture.md):
+// Writer for EuRoC ASL folders, the counterpart of EurocDataset (docs/run_format.md,
+// docs/architecture.md):
 //   <path>/mav0/{cam0,cam1}/{data.csv, data/<t_ns>.png, sensor.yaml},
 //   imu0/{data.csv, sensor.yaml}, state_groundtruth_estimate0/data.csv, body.yaml,
 // laid out and formatted as EuRoC's own files, so that Basalt and OpenVINS read them.
@@ -12,12 +13,13 @@
 #include <cstdint>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "cvslam/camera/stereo_camera.h"
 #include "cvslam/core/status.h"
-#include "cvslam/ins/imu_sample.h"
 #include "cvslam/dataset/euroc_dataset.h"
 #include "cvslam/dataset/euroc_sensor_yaml.h"
+#include "cvslam/ins/imu_sample.h"
 
 namespace cvslam {
 
@@ -25,6 +27,9 @@ struct EurocWriterOptions {
   StereoCameraOptions camera;    ///< intrinsics, baseline and mounting of the rectified pair
   double camera_rate_hz = 20.0;  ///< written to cam*/sensor.yaml
   EurocImuInfo imu;              ///< rate and noise model written to imu0/sensor.yaml
+  /// When it holds two entries: cam0's and cam1's sensor.yaml as given (a raw, distorting
+  /// rig, simrun/as_recorded_rig.h) instead of those of the rectified pair `camera`.
+  std::vector<EurocCameraInfo> cameras;
 };
 
 /// The sensor.yaml content of the left (right = false) or right camera of a rectified pair.

@@ -28,6 +28,7 @@ struct RunEvaluationOptions {
 struct AgentEvaluation {
   int id = 0;
   std::optional<double> ate_rmse_m, ins_ate_rmse_m, rpe_m_per_10m;
+  std::optional<double> ate_max_m;  ///< largest position error after the alignment
   std::optional<double> nees_mean, nees_position_mean;
   std::optional<ConsistencyResult> consistency;  ///< co / Rco per state
   std::optional<LandmarkErrorResult> landmark_error;

@@ -13,11 +13,11 @@
 #include <memory>
 #include <string>
 
+#include "cvslam/core/random.h"
 #include "cvslam/core/status.h"
 #include "cvslam/ins/imu_sample.h"
 #include "cvslam/sim/imu_recording.h"
 #include "cvslam/sim/noise_model.h"
-#include "cvslam/core/random.h"
 #include "cvslam/sim/trajectory.h"
 
 namespace cvslam {
@@ -37,6 +37,11 @@ struct ImuOptions {
   double accel_random_walk = 3.0e-3;                     ///< bias random walk [m/s³/√Hz]
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();   ///< initial gyro bias [rad/s]
   Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();  ///< initial accel bias [m/s²]
+  /// Rotor vibration (beyond white noise): on each axis a sinusoid of this amplitude at
+  /// vibration_hz with a random phase, sampled at rate_hz (so aliased as a real IMU's is).
+  double vibration_accel = 0.0;  ///< amplitude [m/s²]
+  double vibration_gyro = 0.0;   ///< amplitude [rad/s]
+  double vibration_hz = 0.0;     ///< rotor frequency [Hz]
   /// EuRoC imu0/data.csv to play instead of synthesising (imu_recording.h); "" = synthesise.
   /// Relative to the scenario file. Noise and bias settings are then ignored.
   std::string recording;
@@ -75,6 +80,7 @@ class ImuSimulator {
   double time_offset_ = 0.0;
   Eigen::Vector3d gyro_bias_;
   Eigen::Vector3d accel_bias_;
+  Eigen::Matrix<double, 6, 1> vibration_phase_;  // gyro xyz, accel xyz [rad]
   int64_t last_t_us_ = 0;
   bool started_ = false;
   std::shared_ptr<const ImuRecording> recording_;

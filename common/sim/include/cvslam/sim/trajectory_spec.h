@@ -13,7 +13,8 @@
 //                  start_at_offset, offset, knot_interval (see tum_trajectory.h)
 //   hover          position [x y z] NED
 // Attitude (all kinds but tum): heading velocity|fixed, yaw_deg, tilt level|bank|quadrotor,
-// max_tilt_deg. time_offset [s]: trajectory time at simulation time 0.
+// max_tilt_deg. time_offset [s]: trajectory time at simulation time 0. Any kind: rest [s] and
+// rest_ramp [s] begin the flight standing still at its first pose (resting_start.h).
 
 #include <Eigen/Core>
 #include <memory>
@@ -23,6 +24,7 @@
 #include "cvslam/core/status.h"
 #include "cvslam/sim/flight_trajectory.h"
 #include "cvslam/sim/position_path.h"
+#include "cvslam/sim/resting_start.h"
 #include "cvslam/sim/trajectory.h"
 #include "cvslam/sim/tum_trajectory.h"
 
@@ -60,11 +62,17 @@ struct TrajectorySpec {
   Eigen::Vector3d hover_position = Eigen::Vector3d(0.0, 0.0, -10.0);  ///< hover [m]
   AttitudeOptions attitude;
   double time_offset = 0.0;  ///< trajectory time at simulation time 0 [s]
+  double rest = 0.0;         ///< standing still at the first pose before setting off [s]
+  double rest_ramp = 2.0;    ///< smooth start after the rest [s] (0 with an IMU recording)
 
   /// `base_dir` resolves relative TUM file names (the scenario file's folder).
   Status load(const ConfigNode& node, const std::string& base_dir = "");
   /// Builds the trajectory (reads the TUM file for kind tum).
   Expected<std::shared_ptr<const Trajectory>> build() const;
+
+ private:
+  /// The trajectory of `kind`, without the resting start.
+  Expected<std::shared_ptr<const Trajectory>> buildBase() const;
 };
 
 }  // namespace cvslam::sim

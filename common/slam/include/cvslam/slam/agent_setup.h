@@ -15,6 +15,7 @@
 #include "cvslam/core/status.h"
 #include "cvslam/ins/initial_uncertainty.h"
 #include "cvslam/ins/static_initializer.h"
+#include "cvslam/slam/dynamic_initializer.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
 namespace cvslam {
@@ -53,5 +54,12 @@ AgentFilterSetup knownPoseSetup(int64_t t_us, const Eigen::Vector3d& p_BinN,
 /// correlated (a horizontal bias looks like a tilt at rest); leaving that out is conservative.
 AgentFilterSetup restSetup(const StaticInitialization& rest, const InitialUncertainty& sigma,
                            const VisualInertialSlamOptions& options);
+
+/// An agent started in motion (dynamic_initializer.h) in its own gravity-aligned frame:
+/// position zero and yaw zero (held to sigma's position and yaw 1σ), the velocity and tilt
+/// found (1σ: d.velocity_sigma, d.tilt_sigma), the gyro bias found (1σ: its fit's, at least
+/// slam.initial_gyro_bias_sigma), the accelerometer bias at slam's prior.
+AgentFilterSetup dynamicSetup(const DynamicInitialization& d, const InitialUncertainty& sigma,
+                              const VisualInertialSlamOptions& options);
 
 }  // namespace cvslam
