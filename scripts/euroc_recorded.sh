@@ -7,7 +7,8 @@
 # no ground truth given to the estimator — and evaluated against the folder's ground truth.
 #
 #   scripts/euroc_recorded.sh --calibration MAV0 [--out DIR] [--duration S] [--build DIR]
-#                             [--only NAME ...] [--table FILE] [--agent-arg ARG ...]
+#                             [--only NAME ...] [--table FILE] [--lcm-url URL]
+#                             [--agent-arg ARG ...]
 #
 #   --calibration MAV0   a real EuRoC mav0/ folder whose cam0/cam1 sensor.yaml are the rig
 #                        (e.g. the euroc_micro test data's mav0)                    [required]
@@ -17,6 +18,7 @@
 #   --only NAME          run only this sequence (repeatable): MH_01 MH_02 MH_03 MH_03_real_imu
 #                        V1_01 V1_02 V1_02_real_imu
 #   --table FILE         write the Markdown table there (default DIR/euroc_recorded.md)
+#   --lcm-url URL        LCM provider for the runs (default: run_dataset.sh's)
 #   --agent-arg ARG      extra argument for every agent (repeatable)
 # Datasets already in DIR/data are reused. Exit status: 0 when every run finished, 1 if one
 # failed, 2 on bad usage.
@@ -36,6 +38,7 @@ while [ $# -gt 0 ]; do
     --build) BUILD="${2:?--build needs a value}"; shift 2 ;;
     --only) ONLY+=("${2:?--only needs a value}"); shift 2 ;;
     --table) TABLE="${2:?--table needs a value}"; shift 2 ;;
+    --lcm-url) EXTRA+=(--lcm-url "${2:?--lcm-url needs a value}"); shift 2 ;;
     --agent-arg) EXTRA+=(--agent-arg "${2:?--agent-arg needs a value}"); shift 2 ;;
     *) die "unknown argument '$1' (try --help)" ;;
   esac
