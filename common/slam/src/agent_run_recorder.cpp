@@ -31,6 +31,11 @@ Status AgentRunRecorder::openFrontend() {
 
 Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* truth,
                                   double latency_ms) {
+  return addFrame(agent, truth, latency_ms, nullptr);
+}
+
+Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* truth,
+                                  double latency_ms, const VehicleEstimate* adopted) {
   if (!writer_) return Status::Error("AgentRunRecorder: not open");
   const AgentFrame& f = agent.lastFrame();
   const FrameReport& report = f.report;
@@ -45,8 +50,8 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
               << r.initialised.size() << ',' << r.front_end_ms << ',' << r.association_ms << ','
               << r.filter_ms << ',' << r.loop.candidates << ',' << r.loop.inliers << '\n';
   }
-  const Eigen::VectorXd x = slam.vehicleState();
-  const Eigen::MatrixXd P = slam.vehicleCovariance();
+  const Eigen::VectorXd x = adopted != nullptr ? adopted->x_v : slam.vehicleState();
+  const Eigen::MatrixXd P = adopted != nullptr ? adopted->P_v : slam.vehicleCovariance();
   if (Status s = writer_->addState(t, x.head<9>(), P.topLeftCorner<9, 9>()); !s.ok()) return s;
   if (truth != nullptr)
     if (Status s = writer_->addTruth(t, *truth); !s.ok()) return s;

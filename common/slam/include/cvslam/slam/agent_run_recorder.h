@@ -16,6 +16,7 @@
 #include "cvslam/core/status.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/slam/agent_pipeline.h"
+#include "cvslam/slam/vehicle_estimate.h"
 
 namespace cvslam {
 
@@ -33,6 +34,11 @@ class AgentRunRecorder {
   /// unknown); `latency_ms`: arrival → pose published (NaN: not measured).
   Status addFrame(const AgentPipeline& agent, const Vector9d* truth,
                   double latency_ms = std::numeric_limits<double>::quiet_NaN());
+  /// The same with the vehicle estimate recorded (states.csv, trajectory.tum) replaced by
+  /// `adopted` when not null: centralised mode, where the agent adopts the ground station's
+  /// estimate of its frame (coop/cc_team_filter.h). Everything else is the agent's own.
+  Status addFrame(const AgentPipeline& agent, const Vector9d* truth, double latency_ms,
+                  const VehicleEstimate* adopted);
 
   /// Writes landmarks.csv from the agent's map (active and archived landmarks).
   Status writeMap(const VisualInertialSlam& slam, const LandmarkTruth& truth);
