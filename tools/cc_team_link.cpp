@@ -1,7 +1,6 @@
 #include "cc_team_link.h"
 
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace cvslam {
@@ -43,17 +42,6 @@ Status CcTeamLink::afterFrame(int id, const AgentPipeline& agent, const Vector9d
   coop::CcStepReport report;
   // A rejected batch is counted by the filter; the agent then records its own estimate.
   const Status step = filter_.processBatch(batch, &report);
-  if (std::getenv("CCDBG") && batch.t_us <= 400000) {
-    std::fprintf(stderr, "t=%lld a=%d types %d/%d/%d upd %d rej %d init %d |",
-                 static_cast<long long>(batch.t_us), id, report.type1, report.type2, report.type3,
-                 report.frame.updated, report.frame.rejected, report.frame.initialised);
-    for (int a : filter_.vehicles()) {
-      auto e = filter_.estimate(a);
-      std::fprintf(stderr, " v%d sp %.3f syaw %.4f", a, std::sqrt(e->P_v(0, 0)),
-                   std::sqrt(e->P_v(8, 8)));
-    }
-    std::fprintf(stderr, "\n");
-  }
   if (Status s = recorder_.addStep(filter_, report, truth); !s.ok()) return s;
   if (!step.ok()) {
     return recorder->addFrame(agent, truth, std::numeric_limits<double>::quiet_NaN(), nullptr);

@@ -211,7 +211,7 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
 }
 
 void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, double reactivation_min_age_s,
-                                   FrameReport* r) {
+                                   double reactivation_inflation, FrameReport* r) {
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager, v.camera, state, v.key, frame);
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());
@@ -246,9 +246,17 @@ void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, double reactivati
     archiveEverywhere(cand.landmark_id, t_us);
     ++r->archived;
   }
+  // A re-activated landmark re-enters uncorrelated (§5.8). In the joint map it was tied to
+  // every UAV that saw it; entering as an independent absolute prior it would hand this UAV
+  // (and, through it, the team) position information nobody has: its covariance gets the
+  // UAV's own position covariance on top, so that only what the landmark says relative to
+  // the UAV is taken (measured on team3_aerial: vehicle NEES 600 → ...).
+  const StateVariable* veh = state.find(v.key);
+  const Eigen::Matrix3d P_pp = state.covarianceOf(*veh).topLeftCorner<3, 3>();
   for (int64_t id : keep) {
     if (state.has(landmarkKey(id))) continue;
-    if (reactivateLandmark(state, v.book, archive, id)) ++r->reactivated;
+    if (reactivateLandmark(state, v.book, archive, id, reactivation_inflation * P_pp))
+      ++r->reactivated;
   }
   v.active = keep;
 }

@@ -82,6 +82,10 @@ struct CcTeamFilterOptions {
   /// estimate lies at most this far from the joint landmark [m].
   double max_association_distance_m = 3.0;
   int max_vehicles = 16;  ///< addVehicle beyond this fails (bounded state)
+  /// A re-activated landmark re-enters with its archived covariance plus this times the
+  /// re-activating UAV's position covariance (conservative: the landmark is correlated with
+  /// the whole team, which an independent re-entry would forget); 0: as VisualInertialSlam.
+  double reactivation_inflation = 1.0;
   /// Rendezvous: when a UAV whose position 1σ is at least this meets another UAV's map for
   /// the first time (or first after slam.loop_closure_min_age_s) and is the more uncertain of
   /// the two, its observations of that map are applied first with slam.loop_closure_passes
