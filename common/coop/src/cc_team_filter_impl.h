@@ -50,6 +50,7 @@ struct CcLandmarkInfo {
   uint32_t index = 0;
   std::vector<uint8_t> descriptor;
   std::vector<int> observers;  // agent ids, ascending
+  int mapped_by = -1;          // the agent whose batch initialised it
 };
 
 struct CcTeamFilter::Impl {
