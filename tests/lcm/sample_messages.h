@@ -132,6 +132,7 @@ inline void fill(cvslam::observation_batch_t& m) {
     m.index.push_back(50 + i);
     m.type.push_back(i == 0 ? cvslam::observation_batch_t::TYPE_NEW
                             : cvslam::observation_batch_t::TYPE_REOBSERVED);
+    m.landmark_id.push_back(i == 0 ? -1 : 7 + i);
     m.u_left.push_back(100.0 + i);
     m.v_left.push_back(200.0 + i);
     m.u_right.push_back(90.0 + i);

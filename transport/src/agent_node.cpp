@@ -33,13 +33,6 @@ constexpr int64_t kLateStartUs = 100000;
 const std::vector<Stream> kCoopStreams = {Stream::kTeamSummary, Stream::kIndex, Stream::kSharedReq,
                                           Stream::kShared};
 
-Vector9d truthVector(const VehiclePose& pose) {
-  Vector9d x;
-  const Eigen::Vector3d v_B = rotationBodyToNav<double>(pose.euler).transpose() * pose.v_N;
-  x << pose.p_BinN, v_B, pose.euler;
-  return x;
-}
-
 }  // namespace
 
 Status AgentNodeOptions::load(const ConfigNode& node) {
@@ -238,7 +231,7 @@ Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
       }
       return agent_->addImu(e.imu);
     case SensorEventType::kGroundTruth:
-      truth_ = std::make_pair(e.t_us, truthVector(e.truth));
+      truth_ = std::make_pair(e.t_us, truthState(e.truth));
       if (!agent_) {
         // Thesis §6.3.1: the initial pose is known in the team's frame.
         if (Status s =

@@ -133,6 +133,7 @@ Status finalize(cvslam::observation_batch_t& msg) {
       .rows("accel", msg.accel, 3);
   c.leading("index", msg.index, msg.num_features)
       .same("type", msg.type)
+      .same("landmark_id", msg.landmark_id)
       .same("u_left", msg.u_left)
       .same("v_left", msg.v_left)
       .same("u_right", msg.u_right)

@@ -191,6 +191,7 @@ Status validate(const cvslam::observation_batch_t& msg) {
       .finite("accel", msg.accel)
       .count("index", msg.num_features, msg.index)
       .count("type", msg.num_features, msg.type)
+      .count("landmark_id", msg.num_features, msg.landmark_id)
       .count("u_left", msg.num_features, msg.u_left)
       .count("v_left", msg.num_features, msg.v_left)
       .count("u_right", msg.num_features, msg.u_right)
@@ -206,6 +207,7 @@ Status validate(const cvslam::observation_batch_t& msg) {
                   type <= cvslam::observation_batch_t::TYPE_NEW,
               "unknown observation type");
   }
+  for (int64_t id : msg.landmark_id) c.require(id >= -1, "landmark_id below -1");
   return c.status();
 }
 

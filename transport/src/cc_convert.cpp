@@ -1,0 +1,111 @@
+#include "cvslam/lcm/cc_convert.h"
+
+#include "covariance_triangle.h"
+#include "cvslam/lcm/message_finalize.h"
+
+namespace cvslam::transport {
+namespace {
+
+template <typename Msg>
+Expected<Msg> finalized(Msg msg) {
+  if (Status s = finalize(msg); !s.ok()) return s;
+  return msg;
+}
+
+/// The state vector and row-major covariance of agent_state_t / gs_state_t (validated sizes).
+template <typename Msg>
+VehicleEstimate vehicleEstimate(const Msg& msg) {
+  VehicleEstimate e;
+  e.t_us = msg.header.utime;
+  const int n = msg.state_dim;
+  e.x_v = Eigen::Map<const Eigen::VectorXd>(msg.state.data(), n);
+  e.P_v = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      msg.covariance.data(), n, n);
+  return e;
+}
+
+}  // namespace
+
+Expected<cvslam::observation_batch_t> toMessage(const coop::CcObservationBatch& batch) {
+  cvslam::observation_batch_t m{};
+  m.header.utime = batch.t_us;
+  m.header.agent_id = batch.agent_id;
+  for (const ImuSample& s : batch.imu) {
+    m.imu_utime.push_back(s.t_us);
+    m.gyro.push_back({s.gyro_B.x(), s.gyro_B.y(), s.gyro_B.z()});
+    m.accel.push_back({s.accel_B.x(), s.accel_B.y(), s.accel_B.z()});
+  }
+  for (const StereoObservation& o : batch.frame.observations) {
+    m.index.push_back(static_cast<int32_t>(o.index));
+    m.type.push_back(static_cast<int8_t>(o.type));
+    m.landmark_id.push_back(o.landmark_id);
+    m.u_left.push_back(o.z[0]);
+    m.v_left.push_back(o.z[1]);
+    m.u_right.push_back(o.z[2]);
+    m.v_right.push_back(o.z[3]);
+    m.descriptors.push_back(o.descriptor);
+  }
+  return finalized(std::move(m));
+}
+
+Expected<coop::CcObservationBatch> fromMessage(const cvslam::observation_batch_t& m) {
+  coop::CcObservationBatch b;
+  b.agent_id = m.header.agent_id;
+  b.t_us = m.header.utime;
+  b.frame.t_us = m.header.utime;
+  // Sizes are trusted here: messages reach this point only through decodeMessage().
+  b.imu.resize(m.imu_utime.size());
+  for (std::size_t i = 0; i < m.imu_utime.size(); ++i) {
+    ImuSample& s = b.imu[i];
+    s.t_us = m.imu_utime[i];
+    s.gyro_B = Eigen::Vector3d(m.gyro[i][0], m.gyro[i][1], m.gyro[i][2]);
+    s.accel_B = Eigen::Vector3d(m.accel[i][0], m.accel[i][1], m.accel[i][2]);
+  }
+  b.frame.observations.resize(m.index.size());
+  for (std::size_t i = 0; i < m.index.size(); ++i) {
+    StereoObservation& o = b.frame.observations[i];
+    o.index = static_cast<uint32_t>(m.index[i]);
+    o.type = static_cast<ObservationType>(m.type[i]);
+    o.landmark_id = m.landmark_id[i];
+    o.z = Eigen::Vector4d(m.u_left[i], m.v_left[i], m.u_right[i], m.v_right[i]);
+    if (i < m.descriptors.size()) o.descriptor = m.descriptors[i];
+  }
+  if (Status s = coop::validateBatch(b); !s.ok()) return s;
+  return b;
+}
+
+Expected<cvslam::gs_state_t> toMessage(const VehicleEstimate& e, const std::string& filter,
+                                       int64_t map_version) {
+  cvslam::gs_state_t m{};
+  m.header.utime = e.t_us;
+  m.header.agent_id = 0;
+  m.filter = filter;
+  m.map_version = map_version;
+  setVehicleEstimate(m, e.x_v, e.P_v);
+  return finalized(std::move(m));
+}
+
+VehicleEstimate fromMessage(const cvslam::gs_state_t& m) {
+  return vehicleEstimate(m);
+}
+
+VehicleEstimate estimateOf(const cvslam::agent_state_t& m) {
+  return vehicleEstimate(m);
+}
+
+Expected<cvslam::map_t> toMessage(const std::vector<MapLandmark>& map, int64_t t_us,
+                                  int64_t map_version) {
+  cvslam::map_t m{};
+  m.header.utime = t_us;
+  m.header.agent_id = 0;
+  m.map_version = map_version;
+  m.index.reserve(map.size());
+  for (const MapLandmark& l : map) {
+    m.index.push_back(static_cast<int32_t>(l.index));
+    m.position.push_back({l.p_LinN.x(), l.p_LinN.y(), l.p_LinN.z()});
+    m.covariance.push_back(upperTriangle(l.covariance));
+  }
+  return finalized(std::move(m));
+}
+
+}  // namespace cvslam::transport
