@@ -60,6 +60,8 @@ class ConfigNode;
 
 namespace cvslam::coop {
 
+struct CcVehicle;
+
 /// How the ground station names the landmarks of the batches.
 enum class CcAssociation {
   kTrueIds,   ///< landmark_id is the true id, shared by every UAV (feature-level simulation)
@@ -135,7 +137,8 @@ class CcTeamFilter {
   /// at t_us (9 or 15 entries, matching options.slam.ins.estimate_imu_bias), independent of
   /// the rest of the state. `ins`: its IMU noise (null: options.slam.ins; estimate_imu_bias
   /// must agree). Adding a vehicle already present re-initialises it (its block is replaced,
-  /// its landmark book cleared; the joint map stays): an agent's own estimate after a restart.
+  /// uncorrelated; its landmark bookkeeping and the joint map stay): an agent's own estimate after
+  /// a restart.
   Status addVehicle(int agent_id, const StereoCamera& camera, int64_t t_us,
                     const Eigen::VectorXd& x_v, const Eigen::MatrixXd& P_v,
                     const InsPropagatorOptions* ins = nullptr);
@@ -164,6 +167,8 @@ class CcTeamFilter {
 
  private:
   struct Impl;
+  /// Steps 2–5 of the recipe for vehicle v (propagated to the batch time).
+  Status runRecipe(CcVehicle& v, const CcObservationBatch& batch, CcStepReport* r);
   CcTeamFilterOptions o_;
   std::unique_ptr<Impl> impl_;
   CcTeamStatistics stats_;

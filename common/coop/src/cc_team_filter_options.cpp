@@ -1,0 +1,32 @@
+// CcTeamFilterOptions (config/ground_station.yaml; cc_team_filter.h).
+
+#include "cvslam/coop/cc_team_filter.h"
+#include "cvslam/io/config_node.h"
+
+namespace cvslam::coop {
+
+Status CcTeamFilterOptions::load(const ConfigNode& root) {
+  slam.load(root);
+  const ConfigNode cc = root.child("cc");
+  cc.getEnum("association", association,
+             {{"true_ids", CcAssociation::kTrueIds}, {"local_ids", CcAssociation::kLocalIds}});
+  cc.get("max_descriptor_distance", max_descriptor_distance);
+  cc.get("max_association_distance_m", max_association_distance_m);
+  cc.get("max_vehicles", max_vehicles);
+  cc.check(max_descriptor_distance >= 0.0, "max_descriptor_distance", "must be ≥ 0");
+  cc.check(max_association_distance_m > 0.0, "max_association_distance_m", "must be > 0");
+  cc.check(max_vehicles >= 1, "max_vehicles", "must be ≥ 1");
+  if (auto p = slam.filter.policy(); !p.ok()) root.check(false, "filter", p.status().message());
+  return root.status();
+}
+
+Expected<CcTeamFilterOptions> CcTeamFilterOptions::loadFile(const std::string& path) {
+  Expected<ConfigNode> root = ConfigNode::loadFile(path);
+  if (!root.ok()) return root.status();
+  CcTeamFilterOptions o;
+  o.load(*root);
+  if (Status s = root->finish(); !s.ok()) return s;
+  return o;
+}
+
+}  // namespace cvslam::coop
