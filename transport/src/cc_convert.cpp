@@ -26,6 +26,16 @@ VehicleEstimate vehicleEstimate(const Msg& msg) {
 
 }  // namespace
 
+cvslam::agent_state_t agentStateMessage(int agent_id, const std::string& filter, int64_t t_us,
+                                        const Eigen::VectorXd& x_v, const Eigen::MatrixXd& P_v) {
+  cvslam::agent_state_t m{};
+  m.header.utime = t_us;
+  m.header.agent_id = agent_id;
+  m.filter = filter;
+  setVehicleEstimate(m, x_v, P_v);
+  return m;
+}
+
 Expected<cvslam::observation_batch_t> toMessage(const coop::CcObservationBatch& batch) {
   cvslam::observation_batch_t m{};
   m.header.utime = batch.t_us;

@@ -35,6 +35,10 @@ void setVehicleEstimate(Msg& msg, const Eigen::VectorXd& x_v, const Eigen::Matri
   msg.covariance_size = static_cast<int32_t>(msg.covariance.size());
 }
 
+/// An agent's estimate on UAV<id>/POSE (num_landmarks, num_archived: 0 unless set after).
+cvslam::agent_state_t agentStateMessage(int agent_id, const std::string& filter, int64_t t_us,
+                                        const Eigen::VectorXd& x_v, const Eigen::MatrixXd& P_v);
+
 /// header.agent_id = batch.agent_id, header.utime = batch.t_us (seq: stamped by the bus).
 Expected<cvslam::observation_batch_t> toMessage(const coop::CcObservationBatch& batch);
 /// The batch of a decoded message; an error when it fails coop::validateBatch.
