@@ -86,11 +86,7 @@ Expected<std::unique_ptr<AgentNode>> AgentNode::create(const AgentNodeOptions& o
                                                        std::optional<VisualSlamPipeline> images,
                                                        std::unique_ptr<CooperationLink> coop) {
   if (options.id < 1) return Status::Error("agent id must be ≥ 1");
-  // LCM prints its own complaint about an unknown provider: check the scheme first.
-  bool known = false;
-  for (const char* scheme : {"udpm://", "tcpq://", "memq://", "file://"})
-    known = known || options.url.rfind(scheme, 0) == 0;
-  if (!known) return Status::Error("unsupported LCM URL '" + options.url + "'");
+  if (Status s = checkLcmUrl(options.url); !s.ok()) return s;
   std::unique_ptr<AgentNode> node(new AgentNode(options, std::move(calibration)));
   node->images_ = std::move(images);
   node->coop_ = std::move(coop);

@@ -63,6 +63,7 @@ Expected<std::unique_ptr<GroundStationNode>> GroundStationNode::create(
     const GroundStationNodeOptions& options, const coop::CcTeamFilterOptions& filter,
     std::map<int, GroundStationAgent> agents, const RunInfo& info) {
   if (options.agents.empty()) return Status::Error("no agents to serve");
+  if (Status s = checkLcmUrl(options.url); !s.ok()) return s;
   for (int id : options.agents)
     if (agents.count(id) == 0) return Status::Error("no calibration for UAV " + std::to_string(id));
   std::unique_ptr<GroundStationNode> node(
