@@ -6,6 +6,11 @@
 namespace cvslam::transport {
 namespace {
 
+/// Bounds of a plausible IMU sample: ten times what the fastest MEMS IMUs measure (±2000°/s ≈
+/// 35 rad/s, ±16 g ≈ 160 m/s²); beyond them a sample is corrupt, not a manoeuvre.
+constexpr double kMaxGyroRadS = 350.0;
+constexpr double kMaxAccelMS2 = 1600.0;
+
 template <typename Msg>
 Expected<Msg> finalized(Msg msg) {
   if (Status s = finalize(msg); !s.ok()) return s;
@@ -79,6 +84,12 @@ Expected<coop::CcObservationBatch> fromMessage(const cvslam::observation_batch_t
     o.landmark_id = m.landmark_id[i];
     o.z = Eigen::Vector4d(m.u_left[i], m.v_left[i], m.u_right[i], m.v_right[i]);
     if (i < m.descriptors.size()) o.descriptor = m.descriptors[i];
+  }
+  if (b.agent_id < 1) return Status::Error("batch from agent id " + std::to_string(b.agent_id));
+  for (const ImuSample& s : b.imu) {
+    if (s.gyro_B.cwiseAbs().maxCoeff() > kMaxGyroRadS ||
+        s.accel_B.cwiseAbs().maxCoeff() > kMaxAccelMS2)
+      return Status::Error("IMU sample at t=" + std::to_string(s.t_us) + " µs is absurd");
   }
   if (Status s = coop::validateBatch(b); !s.ok()) return s;
   return b;

@@ -49,7 +49,7 @@ GroundStationNode::GroundStationNode(const GroundStationNodeOptions& options,
     : o_(options),
       agents_(std::move(agents)),
       filter_(filter),
-      orderer_(options.agents, options.agent_timeout_s) {}
+      orderer_(options.agents, options.agent_timeout_s, now()) {}
 
 GroundStationNode::~GroundStationNode() {
   if (bus_) bus_->stop();
@@ -240,11 +240,23 @@ Status GroundStationNode::step(coop::CcEvent& e) {
   if (e.kind == coop::CcEvent::Kind::kStart) return startVehicle(e);
   coop::CcStepReport report;
   // A rejected batch is counted by the filter (statistics()) and changes nothing.
+  const long stale_before = filter_.statistics().rejected_stale;
   (void)filter_.processBatch(e.batch, &report);
   if (recording_)
     if (Status s = recorder_.addStep(filter_, report, truthAt(e.agent_id, e.t_us)); !s.ok())
       return s;
-  if (!report.accepted) return Status::Ok();
+  if (!report.accepted) {
+    // Not stale, so the vehicle cannot take its batches any more (e.g. the IMU gap of a batch
+    // lost on the way): it restarts from the agent's next POSE, as after a timeout.
+    if (filter_.statistics().rejected_stale == stale_before && filter_.hasVehicle(e.agent_id)) {
+      ++resets_;
+      (void)filter_.removeVehicle(e.agent_id);
+      if (o_.verbose)
+        std::fprintf(stderr, "cvslam_ground_station: UAV%d restarts: %s\n", e.agent_id,
+                     report.reason.c_str());
+    }
+    return Status::Ok();
+  }
   // The agent waits for this (cc_link.h): published right after its own batch.
   auto estimate = filter_.estimate(e.agent_id);
   if (!estimate.ok()) return estimate.status();
@@ -378,12 +390,13 @@ std::string GroundStationNode::report() const {
   std::snprintf(buf, sizeof(buf),
                 "ground station: batches %ld, rejected %ld (invalid %ld, stale %ld, unknown "
                 "agent %ld); dropped before the filter: %s; vehicle starts %lld, agent restarts "
-                "%lld, timeouts %lld; GS_STATE sent %lld; step median %.2f ms, p95 %.2f ms, max "
+                "%lld, timeouts %lld, vehicle resets %lld; GS_STATE sent %lld; step median %.2f ms, p95 %.2f ms, max "
                 "%.2f ms; max state size %d",
                 st.batches, st.rejected(), st.rejected_invalid, st.rejected_stale,
                 st.rejected_unknown_agent, dropped.empty() ? "none" : dropped.c_str(),
                 static_cast<long long>(starts_), static_cast<long long>(restarts_),
-                static_cast<long long>(timeouts_), static_cast<long long>(published_states_),
+                static_cast<long long>(timeouts_), static_cast<long long>(resets_),
+                static_cast<long long>(published_states_),
                 steps.median_ms, steps.p95_ms, steps.max_ms, st.max_state_size);
   return buf;
 }

@@ -6,13 +6,23 @@
 
 namespace cvslam::coop {
 
-CcEventOrderer::CcEventOrderer(const std::vector<int>& expected_agents, double agent_timeout_s)
-    : expected_(expected_agents.begin(), expected_agents.end()), timeout_s_(agent_timeout_s) {}
+CcEventOrderer::CcEventOrderer(const std::vector<int>& expected_agents, double agent_timeout_s,
+                               double now_s)
+    : expected_(expected_agents.begin(), expected_agents.end()), timeout_s_(agent_timeout_s) {
+  for (int id : expected_) heard_[id].last_heard_s = now_s;
+}
+
+bool CcEventOrderer::heardAll() const {
+  for (const auto& [id, a] : heard_)
+    if (!a.ever_heard) return false;
+  return true;
+}
 
 void CcEventOrderer::heard(int agent_id, double now_s) {
   if (!expects(agent_id)) return;
   Agent& a = heard_[agent_id];
   a.last_heard_s = now_s;
+  a.ever_heard = true;
   a.expired = false;
 }
 

@@ -122,7 +122,7 @@ class GroundStationNode {
   bool announced_ = false;
   double start_s_ = 0.0;
   int64_t last_map_us_ = -1;
-  int64_t restarts_ = 0, timeouts_ = 0, starts_ = 0, published_states_ = 0;
+  int64_t restarts_ = 0, timeouts_ = 0, resets_ = 0, starts_ = 0, published_states_ = 0;
 };
 
 }  // namespace cvslam::transport

@@ -6,8 +6,9 @@
 // cvslam_run --mode cc. An event at (t, i) is released once every other live agent has reached
 // t: its progress (latest batch or start time, or the "processed up to" time of its STATUS) is
 // ≥ t, so nothing older can still come from it. An agent is live while it was heard within
-// `agent_timeout_s` (wall time); a silent one is no longer waited for (expire()), and is live
-// again when heard again. Transport-free: the process feeds it what it decoded.
+// `agent_timeout_s` (wall time) — every expected agent counts as heard at the orderer's creation,
+// so the first events wait for the agents not heard yet — a silent one is no longer waited for
+// (expire()), and is live again when heard again. Transport-free: the process feeds it what it decoded.
 //
 // Rejected on arrival (never released): events of agents not expected, and batches not after
 // the agent's previous batch or a released time of it (stale or reordered).
@@ -38,7 +39,8 @@ class CcEventOrderer {
  public:
   enum class Push { kQueued, kUnknownAgent, kStale };
 
-  CcEventOrderer(const std::vector<int>& expected_agents, double agent_timeout_s);
+  /// `now_s`: wall time of the creation.
+  CcEventOrderer(const std::vector<int>& expected_agents, double agent_timeout_s, double now_s);
 
   bool expects(int agent_id) const { return expected_.count(agent_id) > 0; }
   /// Anything from the agent at wall time now_s (liveness only).
@@ -58,7 +60,7 @@ class CcEventOrderer {
 
   bool live(int agent_id, double now_s) const;
   /// Every expected agent has been heard at least once.
-  bool heardAll() const { return heard_.size() == expected_.size(); }
+  bool heardAll() const;
   /// Everything up to this time has been released (−1: nothing yet): the minimum progress of
   /// the live agents with nothing older queued, for the ground station's STATUS.
   int64_t processedUpTo(double now_s) const;
@@ -68,6 +70,7 @@ class CcEventOrderer {
   using Key = std::tuple<int64_t, int, int>;  // t, agent, kind
   struct Agent {
     double last_heard_s = -1.0;
+    bool ever_heard = false;
     int64_t progress_us = -1;
     int64_t last_batch_us = -1;  ///< latest batch queued or released
     bool expired = false;
