@@ -169,9 +169,10 @@ Status CcTeamFilter::processBatch(const CcObservationBatch& batch, CcStepReport*
   if (batch.t_us < v.propagation.time() || (v.has_batch && batch.t_us <= v.last_batch_us)) {
     return reject(&stats_, &stats_.rejected_stale, &r, "not after the vehicle's last batch");
   }
-  // 1. Propagate (samples at or before the vehicle's time are older than its state).
+  // 1. Propagate (samples the vehicle's buffer already covers are older than its state:
+  // the first batch after a (re-)initialisation may repeat them).
   for (const ImuSample& s : batch.imu) {
-    if (s.t_us <= v.propagation.time()) continue;
+    if (s.t_us <= v.propagation.lastSampleTime()) continue;
     if (Status st = v.propagation.addImu(s); !st.ok()) {
       return reject(&stats_, &stats_.rejected_invalid, &r, st.message());
     }
@@ -241,6 +242,10 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
     fr.theta_reduced = fr.theta_reduced || u.theta_reduced;
   }
   if (!s.ok()) return s;
+  // A UAV that meets another's map can be corrected by metres at once, its landmarks with it:
+  // their first estimates are then no linearisation point any more.
+  if (o_.first_estimate_restart_m > 0.0)
+    m.restartDriftedFirstEstimates(o_.first_estimate_restart_m);
   // 5. Initialise the landmarks new to the joint map; they join this UAV's active set.
   const std::size_t before = m.state.variables().size();
   if (Status st = v.initialiser.initialise(m.state, v.book, m.archive, m.frame, t_us,

@@ -76,6 +76,9 @@ struct CcTeamFilter::Impl {
   /// After step 5: the new landmarks (state variables from `first_new` on) join v's active set;
   /// v becomes an observer of every landmark of the frame.
   void afterInitialisation(CcVehicle& v, std::size_t first_new);
+  /// Restarts the first estimates (every book) of the landmarks that moved more than
+  /// max_drift_m from them.
+  void restartDriftedFirstEstimates(double max_drift_m);
   bool activeForAnother(int64_t id, int agent_id) const;
   /// The book record of `id` in any vehicle's book (first by agent id), else null.
   const LandmarkBookEntry* recordOf(int64_t id) const;

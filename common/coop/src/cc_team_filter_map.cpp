@@ -24,6 +24,18 @@ VariableKey landmarkKey(int64_t id) {
 
 }  // namespace
 
+void CcTeamFilter::Impl::restartDriftedFirstEstimates(double max_drift_m) {
+  for (const StateVariable& sv : state.variables()) {
+    if (sv.key.kind != VariableKey::Kind::kLandmark) continue;
+    const auto id = static_cast<int64_t>(sv.key.id);
+    const Eigen::Vector3d p = state.value(sv);
+    for (auto& [agent, v] : vehicles) {
+      LandmarkBookEntry* r = v->book.find(id);
+      if (r != nullptr && (p - r->first_estimate).norm() > max_drift_m) r->first_estimate = p;
+    }
+  }
+}
+
 bool CcTeamFilter::Impl::activeForAnother(int64_t id, int agent_id) const {
   for (const auto& [other, v] : vehicles) {
     if (other != agent_id && contains(v->active, id)) return true;
@@ -131,6 +143,7 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
     const LandmarkBookEntry* r = recordOf(id);
     if (r == nullptr) continue;
     LandmarkBookEntry copy = *r;
+    copy.drifts_with_vehicle = false;
     for (const auto& [agent, other] : vehicles) {
       if (const LandmarkBookEntry* e = other->book.find(id))
         copy.last_seen_us = std::max(copy.last_seen_us, e->last_seen_us);
@@ -197,8 +210,8 @@ void CcTeamFilter::Impl::afterInitialisation(CcVehicle& v, std::size_t first_new
   }
   for (const StereoObservation& obs : frame.observations) {
     const int64_t id = obs.landmark_id;
-    if (id >= 0 && (state.has(landmarkKey(id)) || archive.contains(id)))
-      noteObserver(id, v.agent_id, obs);
+    if (id < 0 || !(state.has(landmarkKey(id)) || archive.contains(id))) continue;
+    noteObserver(id, v.agent_id, obs);
   }
 }
 

@@ -13,6 +13,8 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.get("max_descriptor_distance", max_descriptor_distance);
   cc.get("max_association_distance_m", max_association_distance_m);
   cc.get("max_vehicles", max_vehicles);
+  cc.get("first_estimate_restart_m", first_estimate_restart_m);
+  cc.check(first_estimate_restart_m >= 0.0, "first_estimate_restart_m", "must be ≥ 0");
   cc.check(max_descriptor_distance >= 0.0, "max_descriptor_distance", "must be ≥ 0");
   cc.check(max_association_distance_m > 0.0, "max_association_distance_m", "must be > 0");
   cc.check(max_vehicles >= 1, "max_vehicles", "must be ≥ 1");
@@ -25,6 +27,7 @@ Expected<CcTeamFilterOptions> CcTeamFilterOptions::loadFile(const std::string& p
   if (!root.ok()) return root.status();
   CcTeamFilterOptions o;
   o.load(*root);
+  root->skip("ground_station");  // the ground-station process's own section
   if (Status s = root->finish(); !s.ok()) return s;
   return o;
 }

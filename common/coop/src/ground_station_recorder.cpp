@@ -80,6 +80,9 @@ Status GroundStationRecorder::writeStats(const CcTeamFilter& filter) const {
   root["rejected_invalid"] = st.rejected_invalid;
   root["rejected_stale"] = st.rejected_stale;
   root["rejected_unknown_agent"] = st.rejected_unknown_agent;
+  Json dropped = Json::object();
+  for (const auto& [reason, n] : dropped_) dropped[reason] = n;
+  root["dropped_per_reason"] = dropped;
   root["step_ms_median"] = steps.median_ms;
   root["step_ms_p95"] = steps.p95_ms;
   root["step_ms_max"] = steps.max_ms;

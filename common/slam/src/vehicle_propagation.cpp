@@ -15,8 +15,7 @@ Status VehiclePropagation::addImu(const ImuSample& sample) {
   if (!sample.gyro_B.allFinite() || !sample.accel_B.allFinite()) {
     return Status::Error("IMU sample at t=" + std::to_string(sample.t_us) + " µs is not finite");
   }
-  const int64_t last = buffer_.empty() ? t_us_ - 1 : buffer_.back().t_us;
-  if (sample.t_us <= last) {
+  if (sample.t_us <= lastSampleTime()) {
     return Status::Error("IMU sample at t=" + std::to_string(sample.t_us) +
                          " µs is not after the previous one");
   }

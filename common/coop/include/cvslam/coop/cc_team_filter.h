@@ -82,9 +82,15 @@ struct CcTeamFilterOptions {
   /// estimate lies at most this far from the joint landmark [m].
   double max_association_distance_m = 3.0;
   int max_vehicles = 16;  ///< addVehicle beyond this fails (bounded state)
+  /// First-estimates Jacobians across UAVs: a landmark whose estimate moved farther than this
+  /// from its first estimate (a UAV corrected by another's map, §6.3.1 type 2, moves its whole
+  /// map by up to its initial error) restarts it at the estimate [m]; 0: never.
+  double first_estimate_restart_m = 0.0;
 
+  /// Reads the sections (does not call root.finish(): the caller may read its own sections).
   Status load(const ConfigNode& root);
-  /// Loads and validates a YAML file (unknown keys are errors).
+  /// Loads and validates a YAML file (unknown keys are errors; `ground_station:`, the
+  /// process's own section, is skipped).
   static Expected<CcTeamFilterOptions> loadFile(const std::string& path);
 };
 

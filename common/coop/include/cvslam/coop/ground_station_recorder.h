@@ -46,6 +46,9 @@ class GroundStationRecorder {
                  const Vector9d* truth = nullptr);
   /// Bytes received per stream ("OBS", ...), for stats.json's traffic figures.
   void addBytesReceived(const std::string& stream, int64_t bytes);
+  /// A batch dropped before the filter saw it ("decode", "reordered", "no_vehicle", ...):
+  /// stats.json's dropped_per_reason.
+  void addDropped(const std::string& reason) { ++dropped_[reason]; }
 
   /// Flushes the files and writes stats.json as of now (a periodic write of a live process).
   Status flush(const CcTeamFilter& filter);
@@ -60,6 +63,7 @@ class GroundStationRecorder {
   std::string dir_;
   std::map<int, std::unique_ptr<AgentRunWriter>> agents_;
   std::map<std::string, int64_t> bytes_received_;
+  std::map<std::string, int64_t> dropped_;
   double t_first_ = 0.0, t_last_ = 0.0;
   bool have_time_ = false;
 };

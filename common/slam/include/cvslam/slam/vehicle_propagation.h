@@ -30,6 +30,8 @@ class VehiclePropagation {
   /// Propagates `vehicle` of `state` to t_us (≥ time()).
   Status propagateTo(int64_t t_us, const InsPropagator& propagator, const UpdatePolicy& policy,
                      const VariableKey& vehicle, SlamState& state, LandmarkBook& book);
+  /// Time of the last buffered sample (time() − 1 µs when none): addImu takes later ones only.
+  int64_t lastSampleTime() const { return buffer_.empty() ? t_us_ - 1 : buffer_.back().t_us; }
   /// The vehicle's state time.
   int64_t time() const { return t_us_; }
 
