@@ -316,12 +316,15 @@ Status GroundStationNode::publishStatus(bool final) {
 
 Status GroundStationNode::flushRecord(bool final) {
   if (!recording_) return Status::Ok();
-  std::map<std::string, int64_t> bytes;
+  std::map<std::string, int64_t> bytes, dropped;
   {
     std::lock_guard<std::mutex> lock(inbox_mutex_);
     bytes.swap(bytes_received_);
+    dropped = dropped_;
   }
   for (const auto& [stream, n] : bytes) recorder_.addBytesReceived(stream, n);
+  for (const auto& [reason, n] : dropped)
+    for (int64_t& done = dropped_recorded_[reason]; done < n; ++done) recorder_.addDropped(reason);
   if (!final) return recorder_.flush(filter_);
   coop::GroundStationRecorder::LandmarkTruth truth;
   if (filter_.options().association == coop::CcAssociation::kTrueIds) {

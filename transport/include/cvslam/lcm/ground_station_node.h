@@ -113,6 +113,7 @@ class GroundStationNode {
   std::condition_variable inbox_cv_;
   std::vector<Inbound> inbox_;
   std::map<std::string, int64_t> dropped_;  // before the filter, per reason (inbox_mutex_)
+  std::map<std::string, int64_t> dropped_recorded_;  // of those, given to the recorder
   std::map<std::string, int64_t> bytes_received_;  // per stream (inbox_mutex_)
   double last_agent_message_s_ = 0.0;              // inbox_mutex_
 
