@@ -62,8 +62,10 @@ TEST(CcConvert, BatchRoundTrip) {
   ASSERT_EQ(back->imu.size(), b.imu.size());
   for (std::size_t i = 0; i < b.imu.size(); ++i) {
     EXPECT_EQ(back->imu[i].t_us, b.imu[i].t_us);
-    EXPECT_EQ(back->imu[i].gyro_B, b.imu[i].gyro_B);
-    EXPECT_EQ(back->imu[i].accel_B, b.imu[i].accel_B);
+    // Single precision on the wire (observation_batch_t.lcm).
+    EXPECT_EQ(back->imu[i].gyro_B, b.imu[i].gyro_B.cast<float>().cast<double>());
+    EXPECT_EQ(back->imu[i].accel_B, b.imu[i].accel_B.cast<float>().cast<double>());
+    EXPECT_NEAR(back->imu[i].accel_B.z(), b.imu[i].accel_B.z(), 1e-6);
   }
   ASSERT_EQ(back->frame.observations.size(), b.frame.observations.size());
   for (std::size_t i = 0; i < b.frame.observations.size(); ++i) {
@@ -71,7 +73,7 @@ TEST(CcConvert, BatchRoundTrip) {
     EXPECT_EQ(o.index, b.frame.observations[i].index);
     EXPECT_EQ(o.landmark_id, b.frame.observations[i].landmark_id);
     EXPECT_EQ(o.type, b.frame.observations[i].type);
-    EXPECT_EQ(o.z, b.frame.observations[i].z);
+    EXPECT_EQ(o.z, b.frame.observations[i].z.cast<float>().cast<double>());
     EXPECT_EQ(o.descriptor, b.frame.observations[i].descriptor);
   }
 }

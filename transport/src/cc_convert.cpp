@@ -1,5 +1,7 @@
 #include "cvslam/lcm/cc_convert.h"
 
+#include <limits>
+
 #include "covariance_triangle.h"
 #include "cvslam/lcm/message_finalize.h"
 
@@ -15,6 +17,14 @@ template <typename Msg>
 Expected<Msg> finalized(Msg msg) {
   if (Status s = finalize(msg); !s.ok()) return s;
   return msg;
+}
+
+std::vector<float> toFloat(const Eigen::Vector3d& v) {
+  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
+}
+
+Eigen::Vector3d fromFloat(const std::vector<float>& v) {
+  return Eigen::Vector3f(v[0], v[1], v[2]).cast<double>();
 }
 
 /// The state vector and row-major covariance of agent_state_t / gs_state_t (validated sizes).
@@ -46,18 +56,22 @@ Expected<cvslam::observation_batch_t> toMessage(const coop::CcObservationBatch& 
   m.header.utime = batch.t_us;
   m.header.agent_id = batch.agent_id;
   for (const ImuSample& s : batch.imu) {
-    m.imu_utime.push_back(s.t_us);
-    m.gyro.push_back({s.gyro_B.x(), s.gyro_B.y(), s.gyro_B.z()});
-    m.accel.push_back({s.accel_B.x(), s.accel_B.y(), s.accel_B.z()});
+    const int64_t age = batch.t_us - s.t_us;
+    if (age < 0 || age > std::numeric_limits<int32_t>::max())
+      return Status::Error("IMU sample at t=" + std::to_string(s.t_us) +
+                           " µs is after the frame or more than 35 min before it");
+    m.imu_age_us.push_back(static_cast<int32_t>(age));
+    m.gyro.push_back(toFloat(s.gyro_B));
+    m.accel.push_back(toFloat(s.accel_B));
   }
   for (const StereoObservation& o : batch.frame.observations) {
     m.index.push_back(static_cast<int32_t>(o.index));
     m.type.push_back(static_cast<int8_t>(o.type));
     m.landmark_id.push_back(o.landmark_id);
-    m.u_left.push_back(o.z[0]);
-    m.v_left.push_back(o.z[1]);
-    m.u_right.push_back(o.z[2]);
-    m.v_right.push_back(o.z[3]);
+    m.u_left.push_back(static_cast<float>(o.z[0]));
+    m.v_left.push_back(static_cast<float>(o.z[1]));
+    m.u_right.push_back(static_cast<float>(o.z[2]));
+    m.v_right.push_back(static_cast<float>(o.z[3]));
     m.descriptors.push_back(o.descriptor);
   }
   return finalized(std::move(m));
@@ -69,12 +83,12 @@ Expected<coop::CcObservationBatch> fromMessage(const cvslam::observation_batch_t
   b.t_us = m.header.utime;
   b.frame.t_us = m.header.utime;
   // Sizes are trusted here: messages reach this point only through decodeMessage().
-  b.imu.resize(m.imu_utime.size());
-  for (std::size_t i = 0; i < m.imu_utime.size(); ++i) {
+  b.imu.resize(m.imu_age_us.size());
+  for (std::size_t i = 0; i < m.imu_age_us.size(); ++i) {
     ImuSample& s = b.imu[i];
-    s.t_us = m.imu_utime[i];
-    s.gyro_B = Eigen::Vector3d(m.gyro[i][0], m.gyro[i][1], m.gyro[i][2]);
-    s.accel_B = Eigen::Vector3d(m.accel[i][0], m.accel[i][1], m.accel[i][2]);
+    s.t_us = m.header.utime - m.imu_age_us[i];
+    s.gyro_B = fromFloat(m.gyro[i]);
+    s.accel_B = fromFloat(m.accel[i]);
   }
   b.frame.observations.resize(m.index.size());
   for (std::size_t i = 0; i < m.index.size(); ++i) {
@@ -82,7 +96,7 @@ Expected<coop::CcObservationBatch> fromMessage(const cvslam::observation_batch_t
     o.index = static_cast<uint32_t>(m.index[i]);
     o.type = static_cast<ObservationType>(m.type[i]);
     o.landmark_id = m.landmark_id[i];
-    o.z = Eigen::Vector4d(m.u_left[i], m.v_left[i], m.u_right[i], m.v_right[i]);
+    o.z = Eigen::Vector4f(m.u_left[i], m.v_left[i], m.u_right[i], m.v_right[i]).cast<double>();
     if (i < m.descriptors.size()) o.descriptor = m.descriptors[i];
   }
   if (b.agent_id < 1) return Status::Error("batch from agent id " + std::to_string(b.agent_id));

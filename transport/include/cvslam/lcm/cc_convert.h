@@ -39,7 +39,9 @@ void setVehicleEstimate(Msg& msg, const Eigen::VectorXd& x_v, const Eigen::Matri
 cvslam::agent_state_t agentStateMessage(int agent_id, const std::string& filter, int64_t t_us,
                                         const Eigen::VectorXd& x_v, const Eigen::MatrixXd& P_v);
 
-/// header.agent_id = batch.agent_id, header.utime = batch.t_us (seq: stamped by the bus).
+/// header.agent_id = batch.agent_id, header.utime = batch.t_us (seq: stamped by the bus). IMU
+/// samples and pixels travel in single precision (observation_batch_t.lcm): the batch that
+/// arrives is the one sent rounded to float, in cvslam_run --mode cc as over LCM.
 Expected<cvslam::observation_batch_t> toMessage(const coop::CcObservationBatch& batch);
 /// The batch of a decoded message; an error when it fails coop::validateBatch.
 Expected<coop::CcObservationBatch> fromMessage(const cvslam::observation_batch_t& msg);
