@@ -43,6 +43,9 @@ options:
   --calibration ID:DIR    UAV ID's EuRoC folder (cam0/cam1/imu0 sensor.yaml); repeatable
   --config FILE           configuration (default: config/ground_station.yaml of the source tree)
   --filter ekf|nhinf      overrides filter.type of the configuration
+  --association KIND      overrides cc.association: true_ids (feature-level simulation: the
+                          agents name landmarks by their true ids) | local_ids (images: each
+                          agent's own ids, matched across agents by feature index + descriptor)
   --lcm-url URL           LCM provider (default udpm://239.255.76.67:7667?ttl=0)
   --out DIR               run folder: writes DIR/ground_station/ (none if not given)
   --seed N                scenario: overrides its seed
@@ -65,7 +68,7 @@ int fail(const std::string& message) {
 struct Args {
   std::vector<int> agents;
   std::vector<std::string> calibrations;  // ID:DIR
-  std::string scenario, config, filter, url, out;
+  std::string scenario, config, filter, association, url, out;
   long long seed = -1;
   double duration = -1.0, idle_exit = 0.0;
   bool verbose = false;
@@ -86,6 +89,8 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   scenario->excludes(calibration);
   app.add_option("--config", a->config);
   app.add_option("--filter", a->filter)->check(CLI::IsMember({"ekf", "nhinf"}));
+  app.add_option("--association", a->association)
+      ->check(CLI::IsMember({"true_ids", "local_ids"}));
   app.add_option("--lcm-url", a->url);
   app.add_option("--out", a->out);
   app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
@@ -154,6 +159,10 @@ int main(int argc, char** argv) {
   if (!args.filter.empty())
     filter.slam.filter.type =
         args.filter == "nhinf" ? cvslam::FilterType::kNhinf : cvslam::FilterType::kEkf;
+
+  if (!args.association.empty())
+    filter.association = args.association == "local_ids" ? cvslam::coop::CcAssociation::kLocalIds
+                                                         : cvslam::coop::CcAssociation::kTrueIds;
 
   cvslam::RunInfo info;
   info.program = "cvslam_ground_station";

@@ -108,6 +108,12 @@ done
 participants="$AGENTS"
 if $WITH_GS; then
   gs=("$GS" --agents "$AGENTS" --lcm-url "$URL" --out "$OUT")
+  # Feature-level simulation names landmarks by true id; images by each agent's own ids.
+  if [ -n "$SCENARIO" ] && [ "$SENSING" = features ]; then
+    gs+=(--association true_ids)
+  else
+    gs+=(--association local_ids)
+  fi
   if [ -n "$SCENARIO" ]; then
     gs+=(--scenario "$SCENARIO")
     [ -n "$DURATION" ] && gs+=(--duration "$DURATION")
