@@ -23,20 +23,27 @@ namespace {
 using namespace std::chrono_literals;
 using test::slurp;
 
-std::string coopPair() {
-  return std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/coop_pair.yaml";
-}
-
 std::vector<std::string> ccAgent(int id, const std::string& scenario, const std::string& url,
                                  const std::string& out) {
-  return {CVSLAM_AGENT_EXE, "--id", std::to_string(id), "--scenario", scenario, "--mode", "cc",
-          "--lcm-url", url, "--out", out, "--idle-exit", "3"};
+  return {CVSLAM_AGENT_EXE,
+          "--id",
+          std::to_string(id),
+          "--scenario",
+          scenario,
+          "--mode",
+          "cc",
+          "--lcm-url",
+          url,
+          "--out",
+          out,
+          "--idle-exit",
+          "3"};
 }
 
 std::vector<std::string> groundStation(const std::string& scenario, const std::string& url,
                                        const std::string& out) {
-  return {CVSLAM_GS_EXE, "--agents", "1,2", "--scenario", scenario, "--lcm-url", url,
-          "--out", out, "--idle-exit", "3", "--verbose"};
+  return {CVSLAM_GS_EXE, "--agents", "1,2", "--scenario",  scenario, "--lcm-url",
+          url,           "--out",    out,   "--idle-exit", "3",      "--verbose"};
 }
 
 /// The latest STATUS message of every process (UAV0 is the ground station), and a wait for a
@@ -65,9 +72,8 @@ class StatusListener {
   /// Waits until `id`'s latest STATUS message contains `text`; false on timeout.
   bool waitFor(int id, const std::string& text, std::chrono::seconds timeout) {
     std::unique_lock<std::mutex> lock(mutex_);
-    return changed_.wait_for(lock, timeout, [&] {
-      return last_[id].find(text) != std::string::npos;
-    });
+    return changed_.wait_for(lock, timeout,
+                             [&] { return last_[id].find(text) != std::string::npos; });
   }
 
  private:
@@ -77,17 +83,23 @@ class StatusListener {
   std::map<int, std::string> last_;
 };
 
-std::size_t poses(const std::string& tum_path) {
-  std::ifstream tum(tum_path);
-  std::size_t n = 0;
-  for (std::string line; std::getline(tum, line);)
-    if (!line.empty() && line[0] != '#') ++n;
-  return n;
+/// Once the two agents and the ground station announced themselves on STATUS: the replay of
+/// `scenario` at twice real time (the kill tests).
+std::unique_ptr<test::Child> replayWhenAllListen(StatusListener& status,
+                                                 const std::string& scenario,
+                                                 const std::string& url, const std::string& log) {
+  for (int id : {1, 2})
+    if (!status.waitFor(id, "gs:", 20s)) return nullptr;
+  if (!status.waitFor(0, "gs: vehicles", 20s)) return nullptr;
+  return std::make_unique<test::Child>(
+      std::vector<std::string>{CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features",
+                               "--rate", "2", "--lcm-url", url, "--quiet"},
+      log);
 }
 
 TEST(GroundStationProcess, LockstepReproducesCvslamRunCc) {
   test::TempFolder tmp;
-  const std::string scenario = coopPair();
+  const std::string scenario = test::coopPair();
   std::string err;
   ASSERT_EQ(test::run({CVSLAM_RUN_EXE, "--scenario", scenario, "--mode", "cc", "--sensing",
                        "features", "--out", tmp / "inproc", "--quiet"},
@@ -103,10 +115,10 @@ TEST(GroundStationProcess, LockstepReproducesCvslamRunCc) {
     args.insert(args.end(), {"--gs-wait", "10"});
     agents.push_back(std::make_unique<test::Child>(args, tmp / ("a" + std::to_string(id))));
   }
-  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features",
-                      "--lockstep", "--participants", "1,2,0", "--lockstep-timeout", "30",
-                      "--lcm-url", url, "--quiet"},
-                     tmp / "replay");
+  test::Child replay(
+      {CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--lockstep",
+       "--participants", "1,2,0", "--lockstep-timeout", "30", "--lcm-url", url, "--quiet"},
+      tmp / "replay");
   EXPECT_EQ(replay.wait(180s), 0) << replay.err();
   for (auto& a : agents) EXPECT_EQ(a->wait(30s), 0) << a->err();
   EXPECT_EQ(gs.wait(30s), 0) << gs.err();
@@ -146,13 +158,8 @@ TEST(GroundStationProcess, AgentsGoOnWithoutTheGroundStationWhichTakesOverAfterI
   auto gs = std::make_unique<test::Child>(groundStation(scenario, url, tmp / "gs1"), tmp / "gs1");
   test::Child a1(ccAgent(1, scenario, url, tmp / "lcm"), tmp / "a1");
   test::Child a2(ccAgent(2, scenario, url, tmp / "lcm"), tmp / "a2");
-  // Everyone listening (the agents and the ground station announce themselves on STATUS).
-  ASSERT_TRUE(status.waitFor(1, "gs:", 20s));
-  ASSERT_TRUE(status.waitFor(2, "gs:", 20s));
-  ASSERT_TRUE(status.waitFor(0, "gs: vehicles", 20s));
-  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--rate",
-                      "2", "--lcm-url", url, "--quiet"},
-                     tmp / "replay");
+  auto replay = replayWhenAllListen(status, scenario, url, tmp / "replay");
+  ASSERT_TRUE(replay) << status.last(0);
   ASSERT_TRUE(status.waitFor(1, "gs: fresh", 20s)) << status.last(1);
   ASSERT_TRUE(status.waitFor(2, "gs: fresh", 20s)) << status.last(2);
   kill(gs->pid(), SIGKILL);  // no goodbye
@@ -164,13 +171,13 @@ TEST(GroundStationProcess, AgentsGoOnWithoutTheGroundStationWhichTakesOverAfterI
   // The new ground station starts each vehicle from the agent's POSE and takes over again.
   EXPECT_TRUE(status.waitFor(1, "gs: fresh", 20s)) << status.last(1);
   EXPECT_TRUE(status.waitFor(2, "gs: fresh", 20s)) << status.last(2);
-  EXPECT_EQ(replay.wait(120s), 0) << replay.err();
+  EXPECT_EQ(replay->wait(120s), 0) << replay->err();
   EXPECT_EQ(a1.wait(30s), 0) << a1.err();
   EXPECT_EQ(a2.wait(30s), 0) << a2.err();
   EXPECT_EQ(gs2.wait(30s), 0) << gs2.err();
   // No frame lost: every frame of the 24 s at 10 Hz has its pose.
   for (int id : {1, 2})
-    EXPECT_GE(poses(tmp / ("lcm/agent_" + std::to_string(id) + "/trajectory.tum")), 240u);
+    EXPECT_GE(test::poseCount(tmp / ("lcm/agent_" + std::to_string(id) + "/trajectory.tum")), 240u);
   // The adoption log shows the hand-over: fresh, then absent, then fresh again.
   for (int id : {1, 2}) {
     const std::string log = slurp(tmp / ("lcm/agent_" + std::to_string(id) + "/coop.csv"));
@@ -199,12 +206,8 @@ TEST(GroundStationProcess, AKilledAgentIsDroppedAndRejoinsWhenRestarted) {
   test::Child gs(groundStation(scenario, url, tmp / "lcm"), tmp / "gs");
   test::Child a1(ccAgent(1, scenario, url, tmp / "lcm"), tmp / "a1");
   auto a2 = std::make_unique<test::Child>(ccAgent(2, scenario, url, tmp / "lcm"), tmp / "a2");
-  ASSERT_TRUE(status.waitFor(1, "gs:", 20s));
-  ASSERT_TRUE(status.waitFor(2, "gs:", 20s));
-  ASSERT_TRUE(status.waitFor(0, "gs: vehicles", 20s));
-  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--rate",
-                      "2", "--lcm-url", url, "--quiet"},
-                     tmp / "replay");
+  auto replay = replayWhenAllListen(status, scenario, url, tmp / "replay");
+  ASSERT_TRUE(replay) << status.last(0);
   ASSERT_TRUE(status.waitFor(0, "vehicles 1,2", 20s)) << status.last(0);
   ASSERT_TRUE(status.waitFor(2, "gs: fresh", 20s)) << status.last(2);
   kill(a2->pid(), SIGKILL);
@@ -216,12 +219,12 @@ TEST(GroundStationProcess, AKilledAgentIsDroppedAndRejoinsWhenRestarted) {
   // vehicle from the agent's first POSE and serves it again.
   EXPECT_TRUE(status.waitFor(0, "vehicles 1,2", 20s)) << status.last(0);
   EXPECT_TRUE(status.waitFor(2, "gs: fresh", 20s)) << status.last(2);
-  EXPECT_EQ(replay.wait(120s), 0) << replay.err();
+  EXPECT_EQ(replay->wait(120s), 0) << replay->err();
   EXPECT_EQ(a1.wait(30s), 0) << a1.err();
   EXPECT_EQ(a2b.wait(30s), 0) << a2b.err();
   EXPECT_EQ(gs.wait(30s), 0) << gs.err();
-  EXPECT_GE(poses(tmp / "lcm/agent_1/trajectory.tum"), 240u);  // UAV1 lost nothing
-  EXPECT_GE(poses(tmp / "lcm2/agent_2/trajectory.tum"), 40u);
+  EXPECT_GE(test::poseCount(tmp / "lcm/agent_1/trajectory.tum"), 240u);  // UAV1 lost nothing
+  EXPECT_GE(test::poseCount(tmp / "lcm2/agent_2/trajectory.tum"), 40u);
   EXPECT_NE(gs.out().find("agent restarts 1"), std::string::npos) << gs.out();
   EXPECT_NE(gs.out().find("vehicle starts 3"), std::string::npos) << gs.out();
   EXPECT_NE(a2b.out().find("last gs fresh"), std::string::npos) << a2b.out();
@@ -232,7 +235,7 @@ TEST(GroundStationProcess, AKilledAgentIsDroppedAndRejoinsWhenRestarted) {
 
 TEST(GroundStationProcess, BadCommandLinesFailInOneLine) {
   test::TempFolder tmp;
-  const std::string scenario = coopPair();
+  const std::string scenario = test::coopPair();
   const std::vector<std::vector<std::string>> bad = {
       {},
       {"--agents", "1,2"},

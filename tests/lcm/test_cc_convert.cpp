@@ -172,9 +172,8 @@ TEST(CcFuzz, MutatedBatchesNeverReachTheFilterUnchecked) {
   const int dim = options.slam.ins.estimate_imu_bias ? 15 : 9;
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(dim);
   x0(2) = -10.0;
-  ASSERT_TRUE(filter
-                  .addVehicle(1, StereoCamera(), 0, x0, Eigen::MatrixXd::Identity(dim, dim) * 1e-4)
-                  .ok());
+  ASSERT_TRUE(
+      filter.addVehicle(1, StereoCamera(), 0, x0, Eigen::MatrixXd::Identity(dim, dim) * 1e-4).ok());
   coop::CcEventOrderer orderer({1}, 1.0, 0.0);
   std::mt19937 rng(12);
   int decoded = 0, converted = 0, queued = 0, processed = 0;
