@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "coop_team_fixture.h"
 #include "cvslam/coop/cc_batch_builder.h"
 #include "cvslam/coop/cc_team_filter.h"
 #include "cvslam/ins/ins_propagator.h"
@@ -25,21 +26,7 @@ namespace {
 /// Two UAVs on one 25 m circle, UAV2 10° behind over the same ground; both start at known
 /// poses (thesis §6.3.1: initial estimate = truth with the configured 1σ).
 std::string knownPosePair(double duration, uint64_t seed) {
-  const std::string agent =
-      "    camera_rate_hz: 10.0\n"
-      "    pixel_noise: {kind: gaussian, sigma_px: 0.5}\n";
-  return "name: cc_pair\nseed: " + std::to_string(seed) +
-         "\nduration: " + std::to_string(duration) +
-         "\nworld: {relief_amplitude: 1.0, landmark_density: 0.5, margin: 30.0}\n"
-         "agents:\n"
-         "  - id: 1\n"
-         "    trajectory: {kind: circle, centre: [0.0, 0.0], radius: 25.0, altitude: 10.0, "
-         "speed: 3.0, heading: velocity, tilt: bank}\n" +
-         agent +
-         "  - id: 2\n"
-         "    trajectory: {kind: circle, centre: [0.0, 0.0], radius: 25.0, altitude: 10.0, "
-         "speed: 3.0, heading: velocity, tilt: bank, start_angle_deg: -10.0}\n" +
-         agent;
+  return cooptest::twoUavScenario(duration, seed, false);
 }
 
 /// Per UAV: RMS position error of its own filter (single mode) and of the ground station's

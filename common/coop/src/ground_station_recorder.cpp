@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "cvslam/io/json_file.h"
+#include "cvslam/slam/agent_run_recorder.h"
 
 namespace cvslam::coop {
 
@@ -129,16 +130,7 @@ Status GroundStationRecorder::flush(const CcTeamFilter& filter) {
 
 Status GroundStationRecorder::close(const CcTeamFilter& filter, const LandmarkTruth& truth) {
   if (dir_.empty()) return Status::Error("GroundStationRecorder: not open");
-  std::vector<LandmarkRecord> records;
-  for (const MapLandmark& m : filter.map()) {
-    LandmarkRecord r;
-    r.id = m.id;
-    r.p_LinN = m.p_LinN;
-    r.var = m.covariance.diagonal();
-    Eigen::Vector3d p_true;
-    if (truth && truth(m.id, &p_true)) r.truth = p_true;
-    records.push_back(r);
-  }
+  const std::vector<LandmarkRecord> records = landmarkRecords(filter.map(), truth);
   // The joint map: the ground station's, and every UAV's (the map its estimate belongs to).
   if (Status s = writeLandmarksFile(dir_ + "/landmarks.csv", records); !s.ok()) return s;
   for (auto& [id, w] : agents_)

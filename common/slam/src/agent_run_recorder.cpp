@@ -79,10 +79,11 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
   return events_ ? Status::Ok() : Status::Error(dir_ + "/events.csv: write failed");
 }
 
-Status AgentRunRecorder::writeMap(const VisualInertialSlam& slam, const LandmarkTruth& truth) {
-  if (!writer_) return Status::Error("AgentRunRecorder: not open");
+std::vector<LandmarkRecord> landmarkRecords(
+    const std::vector<MapLandmark>& map,
+    const std::function<bool(int64_t landmark_id, Eigen::Vector3d* p_LinN)>& truth) {
   std::vector<LandmarkRecord> records;
-  for (const MapLandmark& m : slam.map()) {
+  for (const MapLandmark& m : map) {
     LandmarkRecord r;
     r.id = m.id;
     r.p_LinN = m.p_LinN;
@@ -91,7 +92,12 @@ Status AgentRunRecorder::writeMap(const VisualInertialSlam& slam, const Landmark
     if (truth && truth(m.id, &p_true)) r.truth = p_true;
     records.push_back(r);
   }
-  return writer_->writeLandmarks(records);
+  return records;
+}
+
+Status AgentRunRecorder::writeMap(const VisualInertialSlam& slam, const LandmarkTruth& truth) {
+  if (!writer_) return Status::Error("AgentRunRecorder: not open");
+  return writer_->writeLandmarks(landmarkRecords(slam.map(), truth));
 }
 
 Status AgentRunRecorder::flush() {

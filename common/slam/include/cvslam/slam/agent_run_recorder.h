@@ -12,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cvslam/core/status.h"
 #include "cvslam/io/run_writer.h"
@@ -19,6 +20,13 @@
 #include "cvslam/slam/vehicle_estimate.h"
 
 namespace cvslam {
+
+/// landmarks.csv records of a map (active and archived landmarks), with their true position
+/// where `truth` knows it: AgentRunRecorder's and the ground station's
+/// (coop/ground_station_recorder.h).
+std::vector<LandmarkRecord> landmarkRecords(
+    const std::vector<MapLandmark>& map,
+    const std::function<bool(int64_t landmark_id, Eigen::Vector3d* p_LinN)>& truth);
 
 class AgentRunRecorder {
  public:
