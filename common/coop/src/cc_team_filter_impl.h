@@ -83,6 +83,8 @@ struct CcTeamFilter::Impl {
   void afterInitialisation(CcVehicle& v, std::size_t first_new);
 
   bool activeForAnother(int64_t id, int agent_id) const;
+  /// The latest time any UAV saw landmark `id` (its books' last_seen_us).
+  int64_t lastSeen(int64_t id) const;
   /// Whether v meeting the map of `other` now is a rendezvous (cc_team_filter.h).
   bool rendezvous(const CcVehicle& v, int other, int64_t t_us, const CcTeamFilterOptions& o) const;
   /// Rendezvous: the translation (median per axis) from where v sees the met landmarks to

@@ -25,6 +25,14 @@ VariableKey landmarkKey(int64_t id) {
 
 }  // namespace
 
+int64_t CcTeamFilter::Impl::lastSeen(int64_t id) const {
+  int64_t t = std::numeric_limits<int64_t>::min();
+  for (const auto& [agent, v] : vehicles) {
+    if (const LandmarkBookEntry* e = v->book.find(id)) t = std::max(t, e->last_seen_us);
+  }
+  return t;
+}
+
 bool CcTeamFilter::Impl::activeForAnother(int64_t id, int agent_id) const {
   for (const auto& [other, v] : vehicles) {
     if (other != agent_id && contains(v->active, id)) return true;
@@ -66,9 +74,12 @@ bool CcTeamFilter::Impl::rendezvous(const CcVehicle& v, int other, int64_t t_us,
   if (it != contact.end() && t_us - it->second < max_age_us) return false;
   auto peer = vehicles.find(other);
   const double sigma = positionSigma(v);
-  // The more uncertain of the two aligns to the other's map.
+  // Only onto a map much better known than this UAV (an uncertain start meeting a well-placed
+  // team); two UAVs that drifted alike meet through gated updates (measured on thesis_loop:
+  // shifting one drifted UAV onto the other's drifted map doubled both ATEs).
   return sigma >= o.rendezvous_min_sigma_m &&
-         (peer == vehicles.end() || sigma >= positionSigma(*peer->second));
+         (peer == vehicles.end() ||
+          sigma >= o.rendezvous_sigma_ratio * positionSigma(*peer->second));
 }
 
 Eigen::Vector3d CcTeamFilter::Impl::meetShift(const CcVehicle& v) const {
@@ -185,7 +196,13 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
     if (info == landmarks.end()) continue;  // type 3
     const std::vector<int>& seen_by = info->second.observers;
     types[i] = std::binary_search(seen_by.begin(), seen_by.end(), v.agent_id) ? 1 : 2;
-    if (!state.has(landmarkKey(id)) || v.book.find(id) != nullptr) continue;
+    if (!state.has(landmarkKey(id))) continue;
+    if (LandmarkBookEntry* own = v.book.find(id)) {
+      // A loop landmark is one nobody saw for loop_closure_min_age_s: a landmark another UAV
+      // kept observing is no loop for this one (it is tied to it through the joint state).
+      own->last_seen_us = std::max(own->last_seen_us, lastSeen(id));
+      continue;
+    }
     // A state landmark new to this UAV's book: the landmark's own first estimate and OC yaw
     // direction (one per landmark, shared by every observer), the latest time anyone saw it
     // (so that an old landmark of another UAV is a loop landmark here: loops across UAVs).
@@ -193,10 +210,7 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
     if (r == nullptr) continue;
     LandmarkBookEntry copy = *r;
     copy.drifts_with_vehicle = false;
-    for (const auto& [agent, other] : vehicles) {
-      if (const LandmarkBookEntry* e = other->book.find(id))
-        copy.last_seen_us = std::max(copy.last_seen_us, e->last_seen_us);
-    }
+    copy.last_seen_us = lastSeen(id);
     // A rendezvous: the first contact of this UAV with another's map while it is uncertain
     // (cc_team_filter.h, runRecipe).
     for (int other : seen_by) {

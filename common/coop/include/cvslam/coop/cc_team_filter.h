@@ -87,10 +87,13 @@ struct CcTeamFilterOptions {
   /// the whole team, which an independent re-entry would forget); 0: as VisualInertialSlam.
   double reactivation_inflation = 1.0;
   /// Rendezvous: when a UAV whose position 1σ is at least this meets another UAV's map for
-  /// the first time (or first after slam.loop_closure_min_age_s) and is the more uncertain of
-  /// the two, its observations of that map are applied first with slam.loop_closure_passes
-  /// iterated passes and its own landmarks' first estimates restart after them [m]; 0: never.
+  /// the first time (or first after slam.loop_closure_min_age_s) and is much more uncertain
+  /// than that UAV (rendezvous_sigma_ratio), its observations of that map are applied first with
+  /// slam.loop_closure_passes iterated passes and its own landmarks' first estimates restart after
+  /// them [m]; 0: never.
   double rendezvous_min_sigma_m = 0.5;
+  /// ... and only when its position 1σ is at least this times the other UAV's.
+  double rendezvous_sigma_ratio = 3.0;
 
   /// Reads the sections (does not call root.finish(): the caller may read its own sections).
   Status load(const ConfigNode& root);
