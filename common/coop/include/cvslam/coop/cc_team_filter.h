@@ -19,15 +19,19 @@
 //      same feature index by descriptor distance and position (else a fresh joint id); and a
 //      type of §6.3.1: 1 = in UAV j's map, 2 = in the joint map from another UAV only, 3 = new;
 //   3. k-nearest map management for UAV j over the joint map: the candidates are j's active
-//      landmarks, the state landmarks j observes now (type 2 included) and the archived ones it
-//      observes now; j keeps its k nearest to its m* active; a landmark active for no UAV is
-//      archived; chosen archived ones are re-activated. The state holds the union of the
-//      UAVs' active sets (≤ M·(vehicle + 3k) plus this batch's new landmarks);
-//   4. loop closing (LoopCloser on j's landmark book; a landmark of another UAV last seen by
-//      anyone at least loop_closure_min_age_s ago is a loop landmark for j too: loops across
-//      UAVs), then the gated stereo update of the other observations. A type-2 observation
-//      updates j's vehicle, the shared landmark and, through their cross-covariances, the UAV
-//      that mapped it;
+//      landmarks, the state landmarks j observes now (type 2 included) and the archived ones j
+//      itself mapped that it observes now; j keeps its k nearest to its m* active; a landmark
+//      active for no UAV is archived; chosen archived ones are re-activated (with the UAV's
+//      position covariance on top, reactivation_inflation). Another UAV's archived landmark is
+//      not re-activated but mapped anew by j (step 5): as an independent prior it would repeat
+//      information the team already used. The state holds the union of the UAVs' active sets
+//      (≤ M·(vehicle + 3(k + max_new)));
+//   4. rendezvous (see the options), loop closing (LoopCloser on j's landmark book; a
+//      landmark's last-seen time is the latest of any UAV's, so a landmark another UAV kept
+//      observing is no loop; one nobody saw for loop_closure_min_age_s is, also across UAVs;
+//      the alignment moves j's own recent landmarks only), then the gated stereo update of the
+//      other observations. A type-2 observation updates j's vehicle, the shared landmark and,
+//      through their cross-covariances, the UAV that mapped it;
 //   5. initialise j's never-seen landmarks (type 3). A landmark first seen by two UAVs in the
 //      same camera epoch is initialised from the first batch processed and updated by the
 //      other's batch right after it (type 2 there): the same information as initialising from
