@@ -1,8 +1,8 @@
 // cvslam_agent — one UAV's cooperative VSLAM as a process (docs/architecture.md,
 // docs/run_format.md): subscribes its sensor streams over LCM, runs the agent pipeline (front end +
-// filter), publishes its pose, heartbeat and lockstep status, cooperates with its peers in DC mode,
-// writes its run record. A thin shell: calibration and filter in common/ (AgentPipeline,
-// AgentConfig), LCM in transport/ (AgentNode, DcLink).
+// filter), publishes its pose, heartbeat and lockstep status, cooperates with its peers in DC mode
+// or through the ground station in CC mode, writes its run record. A thin shell: calibration and
+// filter in common/ (AgentPipeline, AgentConfig), LCM in transport/ (AgentNode, DcLink, CcLink).
 //
 //   cvslam_agent --id 1 --scenario config/scenarios/team3_aerial.yaml --out runs/team3
 
@@ -21,6 +21,7 @@
 #include "cvslam/io/cli.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/agent_node.h"
+#include "cvslam/lcm/cc_link.h"
 #include "cvslam/lcm/dc_link.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/simrun/scenario_calibration.h"
@@ -38,7 +39,8 @@ constexpr const char* kUsage =
 One UAV of the team as a process: subscribes UAV<N>/IMU, UAV<N>/FEATURES or UAV<N>/STEREO
 and UAV<N>/GT (cvslam_replay), runs its VSLAM, publishes UAV<N>/POSE per frame,
 TEAM/SUMMARY (heartbeat with receive counters) and UAV<N>/STATUS (lockstep), cooperates
-with every peer it hears in DC mode, and writes DIR/agent_<N>/ (docs/run_format.md)
+with every peer it hears in DC mode; in CC mode sends UAV<N>/OBS to cvslam_ground_station and
+publishes its estimate of the frame when it comes in time (else its own); writes DIR/agent_<N>/ (docs/run_format.md)
 periodically and on exit (SIGINT/SIGTERM), with the configuration as run (file +
 overrides) in DIR/agent_<N>/config_used.yaml: give it back with --config.
 
@@ -54,7 +56,10 @@ options:
                           rest — from the IMU's first rest period; dynamic — in motion, from
                           the first frames and the IMU; auto — rest if at rest, else dynamic
   --config FILE           agent configuration (default: config/agent.yaml of the source tree)
-  --mode single|dc        single: alone; dc: decentralised cooperation (default single)
+  --mode single|dc|cc     single: alone; dc: decentralised cooperation; cc: centralised, with
+                          cvslam_ground_station (default single)
+  --gs-wait S             cc: overrides agent.cc.gs_wait_s, how long a frame waits for the
+                          ground station's estimate [s]
   --filter ekf|nhinf      overrides filter.type of the configuration
   --map knearest|full     overrides map.kind of the configuration
   --attitude error_state|euler
@@ -89,6 +94,7 @@ struct Args {
   cvslam::AgentConfigArgs config;  // --config and the overrides shared with cvslam_run
   std::string scenario, calibration, mode = "single", url, out, start;
   long long seed = -1;
+  std::string gs_wait;  // --gs-wait, as given
   double duration = -1.0, idle_exit = 0.0;
   bool verbose = false;
 };
@@ -107,7 +113,8 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   CLI::Option* scenario = app.add_option("--scenario", a->scenario);
   CLI::Option* calibration = app.add_option("--calibration", a->calibration);
   scenario->excludes(calibration);
-  app.add_option("--mode", a->mode)->check(CLI::IsMember({"single", "dc"}));
+  app.add_option("--mode", a->mode)->check(CLI::IsMember({"single", "dc", "cc"}));
+  app.add_option("--gs-wait", a->gs_wait)->check(cvslam::cli::kNonNegative);
   app.add_option("--lcm-url", a->url);
   app.add_option("--out", a->out);
   app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
@@ -123,6 +130,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
     return fail("--seed and --duration need --scenario");
   if (a->mode != "dc" && a->config.anyCoop())
     return fail("--ci, --both-ways and --one-way need --mode dc");
+  if (a->mode != "cc" && !a->gs_wait.empty()) return fail("--gs-wait needs --mode cc");
   return std::nullopt;
 }
 
@@ -177,6 +185,11 @@ int main(int argc, char** argv) {
     if (Status s = config->effective.override(node, {"agent"}, "start", args.start, "--start");
         !s.ok())
       return fail(s.message());
+  if (!args.gs_wait.empty())
+    if (Status s = config->effective.override(node.cc, {"agent", "cc"}, "gs_wait_s", args.gs_wait,
+                                              "--gs-wait");
+        !s.ok())
+      return fail(s.message());
 
   cvslam::RunInfo info;
   auto calibration = loadCalibration(args, config->slam, &info);
@@ -204,6 +217,8 @@ int main(int argc, char** argv) {
   if (args.mode == "dc") {
     coop =
         std::make_unique<cvslam::transport::DcLink>(args.id, config->coop, node.boot_id, args.out);
+  } else if (args.mode == "cc") {
+    coop = std::make_unique<cvslam::transport::CcLink>(args.id, node.cc, args.out);
   }
   if (Status s = writeRunConfig(args, *config, info); !s.ok()) return fail(s.message());
 

@@ -1,19 +1,22 @@
 #!/usr/bin/env bash
 # Starts a team on one host: cvslam_replay (a scenario or EuRoC folders, at a rate or in
-# lockstep) + one cvslam_agent per UAV (+ cvslam_ground_station with --ground-station, when
-# it is built), each logging to OUT/logs/<process>.{out,err}. Ctrl-C stops them all. Exit status:
+# lockstep) + one cvslam_agent per UAV (+ cvslam_ground_station with --ground-station or
+# --mode cc), each logging to OUT/logs/<process>.{out,err}. Ctrl-C stops them all. Exit status:
 # 0 when every process succeeded, 1 otherwise (the failed ones are named).
 #
 #   scripts/launch.sh --scenario config/scenarios/team3_aerial.yaml --out runs/team3 --lockstep
 #   scripts/launch.sh --dataset 1:data/uav1 --dataset 2:data/uav2 --mode dc --rate 1 --out runs/d
+#   scripts/launch.sh --scenario config/scenarios/team3_aerial.yaml --mode cc --sensing features --out runs/cc
 #
 # options:
 #   --out DIR              run folder (agents write DIR/agent_<id>/, logs in DIR/logs/) [required]
 #   --scenario FILE        live simulation (agents take calibration and initial estimate from it)
 #   --dataset ID:PATH      EuRoC folder of UAV ID (repeatable; agents read PATH's sensor.yaml)
 #   --agents LIST          UAV ids to start (default: the scenario's or the datasets' ids)
-#   --mode single|dc       cooperation mode of the agents (default single)
-#   --ground-station       also start cvslam_ground_station (skipped with a note if not built)
+#   --mode single|dc|cc    cooperation mode of the agents (default single); cc starts the
+#                          ground station too
+#   --ground-station       also start cvslam_ground_station (it writes OUT/ground_station/; in
+#                          lockstep the replay waits for it as participant 0)
 #   --sensing KIND         scenario: features | images (default: images)
 #   --rate R | --lockstep  replay pacing (default --lockstep)
 #   --lcm-url URL          LCM provider (default: port 7667, loopback, 16 MB receive buffer)
@@ -21,6 +24,7 @@
 #   --config FILE          agent configuration (default config/agent.yaml)
 #   --duration S, --seed N passed to the replay (and, for scenarios, to the agents)
 #   --agent-arg ARG        extra argument for every agent (repeatable), e.g. --detector orb
+#   --gs-arg ARG           extra argument for the ground station (repeatable), e.g. --config F
 set -uo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
@@ -28,7 +32,7 @@ BUILD="$ROOT/build"
 OUT="" SCENARIO="" MODE=single SENSING=images PACING=(--lockstep) AGENTS=""
 URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16777216'
 CONFIG="" DURATION="" SEED="" WITH_GS=false
-DATASETS=() AGENT_EXTRA=()
+DATASETS=() AGENT_EXTRA=() GS_EXTRA=()
 
 die() { echo "launch.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -49,17 +53,19 @@ while [ $# -gt 0 ]; do
     --duration) DURATION="${2:?--duration needs a value}"; shift 2 ;;
     --seed) SEED="${2:?--seed needs a value}"; shift 2 ;;
     --agent-arg) AGENT_EXTRA+=("${2:?--agent-arg needs a value}"); shift 2 ;;
+    --gs-arg) GS_EXTRA+=("${2:?--gs-arg needs a value}"); shift 2 ;;
     *) die "unknown option '$1' (try --help)" ;;
   esac
 done
 [ -n "$OUT" ] || die "--out is required (try --help)"
 if [ -n "$SCENARIO" ] && [ ${#DATASETS[@]} -gt 0 ]; then die "give --scenario or --dataset, not both"; fi
 if [ -z "$SCENARIO" ] && [ ${#DATASETS[@]} -eq 0 ]; then die "give --scenario FILE or --dataset ID:PATH"; fi
-case "$MODE" in single|dc) ;; *) die "--mode must be single or dc" ;; esac
+case "$MODE" in single|dc) ;; cc) WITH_GS=true ;; *) die "--mode must be single, dc or cc" ;; esac
 REPLAY="$BUILD/sensors_replay/cvslam_replay"
 AGENT="$BUILD/agent/cvslam_agent"
 GS="$BUILD/ground_station/cvslam_ground_station"
 for exe in "$REPLAY" "$AGENT"; do [ -x "$exe" ] || die "$exe not built (cmake --build build)"; done
+if $WITH_GS && [ ! -x "$GS" ]; then die "$GS not built (cmake --build build)"; fi
 
 # Which UAVs: given, or the scenario's agent ids, or the datasets' ids.
 if [ -z "$AGENTS" ]; then
@@ -101,12 +107,22 @@ for id in ${AGENTS//,/ }; do
 done
 participants="$AGENTS"
 if $WITH_GS; then
-  if [ -x "$GS" ]; then
-    start ground_station "$GS" --agents "$AGENTS" --lcm-url "$URL" --out "$OUT"
-    participants="$AGENTS,0"
+  gs=("$GS" --agents "$AGENTS" --lcm-url "$URL" --out "$OUT")
+  # Feature-level simulation names landmarks by true id; images by each agent's own ids.
+  if [ -n "$SCENARIO" ] && [ "$SENSING" = features ]; then
+    gs+=(--association true_ids)
   else
-    echo "launch.sh: $GS not built: running without the ground station" >&2
+    gs+=(--association local_ids)
   fi
+  if [ -n "$SCENARIO" ]; then
+    gs+=(--scenario "$SCENARIO")
+    [ -n "$DURATION" ] && gs+=(--duration "$DURATION")
+    [ -n "$SEED" ] && gs+=(--seed "$SEED")
+  else
+    for d in "${DATASETS[@]}"; do gs+=(--calibration "$d"); done
+  fi
+  start ground_station "${gs[@]}" "${GS_EXTRA[@]}"
+  participants="$AGENTS,0"
 fi
 
 replay=("$REPLAY" "${PACING[@]}" --lcm-url "$URL" --quiet)
@@ -161,4 +177,5 @@ for i in "${!PIDS[@]}"; do
   fi
 done
 for id in ${AGENTS//,/ }; do grep -h -A1 "^cvslam_agent" "$OUT/logs/agent_$id.out" 2>/dev/null; done
+$WITH_GS && grep -h "^cvslam_ground_station" "$OUT/logs/ground_station.out" 2>/dev/null
 exit $failed

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "cc_team_link.h"
 #include "cvslam/coop/agent_config.h"
 #include "cvslam/io/cli.h"
 #include "cvslam/io/config_node.h"
@@ -42,9 +43,17 @@ options:
   --out DIR               output folder (created)                               [required]
   --config FILE           agent configuration (default: config/agent.yaml of the
                           source tree, else built-in defaults)
-  --mode single|dc        single: every UAV alone; dc: decentralised cooperation
+  --mode single|dc|cc     single: every UAV alone; dc: decentralised cooperation
                           (thesis §6.6; LCM-encoded messages through an in-process
-                          mailbox, configuration section `coop:`, docs/cooperation.md)
+                          mailbox, configuration section `coop:`, docs/cooperation.md);
+                          cc: centralised cooperation (thesis §6.1–6.5): every agent runs
+                          its own filter and sends its observation batches to an
+                          in-process ground station (joint filter), whose estimate it
+                          records; also writes DIR/ground_station/
+  --gs-config FILE        cc: the ground station's options (config/ground_station.yaml);
+                          default: the agents' filter/ins/map/slam sections and `cc:`
+                          defaults (association by true ids for features, by the agents'
+                          local ids for images)
   --ci METHOD             dc: overrides coop.ci_method (adaptive | fast |
                           optimal_trace | optimal_determinant | optimal_vehicle)
   --both-ways             dc: overrides coop.both_ways to true (the default)
@@ -74,6 +83,7 @@ options:
 struct Args {
   cvslam::AgentConfigArgs config;  // --config and the shared overrides
   std::string scenario, out, mode = "single", sensing = "features", pixel_noise, world, agents;
+  std::string gs_config;
   long long seed = -1;
   double duration = -1.0;
   bool quiet = false;
@@ -92,7 +102,8 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--scenario", a->scenario)->required();
   app.add_option("--out", a->out)->required();
-  app.add_option("--mode", a->mode)->check(CLI::IsMember({"single", "dc"}));
+  app.add_option("--mode", a->mode)->check(CLI::IsMember({"single", "dc", "cc"}));
+  app.add_option("--gs-config", a->gs_config);
   app.add_option("--sensing", a->sensing)->check(CLI::IsMember({"features", "images"}));
   app.add_option("--world", a->world);
   app.add_option("--pixel-noise", a->pixel_noise);
@@ -104,6 +115,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return exit_code;
   if (a->mode != "dc" && a->config.anyCoop())
     return fail("--ci, --both-ways and --one-way need --mode dc");
+  if (a->mode != "cc" && !a->gs_config.empty()) return fail("--gs-config needs --mode cc");
   if (a->sensing != "images" && (!a->world.empty() || !a->config.detector.empty()))
     return fail("--world and --detector need --sensing images");
   return std::nullopt;
@@ -211,6 +223,17 @@ cvslam::RunInfo runInfo(const Args& args, const cvslam::sim::Scenario& scenario,
   return info;
 }
 
+/// The ground station's options for --mode cc.
+cvslam::Expected<cvslam::coop::CcTeamFilterOptions> groundStationOptions(
+    const Args& args, const cvslam::AgentConfig& config) {
+  if (!args.gs_config.empty()) return cvslam::coop::CcTeamFilterOptions::loadFile(args.gs_config);
+  cvslam::coop::CcTeamFilterOptions o;
+  o.slam = config.slam;
+  o.association = args.sensing == "features" ? cvslam::coop::CcAssociation::kTrueIds
+                                             : cvslam::coop::CcAssociation::kLocalIds;
+  return o;
+}
+
 /// Opens every agent's record (and writes its config_used.yaml) and the DC link.
 Status openOutputs(const Args& args, const cvslam::SimulatedTeamRun& run,
                    const cvslam::AgentConfig& config,
@@ -253,30 +276,47 @@ int main(int argc, char** argv) {
   std::unique_ptr<cvslam::DcTeamLink> dc;
   if (Status s = openOutputs(args, run, *config, &recorders, &dc); !s.ok())
     return fail(s.message());
+  std::unique_ptr<cvslam::CcTeamLink> cc;
+  if (args.mode == "cc") {
+    auto gs_options = groundStationOptions(args, *config);
+    if (!gs_options.ok()) return fail(gs_options.status().message());
+    cc = std::make_unique<cvslam::CcTeamLink>(*gs_options);
+    if (Status s = cc->open(args.out, runInfo(args, *scenario, *config), run); !s.ok())
+      return fail(s.message());
+  }
   std::map<int, AgentCounters> counters;
   const double duration = scenario->duration;
   int next_progress = 10;
   const auto wall_start = std::chrono::steady_clock::now();
-  Status run_status = run.run([&](const cvslam::SimulatedFrame& f) -> Status {
-    cvslam::AgentRunRecorder& recorder = recorders[f.agent_id];
-    if (dc) {
-      if (Status s = dc->afterFrame(f.agent_id, f.t_us, *f.mutable_slam, &recorder.writer());
-          !s.ok())
-        return s;
-    }
-    const double t = static_cast<double>(f.t_us) * 1e-6;
-    AgentCounters& c = counters[f.agent_id];
-    c.cpu_ms += f.time_ms;
-    ++c.frames;
-    if (f.report->loop_closure && c.first_loop_t < 0) c.first_loop_t = t;
-    const cvslam::Vector9d truth = truthVector(*f.truth);
-    if (Status s = recorder.addFrame(*f.pipeline, &truth); !s.ok()) return s;
-    if (!args.quiet && t >= duration * next_progress / 100.0) {
-      std::fprintf(stderr, "cvslam_run: %3d%%  t = %.0f s\n", next_progress, t);
-      next_progress += 10;
-    }
-    return Status::Ok();
-  });
+  Status run_status = run.run(
+      [&](const cvslam::SimulatedFrame& f) -> Status {
+        cvslam::AgentRunRecorder& recorder = recorders[f.agent_id];
+        if (dc) {
+          if (Status s = dc->afterFrame(f.agent_id, f.t_us, *f.mutable_slam, &recorder.writer());
+              !s.ok())
+            return s;
+        }
+        const double t = static_cast<double>(f.t_us) * 1e-6;
+        AgentCounters& c = counters[f.agent_id];
+        c.cpu_ms += f.time_ms;
+        ++c.frames;
+        if (f.report->loop_closure && c.first_loop_t < 0) c.first_loop_t = t;
+        const cvslam::Vector9d truth = truthVector(*f.truth);
+        if (cc) {
+          if (Status s = cc->afterFrame(f.agent_id, *f.pipeline, &truth, &recorder); !s.ok())
+            return s;
+        } else if (Status s = recorder.addFrame(*f.pipeline, &truth); !s.ok()) {
+          return s;
+        }
+        if (!args.quiet && t >= duration * next_progress / 100.0) {
+          std::fprintf(stderr, "cvslam_run: %3d%%  t = %.0f s\n", next_progress, t);
+          next_progress += 10;
+        }
+        return Status::Ok();
+      },
+      [&](int id, const cvslam::ImuSample& sample) {
+        if (cc) cc->addImu(id, sample);
+      });
   if (!run_status.ok()) return fail(run_status.message());
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -292,6 +332,15 @@ int main(int argc, char** argv) {
     if (s.ok()) s = recorder.close();
     if (!s.ok()) return fail(s.message());
   }
+  if (cc) {
+    // The joint map's ids are the true ids with features; with images they are the ground
+    // station's own (no truth).
+    const cvslam::FrameSensing& first = run.sensing(0);
+    cvslam::coop::GroundStationRecorder::LandmarkTruth truth;
+    if (args.sensing == "features")
+      truth = [&](int64_t id, Eigen::Vector3d* p) { return first.landmarkTruth(id, p); };
+    if (Status s = cc->close(truth); !s.ok()) return fail(s.message());
+  }
   const cvslam::RunInfo info = runInfo(args, *scenario, *config);
   if (Status s = cvslam::writeRunInfo(args.out, info); !s.ok()) return fail(s.message());
 
@@ -301,6 +350,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < run.agentCount(); ++i)
     printAgentSummary(run, i, counters[run.agentId(i)]);
   if (dc) dc->printSummary(stdout, duration);
+  if (cc) cc->printSummary(stdout, duration);
   std::printf("  outputs in %s (evaluate with: cvslam_eval --run %s --summary-json F)\n",
               args.out.c_str(), args.out.c_str());
   return 0;

@@ -25,6 +25,20 @@ inline std::string slurp(const std::string& path) {
   return s.str();
 }
 
+/// The two-UAV scenario of the cooperation tests.
+inline std::string coopPair() {
+  return std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/coop_pair.yaml";
+}
+
+/// Poses in a TUM trajectory file (0 when it cannot be read).
+inline std::size_t poseCount(const std::string& tum_path) {
+  std::ifstream tum(tum_path);
+  std::size_t n = 0;
+  for (std::string line; std::getline(tum, line);)
+    if (!line.empty() && line[0] != '#') ++n;
+  return n;
+}
+
 inline std::string agentUrl(int port) {
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
 }

@@ -20,13 +20,9 @@ using namespace std::chrono_literals;
 
 using test::slurp;
 
-std::string coopPair() {
-  return std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/coop_pair.yaml";
-}
-
 TEST(AgentDcProcess, LockstepReproducesCvslamRunDc) {
   test::TempFolder tmp;
-  const std::string scenario = coopPair();
+  const std::string scenario = test::coopPair();
   std::string err;
   ASSERT_EQ(test::run({CVSLAM_RUN_EXE, "--scenario", scenario, "--mode", "dc", "--sensing",
                        "features", "--out", tmp / "inproc", "--quiet"},
@@ -76,7 +72,7 @@ TEST(AgentDcProcess, LockstepReproducesCvslamRunDc) {
 
 TEST(AgentDcProcess, NonFiniteAndAbsurdPeerLandmarksAreRejected) {
   test::TempFolder tmp;
-  const std::string scenario = coopPair();
+  const std::string scenario = test::coopPair();
   const std::string url = test::agentUrl(27811);
   test::Child agent({CVSLAM_AGENT_EXE, "--id", "1", "--scenario", scenario, "--mode", "dc",
                      "--lcm-url", url, "--out", tmp / "lcm", "--idle-exit", "2"},

@@ -37,10 +37,7 @@ std::vector<std::string> agentArgs(int id, const std::string& scenario, const st
 
 bool validRecord(const std::string& run, int id, std::size_t min_poses) {
   const std::string dir = run + "/agent_" + std::to_string(id);
-  std::ifstream tum(dir + "/trajectory.tum");
-  std::size_t poses = 0;
-  for (std::string line; std::getline(tum, line);)
-    if (!line.empty() && line[0] != '#') ++poses;
+  const std::size_t poses = test::poseCount(dir + "/trajectory.tum");
   auto stats = readJsonFile(dir + "/stats.json");
   return poses >= min_poses && stats.ok() && std::filesystem::exists(dir + "/landmarks.csv");
 }
@@ -195,7 +192,8 @@ TEST(AgentProcess, BadCommandLinesFailInOneLine) {
       {"--id", "0", "--scenario", scenario},
       {"--id", "x", "--scenario", scenario},
       {"--id", "1", "--scenario", scenario, "--calibration", tmp.path()},
-      {"--id", "1", "--scenario", scenario, "--mode", "cc"},
+      {"--id", "1", "--scenario", scenario, "--mode", "central"},
+      {"--id", "1", "--scenario", scenario, "--gs-wait", "0.5"},
       {"--id", "1", "--scenario", scenario, "--filter", "kalman"},
       {"--id", "7", "--scenario", scenario},
       {"--id", "1", "--scenario", tmp / "missing.yaml"},

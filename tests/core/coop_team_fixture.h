@@ -20,7 +20,8 @@ namespace cvslam::cooptest {
 
 /// UAV1: accurate start. UAV2: 10° behind on the same 25 m circle (≈ 1.5 s later over the same
 /// ground), its initial position 1σ = 1.5 m, sampled (perturb) — its map starts offset.
-inline std::string twoUavScenario(double duration, uint64_t seed) {
+/// `offset_start` false: UAV2 starts at a known pose too (thesis §6.3.1), like UAV1.
+inline std::string twoUavScenario(double duration, uint64_t seed, bool offset_start = true) {
   const std::string common =
       "    camera_rate_hz: 10.0\n"
       "    pixel_noise: {kind: gaussian, sigma_px: 0.5}\n";
@@ -34,8 +35,11 @@ inline std::string twoUavScenario(double duration, uint64_t seed) {
          common +
          "  - id: 2\n"
          "    trajectory: {kind: circle, centre: [0.0, 0.0], radius: 25.0, altitude: 10.0, "
-         "speed: 3.0, heading: velocity, tilt: bank, start_angle_deg: -10.0}\n"
-         "    initial_uncertainty: {position_sigma: [1.5, 1.5, 0.5], perturb: true}\n" +
+         "speed: 3.0, heading: velocity, tilt: bank, start_angle_deg: -10.0}\n" +
+         std::string(
+             offset_start
+                 ? "    initial_uncertainty: {position_sigma: [1.5, 1.5, 0.5], perturb: true}\n"
+                 : "") +
          common;
 }
 

@@ -124,18 +124,19 @@ inline void fill(cvslam::shared_landmarks_t& m) {
 inline void fill(cvslam::observation_batch_t& m) {
   setHeader(m.header, 10000);
   for (int i = 0; i < 10; ++i) {
-    m.imu_utime.push_back(9000 + 100 * i);
-    m.gyro.push_back({0.01, 0.02, 0.03 * i});
-    m.accel.push_back({0.1, 0.0, -9.81});
+    m.imu_age_us.push_back(1000 - 100 * i);
+    m.gyro.push_back({0.01f, 0.02f, 0.03f * static_cast<float>(i)});
+    m.accel.push_back({0.1f, 0.0f, -9.81f});
   }
   for (int i = 0; i < 3; ++i) {
     m.index.push_back(50 + i);
     m.type.push_back(i == 0 ? cvslam::observation_batch_t::TYPE_NEW
                             : cvslam::observation_batch_t::TYPE_REOBSERVED);
-    m.u_left.push_back(100.0 + i);
-    m.v_left.push_back(200.0 + i);
-    m.u_right.push_back(90.0 + i);
-    m.v_right.push_back(200.0 + i);
+    m.landmark_id.push_back(i == 0 ? -1 : 7 + i);
+    m.u_left.push_back(100.0f + static_cast<float>(i));
+    m.v_left.push_back(200.0f + static_cast<float>(i));
+    m.u_right.push_back(90.0f + static_cast<float>(i));
+    m.v_right.push_back(200.0f + static_cast<float>(i));
     m.descriptors.push_back(bytes(8, static_cast<uint8_t>(i)));
   }
 }
@@ -268,7 +269,7 @@ inline void poison(cvslam::shared_landmarks_t& m) {
   m.position[1][2] = std::nan("");
 }
 inline void poison(cvslam::observation_batch_t& m) {
-  m.accel[4][0] = std::nan("");
+  m.accel[4][0] = std::nanf("");
 }
 inline void poison(cvslam::gs_state_t& m) {
   m.state[3] = -std::nan("");

@@ -11,6 +11,7 @@
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_writer.h"
+#include "cvslam/lcm/cc_convert.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/features_convert.h"
 #include "cvslam/lcm/imu_convert.h"
@@ -30,15 +31,9 @@ constexpr int64_t kTruthToleranceUs = 10000;
 /// running team and starts at the first ground truth [µs].
 constexpr int64_t kLateStartUs = 100000;
 /// The cooperation streams: bytes_sent of stats.json and the bandwidth target (issue #6).
+/// In cc mode, the observation batches to the ground station.
 const std::vector<Stream> kCoopStreams = {Stream::kTeamSummary, Stream::kIndex, Stream::kSharedReq,
-                                          Stream::kShared};
-
-Vector9d truthVector(const VehiclePose& pose) {
-  Vector9d x;
-  const Eigen::Vector3d v_B = rotationBodyToNav<double>(pose.euler).transpose() * pose.v_N;
-  x << pose.p_BinN, v_B, pose.euler;
-  return x;
-}
+                                          Stream::kShared, Stream::kObs};
 
 }  // namespace
 
@@ -71,6 +66,15 @@ Status AgentNodeOptions::load(const ConfigNode& node) {
   if (node.has("dynamic_init")) unknown_pose.dynamic_init.load(node.child("dynamic_init"));
   node.get("start_give_up_s", unknown_pose.give_up_s);
   node.check(unknown_pose.give_up_s > 0.0, "start_give_up_s", "must be > 0");
+  if (node.has("cc")) cc.load(node.child("cc"));
+  return node.status();
+}
+
+Status AgentNodeOptions::Cc::load(const ConfigNode& node) {
+  node.get("gs_wait_s", gs_wait_s);
+  node.get("gs_timeout_s", gs_timeout_s);
+  node.check(gs_wait_s >= 0.0, "gs_wait_s", "must be ≥ 0");
+  node.check(gs_timeout_s > 0.0, "gs_timeout_s", "must be > 0");
   return node.status();
 }
 
@@ -92,11 +96,7 @@ Expected<std::unique_ptr<AgentNode>> AgentNode::create(const AgentNodeOptions& o
                                                        std::optional<VisualSlamPipeline> images,
                                                        std::unique_ptr<CooperationLink> coop) {
   if (options.id < 1) return Status::Error("agent id must be ≥ 1");
-  // LCM prints its own complaint about an unknown provider: check the scheme first.
-  bool known = false;
-  for (const char* scheme : {"udpm://", "tcpq://", "memq://", "file://"})
-    known = known || options.url.rfind(scheme, 0) == 0;
-  if (!known) return Status::Error("unsupported LCM URL '" + options.url + "'");
+  if (Status s = checkLcmUrl(options.url); !s.ok()) return s;
   std::unique_ptr<AgentNode> node(new AgentNode(options, std::move(calibration)));
   node->images_ = std::move(images);
   node->coop_ = std::move(coop);
@@ -196,6 +196,13 @@ Status AgentNode::startPipeline(const AgentFilterSetup& setup) {
   if (!o_.out_dir.empty()) {
     if (Status s = recorder_.open(o_.out_dir, o_.id, false); !s.ok()) return s;
   }
+  if (coop_) return coop_->onStart(*agent_, *bus_, o_.filter_name);
+  return Status::Ok();
+}
+
+Status AgentNode::addImu(const ImuSample& sample) {
+  if (Status s = agent_->addImu(sample); !s.ok()) return s;
+  if (coop_) coop_->onImu(sample);
   return Status::Ok();
 }
 
@@ -231,7 +238,7 @@ Status AgentNode::startUnknownPose(const SensorEvent& e) {
   if (o_.verbose) std::fprintf(stderr, "cvslam_agent %d: %s\n", o_.id, start.report().c_str());
   if (Status st = startPipeline(start.setup()); !st.ok()) return st;
   for (const ImuSample& sample : start.imuFromStart())
-    if (Status st = agent_->addImu(sample); !st.ok()) return st;
+    if (Status st = addImu(sample); !st.ok()) return st;
   unknown_start_.reset();
   return Status::Ok();
 }
@@ -255,9 +262,9 @@ Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
         pre_start_imu_ = e.imu;
         return Status::Ok();
       }
-      return agent_->addImu(e.imu);
+      return addImu(e.imu);
     case SensorEventType::kGroundTruth:
-      truth_ = std::make_pair(e.t_us, truthVector(e.truth));
+      truth_ = std::make_pair(e.t_us, truthState(e.truth));
       if (!agent_) {
         // Thesis §6.3.1: the initial pose is known in the team's frame.
         if (Status s =
@@ -267,7 +274,7 @@ Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
           return s;
         }
         if (pre_start_imu_ && pre_start_imu_->t_us == e.t_us) {
-          if (Status s = agent_->addImu(*pre_start_imu_); !s.ok()) return s;
+          if (Status s = addImu(*pre_start_imu_); !s.ok()) return s;
         } else if (pre_start_imu_) {
           ++before_start_;
         }
@@ -307,22 +314,20 @@ Status AgentNode::afterFrame(double arrival_s) {
         !s.ok()) {
       return s;
     }
-  } else if (last_summary_us_ < 0 ||
-             frame.t_us - last_summary_us_ >= std::llround(o_.summary_period_s * 1e6)) {
+  }
+  if ((!coop_ || !coop_->sendsSummary()) &&
+      (last_summary_us_ < 0 ||
+       frame.t_us - last_summary_us_ >= std::llround(o_.summary_period_s * 1e6))) {
     last_summary_us_ = frame.t_us;
     if (Status s = publishSummary(); !s.ok()) return s;
   }
+  // cc: the ground station's estimate of the frame when it came in time, else the agent's own.
+  const VehicleEstimate* adopted = coop_ ? coop_->adopted() : nullptr;
   const VisualInertialSlam& slam = agent_->slam();
-  cvslam::agent_state_t pose{};
-  pose.header.utime = frame.t_us;
-  pose.header.agent_id = o_.id;
-  pose.filter = o_.filter_name;
-  const Eigen::VectorXd x = slam.vehicleState();
-  const Eigen::MatrixXd P = slam.vehicleCovariance();
-  pose.state_dim = static_cast<int32_t>(x.size());
-  pose.state.assign(x.data(), x.data() + x.size());
-  for (int r = 0; r < P.rows(); ++r)
-    for (int c = 0; c < P.cols(); ++c) pose.covariance.push_back(P(r, c));
+  cvslam::agent_state_t pose =
+      adopted ? agentStateMessage(o_.id, o_.filter_name, frame.t_us, adopted->x_v, adopted->P_v)
+              : agentStateMessage(o_.id, o_.filter_name, frame.t_us, slam.vehicleState(),
+                                  slam.vehicleCovariance());
   pose.num_landmarks = frame.report.landmarks_in_state;
   pose.num_archived = static_cast<int32_t>(slam.archive().size());
   if (Status s = bus_->publish(channels::pose(o_.id), pose); !s.ok()) return s;
@@ -332,7 +337,7 @@ Status AgentNode::afterFrame(double arrival_s) {
     const Vector9d* truth = nullptr;
     if (truth_ && std::llabs(truth_->first - frame.t_us) <= kTruthToleranceUs)
       truth = &truth_->second;
-    if (Status s = recorder_.addFrame(*agent_, truth, latency_ms); !s.ok()) return s;
+    if (Status s = recorder_.addFrame(*agent_, truth, latency_ms, adopted); !s.ok()) return s;
   }
   return Status::Ok();
 }
@@ -412,7 +417,8 @@ Status AgentNode::publishStatus() {
   const bool unfinished = frame_may_follow_ && now() - lastArrival() < o_.status_period_s;
   m.processed_utime = unfinished ? processed_us_ - 1 : processed_us_;
   m.health = errors_ > 0 ? cvslam::status_t::HEALTH_DEGRADED : cvslam::status_t::HEALTH_OK;
-  m.message = last_error_;
+  m.message = coop_ ? coop_->statusText() : std::string();
+  if (!last_error_.empty()) m.message += (m.message.empty() ? "" : "; ") + last_error_;
   return bus_->publish(channels::status(o_.id), m);
 }
 

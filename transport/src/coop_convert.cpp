@@ -1,6 +1,7 @@
 #include "cvslam/lcm/coop_convert.h"
 
 #include "cvslam/lcm/message_finalize.h"
+#include "covariance_triangle.h"
 
 namespace cvslam::transport {
 
@@ -36,9 +37,6 @@ std::vector<uint32_t> fromWire(const std::vector<int32_t>& indices) {
   for (int32_t i : indices) out.push_back(static_cast<uint32_t>(i));
   return out;
 }
-
-// Upper triangle xx xy xz yy yz zz (shared_landmarks_t.lcm).
-constexpr int kTriangle[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
 }  // namespace
 
 Expected<cvslam::agent_summary_t> toMessage(const coop::CoopSummary& s) {
@@ -110,10 +108,7 @@ Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& s) {
   for (const coop::SharedLandmark& l : s.landmarks) {
     m.index.push_back(static_cast<int32_t>(l.index));
     m.position.push_back({l.p_LinN.x(), l.p_LinN.y(), l.p_LinN.z()});
-    std::vector<double> c(6);
-    for (int k = 0; k < 6; ++k)
-      c[static_cast<std::size_t>(k)] = l.covariance(kTriangle[k][0], kTriangle[k][1]);
-    m.covariance.push_back(std::move(c));
+    m.covariance.push_back(upperTriangle(l.covariance));
     m.descriptors.push_back(same_length ? l.descriptor : std::vector<uint8_t>{});
   }
   return finalized(std::move(m));
@@ -130,11 +125,7 @@ coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks_t& m, int to_ag
     coop::SharedLandmark& l = s.landmarks[i];
     l.index = static_cast<uint32_t>(m.index[i]);
     l.p_LinN = Eigen::Vector3d(m.position[i][0], m.position[i][1], m.position[i][2]);
-    for (int k = 0; k < 6; ++k) {
-      const double v = m.covariance[i][static_cast<std::size_t>(k)];
-      l.covariance(kTriangle[k][0], kTriangle[k][1]) = v;
-      l.covariance(kTriangle[k][1], kTriangle[k][0]) = v;
-    }
+    l.covariance = fromUpperTriangle(m.covariance[i]);
     if (i < m.descriptors.size()) l.descriptor = m.descriptors[i];
   }
   return s;

@@ -19,6 +19,12 @@ void onLcmMessage(const lcm_recv_buf_t* rbuf, const char*, void* user_data) {
 
 }  // namespace
 
+Status checkLcmUrl(const std::string& url) {
+  for (const char* scheme : {"udpm://", "tcpq://", "memq://", "file://"})
+    if (url.rfind(scheme, 0) == 0) return Status::Ok();
+  return Status::Error("unsupported LCM URL '" + url + "'");
+}
+
 std::function<bool(int32_t)> acceptOnly(std::set<int32_t> agent_ids) {
   return [ids = std::move(agent_ids)](int32_t id) { return ids.count(id) > 0; };
 }

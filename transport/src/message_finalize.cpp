@@ -30,7 +30,8 @@ class CountSetter {
     return *this;
   }
   /// Rows of a fixed width (e.g. position[n][3]).
-  CountSetter& rows(const char* field, const std::vector<std::vector<double>>& v,
+  template <typename T>
+  CountSetter& rows(const char* field, const std::vector<std::vector<T>>& v,
                     std::size_t width) {
     same(field, v);
     for (const auto& row : v) {
@@ -128,11 +129,12 @@ Status finalize(cvslam::shared_landmarks_t& msg) {
 
 Status finalize(cvslam::observation_batch_t& msg) {
   CountSetter c;
-  c.leading("imu_utime", msg.imu_utime, msg.num_imu)
+  c.leading("imu_age_us", msg.imu_age_us, msg.num_imu)
       .rows("gyro", msg.gyro, 3)
       .rows("accel", msg.accel, 3);
   c.leading("index", msg.index, msg.num_features)
       .same("type", msg.type)
+      .same("landmark_id", msg.landmark_id)
       .same("u_left", msg.u_left)
       .same("v_left", msg.v_left)
       .same("u_right", msg.u_right)

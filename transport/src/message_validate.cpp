@@ -48,11 +48,13 @@ class Checker {
     for (double x : values) finite(field, x);
     return *this;
   }
-  Checker& finite(const char* field, const std::vector<double>& values) {
-    for (double x : values) finite(field, x);
+  template <typename T>
+  Checker& finite(const char* field, const std::vector<T>& values) {
+    for (T x : values) finite(field, static_cast<double>(x));
     return *this;
   }
-  Checker& finite(const char* field, const std::vector<std::vector<double>>& rows) {
+  template <typename T>
+  Checker& finite(const char* field, const std::vector<std::vector<T>>& rows) {
     for (const auto& row : rows) finite(field, row);
     return *this;
   }
@@ -184,13 +186,14 @@ Status validate(const cvslam::shared_landmarks_t& msg) {
 
 Status validate(const cvslam::observation_batch_t& msg) {
   Checker c(msg.header);
-  c.count("imu_utime", msg.num_imu, msg.imu_utime)
+  c.count("imu_age_us", msg.num_imu, msg.imu_age_us)
       .rows("gyro", msg.num_imu, msg.gyro, 3)
       .rows("accel", msg.num_imu, msg.accel, 3)
       .finite("gyro", msg.gyro)
       .finite("accel", msg.accel)
       .count("index", msg.num_features, msg.index)
       .count("type", msg.num_features, msg.type)
+      .count("landmark_id", msg.num_features, msg.landmark_id)
       .count("u_left", msg.num_features, msg.u_left)
       .count("v_left", msg.num_features, msg.v_left)
       .count("u_right", msg.num_features, msg.u_right)
@@ -206,6 +209,8 @@ Status validate(const cvslam::observation_batch_t& msg) {
                   type <= cvslam::observation_batch_t::TYPE_NEW,
               "unknown observation type");
   }
+  for (int64_t id : msg.landmark_id) c.require(id >= -1, "landmark_id below -1");
+  for (int32_t age : msg.imu_age_us) c.require(age >= 0, "IMU sample after the frame");
   return c.status();
 }
 

@@ -1,8 +1,9 @@
 #include "cvslam/lcm/sensor_convert.h"
 
 #include <opencv2/imgcodecs.hpp>
-
 #include <vector>
+
+#include "cvslam/geometry/euler.h"
 
 namespace cvslam::transport {
 namespace {
@@ -96,6 +97,13 @@ Status fromStereoMessage(const cvslam::stereo_image_t& msg, cv::Mat& left, cv::M
   Status s = decodeImage(msg, msg.left_data, left);
   if (s.ok()) s = decodeImage(msg, msg.right_data, right);
   return s;
+}
+
+Vector9d truthState(const VehiclePose& pose) {
+  Vector9d x;
+  const Eigen::Vector3d v_B = rotationBodyToNav<double>(pose.euler).transpose() * pose.v_N;
+  x << pose.p_BinN, v_B, pose.euler;
+  return x;
 }
 
 }  // namespace cvslam::transport

@@ -6,7 +6,7 @@ namespace cvslam::transport {
 namespace {
 
 // Sizes on the wire (LCM encodes big-endian, no padding).
-constexpr std::size_t kI8 = 1, kI32 = 4, kI64 = 8, kF64 = 8;
+constexpr std::size_t kI8 = 1, kI32 = 4, kI64 = 8, kF32 = 4, kF64 = 8;
 constexpr std::size_t kHeader = kI64 + kI64 + kI32;  // header_t: utime, seq, agent_id
 
 // Reads counts and skips payload; any failure sticks and later calls become no-ops.
@@ -136,8 +136,8 @@ Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::shar
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::observation_batch_t*) {
   WireReader r(body, size);
   int32_t num_imu = 0, n = 0, descriptor_length = 0;
-  r.header().count(num_imu).array(num_imu, kI64 + 6 * kF64);
-  r.count(n).array(n, kI32 + kI8 + 4 * kF64);
+  r.header().count(num_imu).array(num_imu, kI32 + 6 * kF32);  // age, gyro, accel
+  r.count(n).array(n, kI32 + kI8 + kI64 + 4 * kF32);           // index type landmark_id u v u v
   r.count(descriptor_length).array(n, static_cast<std::size_t>(descriptor_length));
   return r.finish();
 }

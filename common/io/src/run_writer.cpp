@@ -96,7 +96,10 @@ Status AgentRunWriter::addInsState(double t, const Vector9d& x_ins) {
 
 Status AgentRunWriter::writeLandmarks(const std::vector<LandmarkRecord>& landmarks) const {
   if (dir_.empty()) return Status::Error("AgentRunWriter: not open");
-  const std::string path = dir_ + "/landmarks.csv";
+  return writeLandmarksFile(dir_ + "/landmarks.csv", landmarks);
+}
+
+Status writeLandmarksFile(const std::string& path, const std::vector<LandmarkRecord>& landmarks) {
   std::ofstream out(path, std::ios::trunc);
   if (!out) return Status::Error(path + ": cannot write");
   bool any_truth = false;

@@ -25,9 +25,10 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
     } else {
       agent_sensing = std::make_unique<FeatureSensing>(&run->simulator_.landmarks());
     }
-    auto pipeline = AgentPipeline::create(as.id(), simulatedAgentSetup(as, options), as.camera());
+    AgentFilterSetup setup = simulatedAgentSetup(as, options);
+    auto pipeline = AgentPipeline::create(as.id(), setup, as.camera());
     if (!pipeline.ok()) return pipeline.status();
-    Agent a{as.id(), std::move(pipeline.value()), std::move(agent_sensing)};
+    Agent a{as.id(), std::move(pipeline.value()), std::move(agent_sensing), std::move(setup)};
     if (a.id >= static_cast<int>(run->slot_of_id_.size())) run->slot_of_id_.resize(a.id + 1, -1);
     run->slot_of_id_[static_cast<std::size_t>(a.id)] = static_cast<int>(run->agents_.size());
     run->agents_.push_back(std::move(a));
@@ -35,7 +36,7 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
   return run;
 }
 
-Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
+Status SimulatedTeamRun::run(const FrameCallback& on_frame, const ImuCallback& on_imu) {
   sim::SimEvent ev;
   while (simulator_.next(ev)) {
     Agent& a =
@@ -43,6 +44,7 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame) {
     AgentPipeline& p = *a.pipeline;
     if (ev.type == SensorEventType::kImu) {
       if (Status s = p.addImu(ev.imu); !s.ok()) return s;
+      if (on_imu) on_imu(a.id, ev.imu);
       continue;
     }
     FrameSensing& sensing = *a.sensing;

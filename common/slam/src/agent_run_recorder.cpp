@@ -31,6 +31,11 @@ Status AgentRunRecorder::openFrontend() {
 
 Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* truth,
                                   double latency_ms) {
+  return addFrame(agent, truth, latency_ms, nullptr);
+}
+
+Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* truth,
+                                  double latency_ms, const VehicleEstimate* adopted) {
   if (!writer_) return Status::Error("AgentRunRecorder: not open");
   const AgentFrame& f = agent.lastFrame();
   const FrameReport& report = f.report;
@@ -45,8 +50,8 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
               << r.initialised.size() << ',' << r.front_end_ms << ',' << r.association_ms << ','
               << r.filter_ms << ',' << r.loop.candidates << ',' << r.loop.inliers << '\n';
   }
-  const Eigen::VectorXd x = slam.vehicleState();
-  const Eigen::MatrixXd P = slam.vehicleCovariance();
+  const Eigen::VectorXd x = adopted != nullptr ? adopted->x_v : slam.vehicleState();
+  const Eigen::MatrixXd P = adopted != nullptr ? adopted->P_v : slam.vehicleCovariance();
   if (Status s = writer_->addState(t, x.head<9>(), P.topLeftCorner<9, 9>()); !s.ok()) return s;
   if (truth != nullptr)
     if (Status s = writer_->addTruth(t, *truth); !s.ok()) return s;
@@ -74,10 +79,11 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
   return events_ ? Status::Ok() : Status::Error(dir_ + "/events.csv: write failed");
 }
 
-Status AgentRunRecorder::writeMap(const VisualInertialSlam& slam, const LandmarkTruth& truth) {
-  if (!writer_) return Status::Error("AgentRunRecorder: not open");
+std::vector<LandmarkRecord> landmarkRecords(
+    const std::vector<MapLandmark>& map,
+    const std::function<bool(int64_t landmark_id, Eigen::Vector3d* p_LinN)>& truth) {
   std::vector<LandmarkRecord> records;
-  for (const MapLandmark& m : slam.map()) {
+  for (const MapLandmark& m : map) {
     LandmarkRecord r;
     r.id = m.id;
     r.p_LinN = m.p_LinN;
@@ -86,7 +92,12 @@ Status AgentRunRecorder::writeMap(const VisualInertialSlam& slam, const Landmark
     if (truth && truth(m.id, &p_true)) r.truth = p_true;
     records.push_back(r);
   }
-  return writer_->writeLandmarks(records);
+  return records;
+}
+
+Status AgentRunRecorder::writeMap(const VisualInertialSlam& slam, const LandmarkTruth& truth) {
+  if (!writer_) return Status::Error("AgentRunRecorder: not open");
+  return writer_->writeLandmarks(landmarkRecords(slam.map(), truth));
 }
 
 Status AgentRunRecorder::flush() {

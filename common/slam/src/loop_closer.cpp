@@ -115,7 +115,10 @@ int LoopCloser::align(SlamState& state, LandmarkBook& book, const StereoFrameObs
     // Only landmarks seen recently drifted with the vehicle; old ones (the full map keeps
     // them in the state) are in the old frame, like the loop landmarks.
     LandmarkBookEntry* record = book.find(id);
-    if (record == nullptr || t_us - record->last_seen_us >= min_age_us) continue;
+    if (record == nullptr || !record->drifts_with_vehicle ||
+        t_us - record->last_seen_us >= min_age_us) {
+      continue;
+    }
     state.setValue(v, fit->apply(state.value(v)));
     record->first_estimate = fit->apply(record->first_estimate);
     record->yaw_direction = moveYawDirection(record->yaw_direction, *fit);

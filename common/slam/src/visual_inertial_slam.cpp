@@ -5,6 +5,7 @@
 
 #include "cvslam/filter/vehicle_model.h"
 #include "cvslam/io/config_node.h"
+#include "cvslam/slam/landmark_lifecycle.h"
 
 namespace cvslam {
 
@@ -83,7 +84,7 @@ Status VisualInertialSlam::initializeVehicle(int64_t t_us, const Eigen::VectorXd
                            : vehicle_model::addVehicle(state_, vehicle_, x_v, P_v, o_.ins.attitude);
   if (!added.ok()) return added;
   t_us_ = t_us;
-  imu_buffer_.clear();
+  propagation_.reset(t_us);
   book_.setVehicleYawDirection(
       vehicle_model::yawDirection(vehicle_model::pose(state_, *state_.find(vehicle_)), n));
   initialized_ = true;
@@ -92,64 +93,16 @@ Status VisualInertialSlam::initializeVehicle(int64_t t_us, const Eigen::VectorXd
 
 Status VisualInertialSlam::addImu(const ImuSample& sample) {
   if (!initialized_) return Status::Error("addImu before initialize");
-  if (!sample.gyro_B.allFinite() || !sample.accel_B.allFinite()) {
-    return Status::Error("IMU sample at t=" + std::to_string(sample.t_us) + " µs is not finite");
-  }
-  const int64_t last = imu_buffer_.empty() ? t_us_ - 1 : imu_buffer_.back().t_us;
-  if (sample.t_us <= last) {
-    return Status::Error("IMU sample at t=" + std::to_string(sample.t_us) +
-                         " µs is not after the previous one");
-  }
-  if (imu_buffer_.empty() && sample.t_us > t_us_) {
-    // The state time has no sample: hold this one back to it (zero-order hold).
-    ImuSample at_state = sample;
-    at_state.t_us = t_us_;
-    imu_buffer_.push_back(at_state);
-  }
-  imu_buffer_.push_back(sample);
-  return Status::Ok();
+  return propagation_.addImu(sample);
 }
 
 Status VisualInertialSlam::propagateTo(int64_t t_us) {
   if (!initialized_) return Status::Error("propagateTo before initialize");
-  if (t_us < t_us_) return Status::Error("frame time goes backwards");
-  if (imu_buffer_.empty() || t_us == t_us_) return Status::Ok();
-  // Samples after the frame stay buffered; the frame time gets an interpolated sample.
-  std::vector<ImuSample> segment;
-  std::vector<ImuSample> rest;
-  for (const ImuSample& s : imu_buffer_) (s.t_us <= t_us ? segment : rest).push_back(s);
-  if (segment.back().t_us < t_us) {
-    ImuSample end = segment.back();
-    if (!rest.empty()) {
-      const ImuSample& next = rest.front();
-      const double a =
-          static_cast<double>(t_us - end.t_us) / static_cast<double>(next.t_us - end.t_us);
-      end.gyro_B += a * (next.gyro_B - end.gyro_B);
-      end.accel_B += a * (next.accel_B - end.accel_B);
-    }
-    end.t_us = t_us;
-    segment.push_back(end);
+  if (Status s = propagation_.propagateTo(t_us, propagator_, policy_, vehicle_, state_, book_);
+      !s.ok()) {
+    return s;
   }
-  if (segment.size() >= 2) {
-    InsTransition tr;
-    if (Status s = propagator_.propagate(state_.value(*state_.find(vehicle_)),
-                                         vehicle_model::nominalAttitude(state_, vehicle_), segment,
-                                         &tr);
-        !s.ok()) {
-      return s;
-    }
-    if (Status s = CovarianceHelper::propagate(state_, vehicle_, tr.x, tr.Phi, tr.Qd, policy_);
-        !s.ok()) {
-      return s;
-    }
-    vehicle_model::setNominalAttitude(state_, vehicle_, tr.q_BtoN);
-    // Φ u_v: the transition's own image of u_v.
-    book_.setVehicleYawDirection(tr.Phi * book_.vehicleYawDirection());
-  }
-  imu_buffer_.clear();
-  imu_buffer_.push_back(segment.back());
-  imu_buffer_.insert(imu_buffer_.end(), rest.begin(), rest.end());
-  t_us_ = t_us;
+  t_us_ = propagation_.time();
   return Status::Ok();
 }
 
@@ -160,16 +113,7 @@ const std::vector<uint8_t>* VisualInertialSlam::descriptorOf(int64_t landmark_id
 }
 
 void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameReport* report) {
-  const vehicle_model::Pose x = vehiclePose();
-  const StereoCameraOptions& c = camera_.options();
-  std::vector<double> depths;
-  depths.reserve(frame.observations.size());
-  for (const StereoObservation& obs : frame.observations) {
-    const double disparity = obs.z(0) - obs.z(2);
-    if (disparity > 0.0) depths.push_back(c.fx * c.baseline / disparity);
-  }
-  const Eigen::Vector3d m_star = KNearestMapManager::virtualPoint(
-      camera_, x.p_BinN, x.R_BtoN, map_manager_.sceneDepth(depths));
+  const Eigen::Vector3d m_star = frameVirtualPoint(map_manager_, camera_, state_, vehicle_, frame);
 
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());
@@ -199,34 +143,15 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
   // archive keeps the mean and the marginal covariance, §5.8).
   for (const MapCandidate& cand : candidates) {
     if (std::binary_search(keep.begin(), keep.end(), cand.landmark_id)) continue;
-    const VariableKey key = VariableKey::landmark(static_cast<uint64_t>(cand.landmark_id));
-    const StateVariable* v = state_.find(key);
-    if (v == nullptr) continue;  // an archived candidate that stays archived
-    ArchivedLandmark a;
-    a.p_LinN = state_.value(*v);
-    a.covariance = state_.covarianceOf(*v);
-    if (std::optional<LandmarkBookEntry> r = book_.remove(cand.landmark_id)) {
-      a.index = r->index;
-      a.first_seen_us = r->first_seen_us;
-      a.last_seen_us = r->last_seen_us;
-      a.descriptor = std::move(r->descriptor);
-      a.yaw_direction = r->yaw_direction;
-    }
-    a.archived_us = t_us_;
-    archive_.store(cand.landmark_id, std::move(a));
-    CovarianceHelper::marginalize(state_, key);
+    // An archived candidate that stays archived is not in the state.
+    if (!state_.has(VariableKey::landmark(static_cast<uint64_t>(cand.landmark_id)))) continue;
+    archiveLandmark(state_, archive_, cand.landmark_id, book_.remove(cand.landmark_id), t_us_);
     ++report->archived;
   }
   // Re-activate the chosen archived landmarks (loop closing, §5.5.2).
   for (int64_t id : keep) {
-    const VariableKey key = VariableKey::landmark(static_cast<uint64_t>(id));
-    if (state_.has(key)) continue;
-    std::optional<ArchivedLandmark> a = archive_.take(id);
-    if (!a) continue;
-    CovarianceHelper::addVariable(state_, key, a->p_LinN, a->covariance);
-    ++report->reactivated;
-    book_.add(id, {a->index, a->first_seen_us, a->last_seen_us, std::move(a->descriptor), a->p_LinN,
-                   a->yaw_direction, false});
+    if (state_.has(VariableKey::landmark(static_cast<uint64_t>(id)))) continue;
+    if (reactivateLandmark(state_, book_, archive_, id)) ++report->reactivated;
   }
 }
 

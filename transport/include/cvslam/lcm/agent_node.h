@@ -27,12 +27,13 @@
 #include "cvslam/slam/agent_pipeline.h"
 #include "cvslam/slam/agent_run_recorder.h"
 #include "cvslam/slam/unknown_pose_start.h"
+#include "cvslam/slam/vehicle_estimate.h"
 
 namespace cvslam::transport {
 
 struct AgentNodeOptions {
   int id = 1;                   ///< this UAV's id (≥ 1)
-  std::string mode = "single";  ///< single | dc (summary's mode field)
+  std::string mode = "single";  ///< single | dc | cc (summary's mode field)
   std::string url = kDefaultLcmUrl;
   std::string out_dir;              ///< run record folder; empty: none
   std::string filter_name = "ekf";  ///< agent_state_t.filter
@@ -54,21 +55,45 @@ struct AgentNodeOptions {
   enum class Start { kKnown, kRest, kDynamic, kAuto };
   Start start = Start::kKnown;
   UnknownPoseStartOptions unknown_pose;
+  /// Centralised mode (cc_link.h), `agent.cc:`.
+  struct Cc {
+    /// After sending a frame's batch, wait this long for the ground station's estimate of the
+    /// frame (wall) [s]; lockstep runs are deterministic only when it always comes in time.
+    double gs_wait_s = 0.25;
+    /// The ground station is alive while heard within this (wall) [s]; else no waiting.
+    double gs_timeout_s = 1.0;
+    Status load(const ConfigNode& node);
+  };
+  Cc cc;
   bool verbose = false;
 
   /// agent.yaml section `agent:` (status_period_s, summary_period_s, flush_period_s,
   /// max_wait_s, imu_queue, frame_queue, initial: {position_sigma, velocity_sigma,
   /// attitude_sigma_deg}, start: known | rest | dynamic | auto, static_init: {window_s,
   /// segments, max_accel_mean_change, max_gyro_mean_change, max_gravity_error},
-  /// dynamic_init: {...}, start_give_up_s); id, mode, url,
+  /// dynamic_init: {...}, start_give_up_s, cc: {gs_wait_s, gs_timeout_s}); id, mode, url,
   /// out_dir, idle_exit_s come from the command line.
   Status load(const ConfigNode& node);
 };
 
-/// Cooperation of the agent with its peers (DC mode), plugged into the node.
+/// Cooperation of the agent with its peers (DC mode, dc_link.h) or with the ground station (CC
+/// mode, cc_link.h), plugged into the node.
 class CooperationLink {
  public:
   virtual ~CooperationLink() = default;
+  /// Every IMU sample the agent's filter was given, in order.
+  virtual void onImu(const ImuSample&) {}
+  /// The agent's filter has just started (before its first IMU sample).
+  virtual Status onStart(AgentPipeline&, LcmBus&, const std::string& /*filter_name*/) {
+    return Status::Ok();
+  }
+  /// After afterFrame(): the estimate published and recorded for the frame in place of the
+  /// agent's own (cc: the ground station's, when it came in time); null: the agent's own.
+  virtual const VehicleEstimate* adopted() const { return nullptr; }
+  /// For STATUS' message; empty: nothing to say.
+  virtual std::string statusText() const { return {}; }
+  /// True when the link publishes TEAM/SUMMARY itself; else the node does, periodically.
+  virtual bool sendsSummary() const { return true; }
   /// Subscribes the cooperation channels (before the bus starts).
   virtual Status subscribe(LcmBus& bus) = 0;
   /// Hands the messages received so far to the cooperation core (main thread; called after
@@ -112,6 +137,8 @@ class AgentNode {
   Status startPipeline(const AgentFilterSetup& setup);
   /// start: rest | dynamic | auto — an event before the start, then the start once found.
   Status startUnknownPose(const SensorEvent& event);
+  /// Gives the sample to the filter and to the cooperation link.
+  Status addImu(const ImuSample& sample);
   Status afterFrame(double arrival_s);
   Status publishStatus();
   /// Wall time of the latest sensor message, or of the start [s].

@@ -50,6 +50,10 @@ struct BusOptions {
   int lcm_queue_capacity = 1000;
 };
 
+/// Ok when `url` names a provider LCM knows (udpm, tcpq, memq, file): checked before LCM,
+/// which prints its own complaint about an unknown one.
+Status checkLcmUrl(const std::string& url);
+
 /// An agent filter accepting exactly the given ids.
 std::function<bool(int32_t)> acceptOnly(std::set<int32_t> agent_ids);
 

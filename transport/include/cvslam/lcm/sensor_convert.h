@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include "cvslam/core/status.h"
+#include "cvslam/io/run_record.h"
 #include "cvslam/lcm/message_types.h"
 #include "cvslam/sensors/sensor_stream.h"
 
@@ -17,6 +18,10 @@ cvslam::pose_t toPoseMessage(const VehiclePose& pose, int64_t t_us, int32_t send
 
 /// The pose back (gyro and accel biases are not carried: zero).
 VehiclePose fromPoseMessage(const cvslam::pose_t& msg);
+
+/// The true vehicle state [p_BinN, v_B, euler] of a pose, in the layout of the run record's
+/// truth.csv (the agents' and the ground station's).
+Vector9d truthState(const VehiclePose& pose);
 
 /// Both images must be CV_8UC1 of the same size. `png`: each image as a PNG file (lossless,
 /// fastest compression level, since the replay must keep up with real time).

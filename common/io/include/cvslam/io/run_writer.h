@@ -83,6 +83,10 @@ class AgentRunWriter {
   bool open_ = false;
 };
 
+/// Writes a landmarks.csv (docs/run_format.md) at `path`: AgentRunWriter's map, and the ground
+/// station's joint map (coop/ground_station_recorder.h).
+Status writeLandmarksFile(const std::string& path, const std::vector<LandmarkRecord>& landmarks);
+
 /// Writes DIR/run.json.
 Status writeRunInfo(const std::string& run_dir, const RunInfo& info);
 

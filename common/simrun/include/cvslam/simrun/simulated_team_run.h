@@ -14,6 +14,7 @@
 #include "cvslam/sim/simulator.h"
 #include "cvslam/simrun/frame_sensing.h"
 #include "cvslam/slam/agent_pipeline.h"
+#include "cvslam/slam/agent_setup.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
 namespace cvslam {
@@ -38,6 +39,9 @@ struct SimulatedFrame {
 class SimulatedTeamRun {
  public:
   using FrameCallback = std::function<Status(const SimulatedFrame&)>;
+  /// Sees every IMU sample right after the agent's pipeline got it (centralised mode sends
+  /// them to the ground station, coop/cc_batch_builder.h).
+  using ImuCallback = std::function<void(int agent_id, const ImuSample& sample)>;
   /// Makes an agent's sensing (frame_sensing.h); null in create(): FeatureSensing.
   using SensingFactory =
       std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>;
@@ -50,12 +54,14 @@ class SimulatedTeamRun {
       const SensingFactory& sensing = {});
 
   /// Runs to the end of the scenario, calling `on_frame` after every frame (a non-ok Status
-  /// from it stops the run and is returned).
-  Status run(const FrameCallback& on_frame);
+  /// from it stops the run and is returned), and `on_imu` (may be empty) after every IMU sample.
+  Status run(const FrameCallback& on_frame, const ImuCallback& on_imu = {});
 
   std::size_t agentCount() const { return agents_.size(); }
   const VisualInertialSlam& slam(std::size_t i) const { return agents_[i].pipeline->slam(); }
   AgentPipeline& pipeline(std::size_t i) { return *agents_[i].pipeline; }
+  /// How agent i's filter was started (options with its IMU noise, x0, P0, t0).
+  const AgentFilterSetup& setup(std::size_t i) const { return agents_[i].setup; }
   const FrameSensing& sensing(std::size_t i) const { return *agents_[i].sensing; }
   int agentId(std::size_t i) const { return agents_[i].id; }
   const sim::Simulator& simulator() const { return simulator_; }
@@ -67,6 +73,7 @@ class SimulatedTeamRun {
     int id = 0;
     std::unique_ptr<AgentPipeline> pipeline;
     std::unique_ptr<FrameSensing> sensing;
+    AgentFilterSetup setup;
   };
   SimulatedTeamRun(sim::Simulator simulator) : simulator_(std::move(simulator)) {}
 

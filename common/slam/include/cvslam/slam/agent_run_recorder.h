@@ -12,12 +12,21 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cvslam/core/status.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/slam/agent_pipeline.h"
+#include "cvslam/slam/vehicle_estimate.h"
 
 namespace cvslam {
+
+/// landmarks.csv records of a map (active and archived landmarks), with their true position
+/// where `truth` knows it: AgentRunRecorder's and the ground station's
+/// (coop/ground_station_recorder.h).
+std::vector<LandmarkRecord> landmarkRecords(
+    const std::vector<MapLandmark>& map,
+    const std::function<bool(int64_t landmark_id, Eigen::Vector3d* p_LinN)>& truth);
 
 class AgentRunRecorder {
  public:
@@ -33,6 +42,11 @@ class AgentRunRecorder {
   /// unknown); `latency_ms`: arrival → pose published (NaN: not measured).
   Status addFrame(const AgentPipeline& agent, const Vector9d* truth,
                   double latency_ms = std::numeric_limits<double>::quiet_NaN());
+  /// The same with the vehicle estimate recorded (states.csv, trajectory.tum) replaced by
+  /// `adopted` when not null: centralised mode, where the agent adopts the ground station's
+  /// estimate of its frame (coop/cc_team_filter.h). Everything else is the agent's own.
+  Status addFrame(const AgentPipeline& agent, const Vector9d* truth, double latency_ms,
+                  const VehicleEstimate* adopted);
 
   /// Writes landmarks.csv from the agent's map (active and archived landmarks).
   Status writeMap(const VisualInertialSlam& slam, const LandmarkTruth& truth);

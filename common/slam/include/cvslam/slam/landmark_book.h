@@ -34,6 +34,10 @@ struct LandmarkBookEntry {
   /// re-activated landmark re-enters without correlation, as an independent prior on its
   /// absolute position, so the joint null space no longer contains it.
   bool constrained = false;
+  /// The landmark drifted with this book's vehicle (it mapped it), so a loop closure moves it
+  /// with the vehicle (loop_closer.h). false for another vehicle's landmark in a joint state
+  /// (coop/cc_team_filter.h): it is in that vehicle's frame, like the loop landmarks.
+  bool drifts_with_vehicle = true;
 };
 
 class LandmarkBook {

@@ -42,6 +42,7 @@
 #include "cvslam/slam/loop_closer.h"
 #include "cvslam/slam/slam_options.h"
 #include "cvslam/slam/stereo_updater.h"
+#include "cvslam/slam/vehicle_propagation.h"
 
 namespace cvslam {
 
@@ -171,7 +172,7 @@ class VisualInertialSlam {
   LandmarkInitialiser initialiser_;
   LoopCloser loop_closer_;
   CiUpdater ci_updater_;
-  std::vector<ImuSample> imu_buffer_;  // front() is at the state time
+  VehiclePropagation propagation_;  // the IMU buffer of step 1
   FilterStatistics stats_;
   int64_t t_us_ = 0;
   int64_t next_fresh_id_ = int64_t{1} << 40;  // ids for landmarks the front end left unnamed

@@ -1,0 +1,299 @@
+// CcTeamFilter: vehicles, the per-batch recipe, estimates (cc_team_filter.h). The association
+// and the map management over the joint map are in cc_team_filter_map.cpp.
+
+#include "cvslam/coop/cc_team_filter.h"
+
+#include <algorithm>
+#include <chrono>
+#include <iterator>
+
+#include "cc_team_filter_impl.h"
+#include "cvslam/filter/covariance_helper.h"
+#include "cvslam/filter/vehicle_model.h"
+
+namespace cvslam::coop {
+
+CcTeamFilter::CcTeamFilter(const CcTeamFilterOptions& options)
+    : o_(options), impl_(std::make_unique<Impl>()) {
+  impl_->map_manager = KNearestMapManager(o_.slam.map);
+  Expected<UpdatePolicy> policy = o_.slam.filter.policy();
+  if (policy.ok()) {
+    impl_->policy = *policy;
+  } else {
+    impl_->policy_status = policy.status();
+  }
+}
+
+CcTeamFilter::~CcTeamFilter() = default;
+CcTeamFilter::CcTeamFilter(CcTeamFilter&&) noexcept = default;
+CcTeamFilter& CcTeamFilter::operator=(CcTeamFilter&&) noexcept = default;
+
+const SlamState& CcTeamFilter::state() const {
+  return impl_->state;
+}
+
+bool CcTeamFilter::hasVehicle(int agent_id) const {
+  return impl_->vehicles.count(agent_id) > 0;
+}
+
+std::vector<int> CcTeamFilter::vehicles() const {
+  std::vector<int> ids;
+  for (const auto& [id, v] : impl_->vehicles) ids.push_back(id);
+  return ids;
+}
+
+std::vector<int64_t> CcTeamFilter::activeLandmarks(int agent_id) const {
+  auto it = impl_->vehicles.find(agent_id);
+  return it == impl_->vehicles.end() ? std::vector<int64_t>{} : it->second->active;
+}
+
+Status CcTeamFilter::addVehicle(int agent_id, const StereoCamera& camera, int64_t t_us,
+                                const Eigen::VectorXd& x_v, const Eigen::MatrixXd& P_v,
+                                const InsPropagatorOptions* ins) {
+  if (!impl_->policy_status.ok()) return impl_->policy_status;
+  const InsPropagatorOptions& ins_options = ins != nullptr ? *ins : o_.slam.ins;
+  if (ins_options.estimate_imu_bias != o_.slam.ins.estimate_imu_bias) {
+    return Status::Error(
+        "addVehicle: the vehicle's ins.estimate_imu_bias differs from the "
+        "ground station's");
+  }
+  const int n = InsPropagator(ins_options).stateSize();
+  if (x_v.size() != n || P_v.rows() != n || P_v.cols() != n) {
+    return Status::Error("addVehicle: the vehicle state must have " + std::to_string(n) +
+                         " entries");
+  }
+  if (!x_v.allFinite() || !P_v.allFinite()) {
+    return Status::Error("addVehicle: the vehicle state is not finite");
+  }
+  auto it = impl_->vehicles.find(agent_id);
+  if (it == impl_->vehicles.end() && static_cast<int>(impl_->vehicles.size()) >= o_.max_vehicles) {
+    return Status::Error("addVehicle: already " + std::to_string(o_.max_vehicles) +
+                         " vehicles (cc.max_vehicles)");
+  }
+  if (it == impl_->vehicles.end()) {
+    it = impl_->vehicles
+             .emplace(agent_id,
+                      std::make_unique<CcVehicle>(agent_id, camera, ins_options, o_.slam.slam))
+             .first;
+  } else {
+    // Re-initialisation (§6.3.1 known pose, e.g. the agent's own estimate after a restart):
+    // the block is replaced, uncorrelated; the UAV's map bookkeeping is kept.
+    CovarianceHelper::marginalize(impl_->state, it->second->key);
+    it->second->has_batch = false;
+  }
+  CcVehicle& v = *it->second;
+  // x_v, P_v in the Euler layout (messages, setups); the block takes the configured attitude.
+  if (Status s = vehicle_model::addVehicle(impl_->state, v.key, x_v, P_v, ins_options.attitude);
+      !s.ok()) {
+    return s;
+  }
+  v.propagation.reset(t_us);
+  v.book.setVehicleYawDirection(vehicle_model::yawDirection(
+      vehicle_model::pose(impl_->state, *impl_->state.find(v.key)), n));
+  stats_.agents[agent_id];
+  ++map_version_;
+  return Status::Ok();
+}
+
+Status CcTeamFilter::removeVehicle(int agent_id) {
+  auto it = impl_->vehicles.find(agent_id);
+  if (it == impl_->vehicles.end()) {
+    return Status::Error("removeVehicle: no vehicle " + std::to_string(agent_id));
+  }
+  const std::vector<int64_t> active = it->second->active;
+  const int64_t t_us = it->second->propagation.time();
+  if (Status s = CovarianceHelper::marginalize(impl_->state, it->second->key); !s.ok()) return s;
+  impl_->vehicles.erase(it);
+  // Its landmarks stay in the joint map: archived unless another UAV keeps them active.
+  for (int64_t id : active) {
+    if (!impl_->activeForAnother(id, agent_id)) impl_->archiveEverywhere(id, t_us);
+  }
+  ++map_version_;
+  return Status::Ok();
+}
+
+Expected<VehicleEstimate> CcTeamFilter::estimate(int agent_id) const {
+  auto it = impl_->vehicles.find(agent_id);
+  if (it == impl_->vehicles.end()) {
+    return Status::Error("estimate: no vehicle " + std::to_string(agent_id));
+  }
+  const StateVariable* v = impl_->state.find(it->second->key);
+  VehicleEstimate e;
+  e.t_us = it->second->propagation.time();
+  vehicle_model::eulerLayout(impl_->state, *v, &e.x_v, &e.P_v);  // the messages' layout
+  return e;
+}
+
+std::vector<MapLandmark> CcTeamFilter::map() const {
+  std::vector<MapLandmark> out;
+  for (const StateVariable& v : impl_->state.variables()) {
+    if (v.key.kind != VariableKey::Kind::kLandmark) continue;
+    MapLandmark m;
+    m.id = static_cast<int64_t>(v.key.id);
+    auto info = impl_->landmarks.find(m.id);
+    if (info != impl_->landmarks.end()) m.index = info->second.index;
+    m.p_LinN = impl_->state.value(v);
+    m.covariance = impl_->state.covarianceOf(v);
+    m.in_state = true;
+    out.push_back(m);
+  }
+  for (const auto& [id, a] : impl_->archive.all()) {
+    out.push_back({id, a.index, a.p_LinN, a.covariance, false});
+  }
+  std::sort(out.begin(), out.end(),
+            [](const MapLandmark& a, const MapLandmark& b) { return a.id < b.id; });
+  return out;
+}
+
+namespace {
+
+/// Counts a rejected batch and says why.
+Status reject(CcTeamStatistics* stats, long* counter, CcStepReport* r, const std::string& why) {
+  ++*counter;
+  if (stats->agents.count(r->agent_id) > 0) ++stats->agents[r->agent_id].rejected;
+  r->accepted = false;
+  r->reason = why;
+  return Status::Error("batch of agent " + std::to_string(r->agent_id) +
+                       " at t=" + std::to_string(r->t_us) + " µs rejected: " + why);
+}
+
+}  // namespace
+
+Status CcTeamFilter::processBatch(const CcObservationBatch& batch, CcStepReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  CcStepReport local;
+  CcStepReport& r = report != nullptr ? *report : local;
+  r = CcStepReport();
+  r.agent_id = batch.agent_id;
+  r.t_us = batch.t_us;
+  auto it = impl_->vehicles.find(batch.agent_id);
+  if (it == impl_->vehicles.end()) {
+    return reject(&stats_, &stats_.rejected_unknown_agent, &r, "unknown agent");
+  }
+  CcVehicle& v = *it->second;
+  if (Status s = validateBatch(batch); !s.ok()) {
+    return reject(&stats_, &stats_.rejected_invalid, &r, s.message());
+  }
+  if (batch.t_us < v.propagation.time() || (v.has_batch && batch.t_us <= v.last_batch_us)) {
+    return reject(&stats_, &stats_.rejected_stale, &r, "not after the vehicle's last batch");
+  }
+  // 1. Propagate (samples the vehicle's buffer already covers are older than its state:
+  // the first batch after a (re-)initialisation may repeat them).
+  for (const ImuSample& s : batch.imu) {
+    if (s.t_us <= v.propagation.lastSampleTime()) continue;
+    if (Status st = v.propagation.addImu(s); !st.ok()) {
+      return reject(&stats_, &stats_.rejected_invalid, &r, st.message());
+    }
+  }
+  v.has_batch = true;
+  v.last_batch_us = batch.t_us;
+  if (Status s = v.propagation.propagateTo(batch.t_us, v.propagator, impl_->policy, v.key,
+                                           impl_->state, v.book);
+      !s.ok()) {
+    return reject(&stats_, &stats_.rejected_invalid, &r, s.message());
+  }
+  if (Status s = runRecipe(v, batch, &r); !s.ok()) {
+    return reject(&stats_, &stats_.rejected_invalid, &r, s.message());
+  }
+  r.accepted = true;
+  r.state_size = impl_->state.size();
+  r.vehicles = static_cast<int>(impl_->vehicles.size());
+  r.step_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  ++stats_.batches;
+  stats_.step_ms.push_back(r.step_ms);
+  stats_.max_state_size = std::max(stats_.max_state_size, r.state_size);
+  CcAgentCounts& c = stats_.agents[batch.agent_id];
+  ++c.batches;
+  c.observations += static_cast<long>(batch.frame.observations.size());
+  c.type1 += r.type1;
+  c.type2 += r.type2;
+  c.type3 += r.type3;
+  c.loop_closures += r.frame.loop_closure ? 1 : 0;
+  ++map_version_;
+  return Status::Ok();
+}
+
+Status CcTeamFilter::meetMap(CcVehicle& v, FrameReport* fr) {
+  Impl& m = *impl_;
+  // 1. Move the linearisation point: this UAV and its own landmarks by the translation that
+  // puts where it sees the met landmarks onto where the map has them (median per axis). An
+  // update linearised metres away from the truth would invent information (the yaw of the UAV
+  // collapses, measured on coop_pair); the move is within the UAV's own uncertainty, which
+  // the update that follows then shrinks (as the loop alignment of loop_closer.h, without yaw:
+  // initial headings are known, §6.3.1).
+  const Eigen::Vector3d shift = m.meetShift(v);
+  m.shiftVehicleMap(v, shift);
+  // 2. The met landmarks first, gated, so that a wrong association cannot drag the UAV.
+  std::vector<UpdateReport> passes;
+  const Status s =
+      v.updater.update(m.state, v.book, m.frame, 1, StereoUpdater::Selection::kOnlyListed, m.meet,
+                       m.policy, &passes);
+  for (const UpdateReport& u : passes) {
+    stats_.filter.add(u);
+    fr->theta_reduced = fr->theta_reduced || u.theta_reduced;
+  }
+  if (!s.ok()) return s;
+  ++stats_.agents[v.agent_id].rendezvous;
+  return Status::Ok();
+}
+
+Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, CcStepReport* r) {
+  Impl& m = *impl_;
+  FrameReport& fr = r->frame;
+  fr.t_us = batch.t_us;
+  fr.observations = static_cast<int>(batch.frame.observations.size());
+  const int64_t t_us = batch.t_us;
+  // 2. Joint ids and types (§6.3.1); type-2 landmarks of the state enter this UAV's book.
+  m.associate(v, batch, o_);
+  for (int type : m.types) {
+    r->type1 += type == 1 ? 1 : 0;
+    r->type2 += type == 2 ? 1 : 0;
+    r->type3 += type == 3 ? 1 : 0;
+  }
+  // 3. This UAV's k nearest over the joint map: archive, re-activate.
+  m.manageMap(v, t_us, o_.slam.slam.reactivation_min_age_s, o_.reactivation_inflation, &fr);
+  // 4. Loop closing, then the gated updates of the other observations.
+  LoopReport loop;
+  if (Status s = v.loop_closer.process(m.state, v.book, m.frame, t_us, v.updater, m.policy,
+                                       &stats_.filter, &loop);
+      !s.ok()) {
+    return s;
+  }
+  fr.loop_landmarks = loop.loop_landmarks;
+  fr.loop_closure = loop.loop_closure;
+  fr.theta_reduced = loop.theta_reduced;
+  // A rendezvous first (cc_team_filter.h), then the gated updates of the rest.
+  std::vector<int64_t> done = v.loop_closer.loopIds();
+  if (!m.meet.empty()) {
+    if (Status st = meetMap(v, &fr); !st.ok()) return st;
+    std::vector<int64_t> both;
+    std::set_union(done.begin(), done.end(), m.meet.begin(), m.meet.end(),
+                   std::back_inserter(both));
+    done.swap(both);
+  }
+  std::vector<UpdateReport> passes;
+  const Status s =
+      v.updater.update(m.state, v.book, m.frame, o_.slam.slam.observation_passes,
+                       StereoUpdater::Selection::kAllButListed, done, m.policy, &passes);
+  for (const UpdateReport& u : passes) {
+    if (u.observations_accepted + u.observations_rejected > 0) stats_.filter.add(u);
+    fr.updated = u.observations_accepted;
+    fr.rejected = u.observations_rejected;
+    fr.theta_reduced = fr.theta_reduced || u.theta_reduced;
+  }
+  if (!s.ok()) return s;
+  // 5. Initialise the landmarks new to the joint map; they join this UAV's active set.
+  const std::size_t before = m.state.variables().size();
+  if (Status st = v.initialiser.initialise(m.state, v.book, m.archive, m.frame, t_us,
+                                           &m.next_fresh_id, &fr.initialised);
+      !st.ok()) {
+    return st;
+  }
+  m.afterInitialisation(v, before);
+  fr.state_size = m.state.size();
+  fr.landmarks_in_state = m.state.landmarkCount();
+  return Status::Ok();
+}
+
+}  // namespace cvslam::coop

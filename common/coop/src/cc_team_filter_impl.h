@@ -1,0 +1,104 @@
+#pragma once
+// CcTeamFilter's private state (cc_team_filter.h), shared by its source files.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "cvslam/coop/cc_team_filter.h"
+#include "cvslam/slam/k_nearest_map_manager.h"
+#include "cvslam/slam/landmark_archive.h"
+#include "cvslam/slam/landmark_book.h"
+#include "cvslam/slam/landmark_initialiser.h"
+#include "cvslam/slam/loop_closer.h"
+#include "cvslam/slam/stereo_updater.h"
+#include "cvslam/slam/vehicle_propagation.h"
+
+namespace cvslam::coop {
+
+/// One UAV of the joint state: its block's key, its models and its bookkeeping.
+struct CcVehicle {
+  CcVehicle(int id, const StereoCamera& cam, const InsPropagatorOptions& ins,
+            const SlamOptions& slam)
+      : agent_id(id),
+        key(VariableKey::vehicle(static_cast<uint64_t>(id))),
+        camera(cam),
+        propagator(ins),
+        updater(key, cam, slam),
+        initialiser(key, cam, slam),
+        loop_closer(key, cam, slam) {}
+
+  int agent_id;
+  VariableKey key;
+  StereoCamera camera;
+  InsPropagator propagator;
+  VehiclePropagation propagation;
+  LandmarkBook book;  // the state landmarks this UAV observed
+  StereoUpdater updater;
+  LandmarkInitialiser initialiser;
+  LoopCloser loop_closer;
+  std::vector<int64_t> active;  // its k nearest (ascending), all in the state
+  int64_t last_batch_us = 0;
+  bool has_batch = false;
+  std::unordered_map<int64_t, int64_t> joint_of_local;  // local_ids association
+};
+
+/// What the ground station knows of a joint landmark besides the filter: for association.
+struct CcLandmarkInfo {
+  uint32_t index = 0;
+  std::vector<uint8_t> descriptor;
+  std::vector<int> observers;  // agent ids, ascending
+  int mapped_by = -1;          // the agent whose batch initialised it
+};
+
+struct CcTeamFilter::Impl {
+  SlamState state;
+  LandmarkArchive archive;
+  KNearestMapManager map_manager;
+  UpdatePolicy policy;
+  Status policy_status;
+  std::map<int, std::unique_ptr<CcVehicle>> vehicles;
+  std::unordered_map<int64_t, CcLandmarkInfo> landmarks;  // every landmark of the joint map
+  std::unordered_map<uint32_t, std::vector<int64_t>> by_index;
+  /// Last time two UAVs (lower id first) shared an observed landmark outside a pending loop.
+  std::map<std::pair<int, int>, int64_t> contact;
+  int64_t next_fresh_id = int64_t{1} << 40;  // as VisualInertialSlam
+  StereoFrameObservations frame;             // the batch with joint ids (reused)
+  std::vector<int> types;                    // per observation of `frame`: 1, 2, 3
+  std::vector<int64_t> meet;                 // rendezvous landmarks of `frame` (ascending)
+
+  /// Step 2: `frame` = the batch with joint ids, `types` per observation; the state landmarks
+  /// this UAV observes enter its book (a copy of their record, with the latest last-seen time).
+  void associate(CcVehicle& v, const CcObservationBatch& batch, const CcTeamFilterOptions& o);
+  /// local_ids: the joint id of an observation's local id (matched or fresh).
+  int64_t jointOf(CcVehicle& v, const StereoObservation& obs, const CcTeamFilterOptions& o,
+                  const std::vector<int64_t>& used);
+  /// Step 3 for UAV v over the joint map.
+  void manageMap(CcVehicle& v, int64_t t_us, double reactivation_min_age_s,
+                 double reactivation_inflation, FrameReport* r);
+  /// After step 5: the new landmarks (state variables from `first_new` on) join v's active set;
+  /// v becomes an observer of every landmark of the frame.
+  void afterInitialisation(CcVehicle& v, std::size_t first_new);
+
+  bool activeForAnother(int64_t id, int agent_id) const;
+  /// The latest time any UAV saw landmark `id` (its books' last_seen_us).
+  int64_t lastSeen(int64_t id) const;
+  /// Whether v meeting the map of `other` now is a rendezvous (cc_team_filter.h).
+  bool rendezvous(const CcVehicle& v, int other, int64_t t_us, const CcTeamFilterOptions& o) const;
+  /// Rendezvous: the translation (median per axis) from where v sees the met landmarks to
+  /// where the map has them.
+  Eigen::Vector3d meetShift(const CcVehicle& v) const;
+  /// Moves v and its own landmarks (means, first estimates, OC directions) by `shift`.
+  void shiftVehicleMap(CcVehicle& v, const Eigen::Vector3d& shift);
+  /// 1σ of a vehicle's position [m] (√(trace/3)).
+  double positionSigma(const CcVehicle& v) const;
+  /// The book record of `id` in any vehicle's book (first by agent id), else null.
+  const LandmarkBookEntry* recordOf(int64_t id) const;
+  /// Archives `id`: removes it from every book, merges the records (latest last-seen).
+  void archiveEverywhere(int64_t id, int64_t t_us);
+  void noteObserver(int64_t id, int agent_id, const StereoObservation& obs);
+};
+
+}  // namespace cvslam::coop

@@ -1,0 +1,41 @@
+#pragma once
+// Steps 2–3 of the recipe (visual_inertial_slam.h) that move landmarks between the state and the
+// archive (thesis §5.8), shared by VisualInertialSlam and the ground station's joint filter
+// (coop/cc_team_filter.h), which decides per vehicle which landmarks leave or return:
+//  - the virtual point m* of a frame seen from a vehicle of the state;
+//  - archiving: exact marginalisation, the archive keeps the mean, the marginal covariance and
+//    the landmark's book record;
+//  - re-activation: the archived landmark re-enters with its archived mean and marginal
+//    covariance, uncorrelated (loop closing, §5.5.2), and enters the given book.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+
+#include "cvslam/camera/stereo_camera.h"
+#include "cvslam/camera/stereo_observation.h"
+#include "cvslam/filter/slam_state.h"
+#include "cvslam/slam/k_nearest_map_manager.h"
+#include "cvslam/slam/landmark_archive.h"
+#include "cvslam/slam/landmark_book.h"
+
+namespace cvslam {
+
+/// m* of `frame` from `vehicle` of the state: on its camera's optical axis at the median
+/// stereo depth of the observations (the map manager's scene depth).
+Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const StereoCamera& camera,
+                                  const SlamState& state, const VariableKey& vehicle,
+                                  const StereoFrameObservations& frame);
+
+/// Moves landmark `id` from the state to the archive at t_us with `record` (its book entry,
+/// already removed from the book(s); none: an empty record). No-op when not in the state.
+void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
+                     std::optional<LandmarkBookEntry> record, int64_t t_us);
+
+/// Moves archived landmark `id` into the state and `book`; false when not archived.
+/// `extra_covariance` is added to its archived covariance (the joint filter's conservative
+/// re-entry, coop/cc_team_filter.h; zero: the archived marginal as is).
+bool reactivateLandmark(SlamState& state, LandmarkBook& book, LandmarkArchive& archive, int64_t id,
+                        const Eigen::Matrix3d& extra_covariance = Eigen::Matrix3d::Zero());
+
+}  // namespace cvslam
