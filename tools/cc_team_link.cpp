@@ -2,6 +2,10 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
+
+#include "cvslam/lcm/cc_convert.h"
+#include "cvslam/lcm/codec.h"
 
 namespace cvslam {
 
@@ -32,13 +36,27 @@ Status CcTeamLink::afterFrame(int id, const AgentPipeline& agent, const Vector9d
                               AgentRunRecorder* recorder) {
   auto it = builders_.find(id);
   if (it == builders_.end()) return Status::Error("cc: unknown agent " + std::to_string(id));
-  const coop::CcObservationBatch batch = it->second.takeBatch(agent.lastFrame());
-  // The batch as on the wire (observation_batch_t): its bytes, sent by the agent, received by
-  // the ground station.
-  const int64_t bytes = coop::batchPayloadBytes(batch);
-  bytes_sent_[id] += bytes;
-  recorder->writer().addBytesSent("OBS", bytes);
-  recorder_.addBytesReceived("OBS", bytes);
+  const coop::CcObservationBatch sent = it->second.takeBatch(agent.lastFrame());
+  // The batch as on the wire (transport/cc_convert.h: toMessage → encode → decode →
+  // fromMessage, exactly what cvslam_agent and the ground-station process do): its bytes are
+  // sent by the agent and received by the ground station; one that does not survive is dropped.
+  Expected<cvslam::observation_batch_t> msg = transport::toMessage(sent);
+  if (!msg.ok()) return msg.status();
+  Expected<std::vector<uint8_t>> bytes = transport::encodeMessage(*msg);
+  if (!bytes.ok()) return bytes.status();
+  const auto n = static_cast<int64_t>(bytes->size());
+  bytes_sent_[id] += n;
+  recorder->writer().addBytesSent("OBS", n);
+  recorder_.addBytesReceived("OBS", n);
+  Expected<cvslam::observation_batch_t> back =
+      transport::decodeMessage<cvslam::observation_batch_t>(bytes->data(), bytes->size());
+  Expected<coop::CcObservationBatch> received =
+      back.ok() ? transport::fromMessage(*back) : Expected<coop::CcObservationBatch>(back.status());
+  if (!received.ok()) {
+    recorder_.addDropped("decode");
+    return recorder->addFrame(agent, truth, std::numeric_limits<double>::quiet_NaN(), nullptr);
+  }
+  const coop::CcObservationBatch& batch = *received;
   coop::CcStepReport report;
   // A rejected batch is counted by the filter; the agent then records its own estimate.
   const Status step = filter_.processBatch(batch, &report);

@@ -5,8 +5,9 @@
 // IMU samples since its previous batch and the frame's observations) goes to the joint filter at
 // once, so batches are processed in (time, agent id) order, deterministically, and the agent
 // records the ground station's estimate of its vehicle for that frame (always fresh in
-// process). The batch's bytes are counted as on the wire (observation_batch_t payload). Writes
-// DIR/ground_station/ (coop/ground_station_recorder.h).
+// process). Each batch goes through the LCM encoding (transport/cc_convert.h: encode → decode
+// → validate), as between cvslam_agent and the ground-station process, its bytes counted.
+// Writes DIR/ground_station/ (coop/ground_station_recorder.h).
 
 #include <cstdio>
 #include <map>

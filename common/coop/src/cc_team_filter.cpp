@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iterator>
 
 #include "cc_team_filter_impl.h"
 #include "cvslam/filter/covariance_helper.h"
@@ -206,6 +207,30 @@ Status CcTeamFilter::processBatch(const CcObservationBatch& batch, CcStepReport*
   return Status::Ok();
 }
 
+Status CcTeamFilter::meetMap(CcVehicle& v, FrameReport* fr) {
+  Impl& m = *impl_;
+  // 1. Move the linearisation point: this UAV and its own landmarks by the translation that
+  // puts where it sees the met landmarks onto where the map has them (median per axis). An
+  // update linearised metres away from the truth would invent information (the yaw of the UAV
+  // collapses, measured on coop_pair); the move is within the UAV's own uncertainty, which
+  // the update that follows then shrinks (as the loop alignment of loop_closer.h, without yaw:
+  // initial headings are known, §6.3.1).
+  const Eigen::Vector3d shift = m.meetShift(v);
+  m.shiftVehicleMap(v, shift);
+  // 2. The met landmarks first, gated, so that a wrong association cannot drag the UAV.
+  std::vector<UpdateReport> passes;
+  const Status s =
+      v.updater.update(m.state, v.book, m.frame, 1, StereoUpdater::Selection::kOnlyListed, m.meet,
+                       m.policy, &passes);
+  for (const UpdateReport& u : passes) {
+    stats_.filter.add(u);
+    fr->theta_reduced = fr->theta_reduced || u.theta_reduced;
+  }
+  if (!s.ok()) return s;
+  ++stats_.agents[v.agent_id].rendezvous;
+  return Status::Ok();
+}
+
 Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, CcStepReport* r) {
   Impl& m = *impl_;
   FrameReport& fr = r->frame;
@@ -220,7 +245,7 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
     r->type3 += type == 3 ? 1 : 0;
   }
   // 3. This UAV's k nearest over the joint map: archive, re-activate.
-  m.manageMap(v, t_us, o_.slam.slam.reactivation_min_age_s, &fr);
+  m.manageMap(v, t_us, o_.slam.slam.reactivation_min_age_s, o_.reactivation_inflation, &fr);
   // 4. Loop closing, then the gated updates of the other observations.
   LoopReport loop;
   if (Status s = v.loop_closer.process(m.state, v.book, m.frame, t_us, v.updater, m.policy,
@@ -231,10 +256,19 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
   fr.loop_landmarks = loop.loop_landmarks;
   fr.loop_closure = loop.loop_closure;
   fr.theta_reduced = loop.theta_reduced;
+  // A rendezvous first (cc_team_filter.h), then the gated updates of the rest.
+  std::vector<int64_t> done = v.loop_closer.loopIds();
+  if (!m.meet.empty()) {
+    if (Status st = meetMap(v, &fr); !st.ok()) return st;
+    std::vector<int64_t> both;
+    std::set_union(done.begin(), done.end(), m.meet.begin(), m.meet.end(),
+                   std::back_inserter(both));
+    done.swap(both);
+  }
   std::vector<UpdateReport> passes;
-  const Status s = v.updater.update(m.state, v.book, m.frame, o_.slam.slam.observation_passes,
-                                    StereoUpdater::Selection::kAllButListed,
-                                    v.loop_closer.loopIds(), m.policy, &passes);
+  const Status s =
+      v.updater.update(m.state, v.book, m.frame, o_.slam.slam.observation_passes,
+                       StereoUpdater::Selection::kAllButListed, done, m.policy, &passes);
   for (const UpdateReport& u : passes) {
     if (u.observations_accepted + u.observations_rejected > 0) stats_.filter.add(u);
     fr.updated = u.observations_accepted;
@@ -242,10 +276,6 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
     fr.theta_reduced = fr.theta_reduced || u.theta_reduced;
   }
   if (!s.ok()) return s;
-  // A UAV that meets another's map can be corrected by metres at once, its landmarks with it:
-  // their first estimates are then no linearisation point any more.
-  if (o_.first_estimate_restart_m > 0.0)
-    m.restartDriftedFirstEstimates(o_.first_estimate_restart_m);
   // 5. Initialise the landmarks new to the joint map; they join this UAV's active set.
   const std::size_t before = m.state.variables().size();
   if (Status st = v.initialiser.initialise(m.state, v.book, m.archive, m.frame, t_us,

@@ -50,6 +50,7 @@ struct CcLandmarkInfo {
   uint32_t index = 0;
   std::vector<uint8_t> descriptor;
   std::vector<int> observers;  // agent ids, ascending
+  int mapped_by = -1;          // the agent whose batch initialised it
 };
 
 struct CcTeamFilter::Impl {
@@ -61,9 +62,12 @@ struct CcTeamFilter::Impl {
   std::map<int, std::unique_ptr<CcVehicle>> vehicles;
   std::unordered_map<int64_t, CcLandmarkInfo> landmarks;  // every landmark of the joint map
   std::unordered_map<uint32_t, std::vector<int64_t>> by_index;
+  /// Last time two UAVs (lower id first) shared an observed landmark outside a pending loop.
+  std::map<std::pair<int, int>, int64_t> contact;
   int64_t next_fresh_id = int64_t{1} << 40;  // as VisualInertialSlam
   StereoFrameObservations frame;             // the batch with joint ids (reused)
   std::vector<int> types;                    // per observation of `frame`: 1, 2, 3
+  std::vector<int64_t> meet;                 // rendezvous landmarks of `frame` (ascending)
 
   /// Step 2: `frame` = the batch with joint ids, `types` per observation; the state landmarks
   /// this UAV observes enter its book (a copy of their record, with the latest last-seen time).
@@ -72,14 +76,22 @@ struct CcTeamFilter::Impl {
   int64_t jointOf(CcVehicle& v, const StereoObservation& obs, const CcTeamFilterOptions& o,
                   const std::vector<int64_t>& used);
   /// Step 3 for UAV v over the joint map.
-  void manageMap(CcVehicle& v, int64_t t_us, double reactivation_min_age_s, FrameReport* r);
+  void manageMap(CcVehicle& v, int64_t t_us, double reactivation_min_age_s,
+                 double reactivation_inflation, FrameReport* r);
   /// After step 5: the new landmarks (state variables from `first_new` on) join v's active set;
   /// v becomes an observer of every landmark of the frame.
   void afterInitialisation(CcVehicle& v, std::size_t first_new);
-  /// Restarts the first estimates (every book) of the landmarks that moved more than
-  /// max_drift_m from them.
-  void restartDriftedFirstEstimates(double max_drift_m);
+
   bool activeForAnother(int64_t id, int agent_id) const;
+  /// Whether v meeting the map of `other` now is a rendezvous (cc_team_filter.h).
+  bool rendezvous(const CcVehicle& v, int other, int64_t t_us, const CcTeamFilterOptions& o) const;
+  /// Rendezvous: the translation (median per axis) from where v sees the met landmarks to
+  /// where the map has them.
+  Eigen::Vector3d meetShift(const CcVehicle& v) const;
+  /// Moves v and its own landmarks (means, first estimates, OC directions) by `shift`.
+  void shiftVehicleMap(CcVehicle& v, const Eigen::Vector3d& shift);
+  /// 1σ of a vehicle's position [m] (√(trace/3)).
+  double positionSigma(const CcVehicle& v) const;
   /// The book record of `id` in any vehicle's book (first by agent id), else null.
   const LandmarkBookEntry* recordOf(int64_t id) const;
   /// Archives `id`: removes it from every book, merges the records (latest last-seen).

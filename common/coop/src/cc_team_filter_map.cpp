@@ -8,6 +8,7 @@
 #include "cc_team_filter_impl.h"
 #include "cvslam/filter/vehicle_model.h"
 #include "cvslam/slam/landmark_lifecycle.h"
+#include "cvslam/slam/observability_constraint.h"
 #include "cvslam/vision/descriptor_distance.h"
 
 namespace cvslam::coop {
@@ -23,18 +24,6 @@ VariableKey landmarkKey(int64_t id) {
 }
 
 }  // namespace
-
-void CcTeamFilter::Impl::restartDriftedFirstEstimates(double max_drift_m) {
-  for (const StateVariable& sv : state.variables()) {
-    if (sv.key.kind != VariableKey::Kind::kLandmark) continue;
-    const auto id = static_cast<int64_t>(sv.key.id);
-    const Eigen::Vector3d p = state.value(sv);
-    for (auto& [agent, v] : vehicles) {
-      LandmarkBookEntry* r = v->book.find(id);
-      if (r != nullptr && (p - r->first_estimate).norm() > max_drift_m) r->first_estimate = p;
-    }
-  }
-}
 
 bool CcTeamFilter::Impl::activeForAnother(int64_t id, int agent_id) const {
   for (const auto& [other, v] : vehicles) {
@@ -62,6 +51,65 @@ void CcTeamFilter::Impl::archiveEverywhere(int64_t id, int64_t t_us) {
     }
   }
   archiveLandmark(state, archive, id, std::move(merged), t_us);
+}
+
+double CcTeamFilter::Impl::positionSigma(const CcVehicle& v) const {
+  const StateVariable* sv = state.find(v.key);
+  return std::sqrt(state.covarianceOf(*sv).topLeftCorner<3, 3>().trace() / 3.0);
+}
+
+bool CcTeamFilter::Impl::rendezvous(const CcVehicle& v, int other, int64_t t_us,
+                                    const CcTeamFilterOptions& o) const {
+  if (o.rendezvous_min_sigma_m <= 0.0) return false;
+  const auto max_age_us = static_cast<int64_t>(o.slam.slam.loop_closure_min_age_s * 1e6);
+  auto it = contact.find({std::min(v.agent_id, other), std::max(v.agent_id, other)});
+  if (it != contact.end() && t_us - it->second < max_age_us) return false;
+  auto peer = vehicles.find(other);
+  const double sigma = positionSigma(v);
+  // The more uncertain of the two aligns to the other's map.
+  return sigma >= o.rendezvous_min_sigma_m &&
+         (peer == vehicles.end() || sigma >= positionSigma(*peer->second));
+}
+
+Eigen::Vector3d CcTeamFilter::Impl::meetShift(const CcVehicle& v) const {
+  const vehicle_model::Pose x = vehicle_model::pose(state, *state.find(v.key));
+  std::vector<double> d[3];
+  for (const StereoObservation& obs : frame.observations) {
+    if (!std::binary_search(meet.begin(), meet.end(), obs.landmark_id)) continue;
+    const StateVariable* lm = state.find(landmarkKey(obs.landmark_id));
+    Eigen::Vector3d p_seen;
+    if (lm == nullptr || !v.camera.triangulate(obs.z, x, &p_seen).ok()) continue;
+    const Eigen::Vector3d diff = state.value(*lm) - p_seen;
+    for (int i = 0; i < 3; ++i) d[i].push_back(diff(i));
+  }
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (d[i].empty()) continue;
+    auto mid = d[i].begin() + static_cast<std::ptrdiff_t>(d[i].size() / 2);
+    std::nth_element(d[i].begin(), mid, d[i].end());
+    shift(i) = *mid;
+  }
+  return shift;
+}
+
+void CcTeamFilter::Impl::shiftVehicleMap(CcVehicle& v, const Eigen::Vector3d& shift) {
+  const StateVariable* veh = state.find(v.key);
+  const Eigen::Vector3d p = state.value(*veh).head<3>() + shift;
+  vehicle_model::moveRigidly(state, *veh, p, 0.0);
+  // The first estimates and OC yaw directions (observability_constraint.h: e3 × p) restart
+  // at the moved estimate; left behind, this UAV's directions would disagree with the other
+  // map's by e3 × shift and the projection would invent roll and pitch information.
+  Eigen::VectorXd u_v = v.book.vehicleYawDirection();
+  u_v.head<3>() = yawDirectionOfPoint(p);
+  v.book.setVehicleYawDirection(u_v);
+  for (const StateVariable& sv : state.variables()) {
+    if (sv.key.kind != VariableKey::Kind::kLandmark) continue;
+    LandmarkBookEntry* r = v.book.find(static_cast<int64_t>(sv.key.id));
+    if (r == nullptr || !r->drifts_with_vehicle) continue;
+    state.setValue(sv, state.value(sv) + shift);
+    r->first_estimate = state.value(sv);
+    r->yaw_direction = yawDirectionOfPoint(r->first_estimate);
+  }
 }
 
 void CcTeamFilter::Impl::noteObserver(int64_t id, int agent_id, const StereoObservation& obs) {
@@ -123,6 +171,7 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
   frame.t_us = batch.t_us;
   frame.observations = batch.frame.observations;
   types.assign(frame.observations.size(), 3);
+  meet.clear();
   std::vector<int64_t> used;
   for (std::size_t i = 0; i < frame.observations.size(); ++i) {
     StereoObservation& obs = frame.observations[i];
@@ -148,12 +197,21 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
       if (const LandmarkBookEntry* e = other->book.find(id))
         copy.last_seen_us = std::max(copy.last_seen_us, e->last_seen_us);
     }
+    // A rendezvous: the first contact of this UAV with another's map while it is uncertain
+    // (cc_team_filter.h, runRecipe).
+    for (int other : seen_by) {
+      if (other != v.agent_id && rendezvous(v, other, batch.t_us, o)) {
+        meet.push_back(id);
+        break;
+      }
+    }
     v.book.add(id, std::move(copy));
   }
+  std::sort(meet.begin(), meet.end());
 }
 
 void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, double reactivation_min_age_s,
-                                   FrameReport* r) {
+                                   double reactivation_inflation, FrameReport* r) {
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager, v.camera, state, v.key, frame);
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());
@@ -175,9 +233,17 @@ void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, double reactivati
     const int64_t id = obs.landmark_id;
     if (id < 0) continue;
     const ArchivedLandmark* a = archive.find(id);
-    if (a != nullptr &&
-        static_cast<double>(t_us - a->archived_us) * 1e-6 >= reactivation_min_age_s) {
+    if (a == nullptr || static_cast<double>(t_us - a->archived_us) * 1e-6 < reactivation_min_age_s)
+      continue;
+    auto info = landmarks.find(id);
+    if (info == landmarks.end() || info->second.mapped_by == v.agent_id) {
       candidates.push_back({id, a->p_LinN, true, true});
+    } else {
+      // Another UAV's archived landmark is not re-activated here: entering as an independent
+      // absolute prior it would hand this UAV, and through the joint state the team, the
+      // information the landmark already gave when it was mapped (measured on team3_aerial:
+      // vehicle NEES 70 instead of 40). This UAV maps it anew (step 5), correlated with itself.
+      archive.take(id);
     }
   }
   const std::vector<int64_t> keep = map_manager.select(candidates, m_star);
@@ -188,9 +254,17 @@ void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, double reactivati
     archiveEverywhere(cand.landmark_id, t_us);
     ++r->archived;
   }
+  // A re-activated landmark re-enters uncorrelated (§5.8). In the joint map it was tied to
+  // every UAV that saw it; entering as an independent absolute prior it would hand this UAV
+  // (and, through it, the team) position information nobody has: its covariance gets the
+  // UAV's own position covariance on top, so that only what the landmark says relative to
+  // the UAV is taken (measured on team3_aerial: vehicle NEES 600 → ...).
+  const StateVariable* veh = state.find(v.key);
+  const Eigen::Matrix3d P_pp = state.covarianceOf(*veh).topLeftCorner<3, 3>();
   for (int64_t id : keep) {
     if (state.has(landmarkKey(id))) continue;
-    if (reactivateLandmark(state, v.book, archive, id)) ++r->reactivated;
+    if (reactivateLandmark(state, v.book, archive, id, reactivation_inflation * P_pp))
+      ++r->reactivated;
   }
   v.active = keep;
 }
@@ -206,12 +280,19 @@ void CcTeamFilter::Impl::afterInitialisation(CcVehicle& v, std::size_t first_new
       named.index = r->index;
       named.descriptor = r->descriptor;
       noteObserver(id, v.agent_id, named);
+      landmarks[id].mapped_by = v.agent_id;
     }
   }
   for (const StereoObservation& obs : frame.observations) {
     const int64_t id = obs.landmark_id;
     if (id < 0 || !(state.has(landmarkKey(id)) || archive.contains(id))) continue;
     noteObserver(id, v.agent_id, obs);
+    // Shared outside a pending loop: the two maps are in contact.
+    if (v.book.isPendingLoop(id) || v.book.find(id) == nullptr) continue;
+    for (int other : landmarks.at(id).observers) {
+      if (other != v.agent_id)
+        contact[{std::min(other, v.agent_id), std::max(other, v.agent_id)}] = frame.t_us;
+    }
   }
 }
 

@@ -13,8 +13,10 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.get("max_descriptor_distance", max_descriptor_distance);
   cc.get("max_association_distance_m", max_association_distance_m);
   cc.get("max_vehicles", max_vehicles);
-  cc.get("first_estimate_restart_m", first_estimate_restart_m);
-  cc.check(first_estimate_restart_m >= 0.0, "first_estimate_restart_m", "must be ≥ 0");
+  cc.get("rendezvous_min_sigma_m", rendezvous_min_sigma_m);
+  cc.get("reactivation_inflation", reactivation_inflation);
+  cc.check(reactivation_inflation >= 0.0, "reactivation_inflation", "must be ≥ 0");
+  cc.check(rendezvous_min_sigma_m >= 0.0, "rendezvous_min_sigma_m", "must be ≥ 0");
   cc.check(max_descriptor_distance >= 0.0, "max_descriptor_distance", "must be ≥ 0");
   cc.check(max_association_distance_m > 0.0, "max_association_distance_m", "must be > 0");
   cc.check(max_vehicles >= 1, "max_vehicles", "must be ≥ 1");

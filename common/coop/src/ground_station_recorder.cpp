@@ -104,6 +104,7 @@ Status GroundStationRecorder::writeStats(const CcTeamFilter& filter) const {
     a["type2"] = c.type2;
     a["type3"] = c.type3;
     a["loop_closures"] = c.loop_closures;
+    a["rendezvous"] = c.rendezvous;
     agents[std::to_string(id)] = a;
   }
   root["agents"] = agents;

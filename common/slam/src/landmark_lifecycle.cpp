@@ -45,12 +45,12 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
   CovarianceHelper::marginalize(state, key);
 }
 
-bool reactivateLandmark(SlamState& state, LandmarkBook& book, LandmarkArchive& archive,
-                        int64_t id) {
+bool reactivateLandmark(SlamState& state, LandmarkBook& book, LandmarkArchive& archive, int64_t id,
+                        const Eigen::Matrix3d& extra_covariance) {
   std::optional<ArchivedLandmark> a = archive.take(id);
   if (!a) return false;
   CovarianceHelper::addVariable(state, VariableKey::landmark(static_cast<uint64_t>(id)), a->p_LinN,
-                                a->covariance);
+                                a->covariance + extra_covariance);
   book.add(id, {a->index, a->first_seen_us, a->last_seen_us, std::move(a->descriptor), a->p_LinN,
                 a->yaw_direction, false});
   return true;

@@ -82,10 +82,15 @@ struct CcTeamFilterOptions {
   /// estimate lies at most this far from the joint landmark [m].
   double max_association_distance_m = 3.0;
   int max_vehicles = 16;  ///< addVehicle beyond this fails (bounded state)
-  /// First-estimates Jacobians across UAVs: a landmark whose estimate moved farther than this
-  /// from its first estimate (a UAV corrected by another's map, §6.3.1 type 2, moves its whole
-  /// map by up to its initial error) restarts it at the estimate [m]; 0: never.
-  double first_estimate_restart_m = 0.0;
+  /// A re-activated landmark re-enters with its archived covariance plus this times the
+  /// re-activating UAV's position covariance (conservative: the landmark is correlated with
+  /// the whole team, which an independent re-entry would forget); 0: as VisualInertialSlam.
+  double reactivation_inflation = 1.0;
+  /// Rendezvous: when a UAV whose position 1σ is at least this meets another UAV's map for
+  /// the first time (or first after slam.loop_closure_min_age_s) and is the more uncertain of
+  /// the two, its observations of that map are applied first with slam.loop_closure_passes
+  /// iterated passes and its own landmarks' first estimates restart after them [m]; 0: never.
+  double rendezvous_min_sigma_m = 0.5;
 
   /// Reads the sections (does not call root.finish(): the caller may read its own sections).
   Status load(const ConfigNode& root);
@@ -116,6 +121,7 @@ struct CcAgentCounts {
   long observations = 0;
   long type1 = 0, type2 = 0, type3 = 0;
   long loop_closures = 0;
+  long rendezvous = 0;  ///< first contacts with another UAV's map taken as a rendezvous
 };
 
 /// Running statistics of the joint filter.
@@ -175,6 +181,8 @@ class CcTeamFilter {
   struct Impl;
   /// Steps 2–5 of the recipe for vehicle v (propagated to the batch time).
   Status runRecipe(CcVehicle& v, const CcObservationBatch& batch, CcStepReport* r);
+  /// The rendezvous update of vehicle v with the other maps' landmarks it meets.
+  Status meetMap(CcVehicle& v, FrameReport* fr);
   CcTeamFilterOptions o_;
   std::unique_ptr<Impl> impl_;
   CcTeamStatistics stats_;

@@ -33,6 +33,9 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
                      std::optional<LandmarkBookEntry> record, int64_t t_us);
 
 /// Moves archived landmark `id` into the state and `book`; false when not archived.
-bool reactivateLandmark(SlamState& state, LandmarkBook& book, LandmarkArchive& archive, int64_t id);
+/// `extra_covariance` is added to its archived covariance (the joint filter's conservative
+/// re-entry, coop/cc_team_filter.h; zero: the archived marginal as is).
+bool reactivateLandmark(SlamState& state, LandmarkBook& book, LandmarkArchive& archive, int64_t id,
+                        const Eigen::Matrix3d& extra_covariance = Eigen::Matrix3d::Zero());
 
 }  // namespace cvslam
