@@ -56,8 +56,7 @@ void CcEventOrderer::restart(int agent_id) {
 
 bool CcEventOrderer::live(int agent_id, double now_s) const {
   auto it = heard_.find(agent_id);
-  return it != heard_.end() && !it->second.expired &&
-         now_s - it->second.last_heard_s < timeout_s_;
+  return it != heard_.end() && !it->second.expired && now_s - it->second.last_heard_s < timeout_s_;
 }
 
 bool CcEventOrderer::pop(double now_s, bool flush, CcEvent* out) {
