@@ -4,7 +4,8 @@
 // its heartbeat, writes DIR/ground_station/. A thin shell: the filter in common/coop
 // (CcTeamFilter), LCM in transport/ (GroundStationNode).
 //
-//   cvslam_ground_station --agents 1,2,3 --scenario config/scenarios/team3_aerial.yaml --out runs/t3
+//   cvslam_ground_station --agents 1,2,3 --scenario config/scenarios/team3_aerial.yaml --out
+//   runs/t3
 
 #include <atomic>
 #include <csignal>
@@ -89,8 +90,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   scenario->excludes(calibration);
   app.add_option("--config", a->config);
   app.add_option("--filter", a->filter)->check(CLI::IsMember({"ekf", "nhinf"}));
-  app.add_option("--association", a->association)
-      ->check(CLI::IsMember({"true_ids", "local_ids"}));
+  app.add_option("--association", a->association)->check(CLI::IsMember({"true_ids", "local_ids"}));
   app.add_option("--lcm-url", a->url);
   app.add_option("--out", a->out);
   app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
@@ -167,10 +167,9 @@ int main(int argc, char** argv) {
   cvslam::RunInfo info;
   info.program = "cvslam_ground_station";
   info.mode = "cc";
-  info.filter = args.filter.empty() ? (filter.slam.filter.type == cvslam::FilterType::kNhinf
-                                           ? "nhinf"
-                                           : "ekf")
-                                    : args.filter;
+  info.filter = args.filter.empty()
+                    ? (filter.slam.filter.type == cvslam::FilterType::kNhinf ? "nhinf" : "ekf")
+                    : args.filter;
   info.config = config_path;
   info.agents = args.agents;
   auto agents = loadAgents(args, filter.slam, &info);

@@ -89,22 +89,8 @@ stop_all() {
 }
 trap 'echo "launch.sh: stopping"; stop_all' INT TERM
 
-common=(--lcm-url "$URL")
-[ -n "$CONFIG" ] && common+=(--config "$CONFIG")
-for id in ${AGENTS//,/ }; do
-  args=(--id "$id" --mode "$MODE" --out "$OUT" "${common[@]}" "${AGENT_EXTRA[@]}")
-  if [ -n "$SCENARIO" ]; then
-    args+=(--scenario "$SCENARIO")
-    [ -n "$DURATION" ] && args+=(--duration "$DURATION")
-    [ -n "$SEED" ] && args+=(--seed "$SEED")
-  else
-    path=""
-    for d in "${DATASETS[@]}"; do [ "${d%%:*}" = "$id" ] && path="${d#*:}"; done
-    [ -n "$path" ] || die "no --dataset for UAV $id"
-    args+=(--calibration "$path")
-  fi
-  start "agent_$id" "$AGENT" "${args[@]}"
-done
+# The ground station first: in --rate runs it must be listening when the agents start and
+# publish their initial estimates (it would start them from a later POSE otherwise).
 participants="$AGENTS"
 if $WITH_GS; then
   gs=("$GS" --agents "$AGENTS" --lcm-url "$URL" --out "$OUT")
@@ -125,6 +111,22 @@ if $WITH_GS; then
   participants="$AGENTS,0"
 fi
 
+common=(--lcm-url "$URL")
+[ -n "$CONFIG" ] && common+=(--config "$CONFIG")
+for id in ${AGENTS//,/ }; do
+  args=(--id "$id" --mode "$MODE" --out "$OUT" "${common[@]}" "${AGENT_EXTRA[@]}")
+  if [ -n "$SCENARIO" ]; then
+    args+=(--scenario "$SCENARIO")
+    [ -n "$DURATION" ] && args+=(--duration "$DURATION")
+    [ -n "$SEED" ] && args+=(--seed "$SEED")
+  else
+    path=""
+    for d in "${DATASETS[@]}"; do [ "${d%%:*}" = "$id" ] && path="${d#*:}"; done
+    [ -n "$path" ] || die "no --dataset for UAV $id"
+    args+=(--calibration "$path")
+  fi
+  start "agent_$id" "$AGENT" "${args[@]}"
+done
 replay=("$REPLAY" "${PACING[@]}" --lcm-url "$URL" --quiet)
 [ "${PACING[0]}" = --lockstep ] && replay+=(--participants "$participants")
 if [ -n "$SCENARIO" ]; then

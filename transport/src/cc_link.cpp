@@ -30,9 +30,12 @@ double CcLink::now() const {
 
 const char* CcLink::name(Gs gs) {
   switch (gs) {
-    case Gs::kFresh: return "fresh";
-    case Gs::kStale: return "stale";
-    case Gs::kAbsent: return "absent";
+    case Gs::kFresh:
+      return "fresh";
+    case Gs::kStale:
+      return "stale";
+    case Gs::kAbsent:
+      return "absent";
   }
   return "";
 }
@@ -59,8 +62,8 @@ Status CcLink::onStart(AgentPipeline& agent, LcmBus& bus, const std::string& fil
   // The estimate the agent's filter starts from: the ground station starts the vehicle from it
   // (what cvslam_run --mode cc gives CcTeamFilter::addVehicle).
   const VisualInertialSlam& slam = agent.slam();
-  cvslam::agent_state_t pose = agentStateMessage(id_, filter_name, slam.time(),
-                                                 slam.vehicleState(), slam.vehicleCovariance());
+  cvslam::agent_state_t pose = agentStateMessage(id_, filter_name, slam.time(), slam.vehicleState(),
+                                                 slam.vehicleCovariance());
   return bus.publish(channels::pose(id_), pose);
 }
 
@@ -122,8 +125,8 @@ std::string CcLink::statusText() const {
 
 std::string CcLink::report() const {
   return "centralised: frames adopted " + std::to_string(frames_adopted_) + ", own " +
-         std::to_string(frames_own_) + ", ground station took over " +
-         std::to_string(takeovers_) + " time(s) after a gap, last gs " + name(gs_);
+         std::to_string(frames_own_) + ", ground station took over " + std::to_string(takeovers_) +
+         " time(s) after a gap, last gs " + name(gs_);
 }
 
 }  // namespace cvslam::transport

@@ -1,7 +1,7 @@
 #include "cvslam/lcm/coop_convert.h"
 
-#include "cvslam/lcm/message_finalize.h"
 #include "covariance_triangle.h"
+#include "cvslam/lcm/message_finalize.h"
 
 namespace cvslam::transport {
 

@@ -119,17 +119,17 @@ Status GroundStationNode::subscribe() {
         push(std::move(in));
       });
   if (!s.ok()) return s;
-  s = bus_->subscribe<cvslam::agent_state_t>(
-      allAgentsPattern(Stream::kPose), [this, count](const cvslam::agent_state_t& m) {
-        count(Stream::kPose, m.getEncodedSize());
-        Inbound in;
-        in.kind = Inbound::Kind::kPose;
-        in.agent_id = m.header.agent_id;
-        in.seq = m.header.seq;
-        in.t_us = m.header.utime;
-        in.estimate = estimateOf(m);
-        push(std::move(in));
-      });
+  s = bus_->subscribe<cvslam::agent_state_t>(allAgentsPattern(Stream::kPose),
+                                             [this, count](const cvslam::agent_state_t& m) {
+                                               count(Stream::kPose, m.getEncodedSize());
+                                               Inbound in;
+                                               in.kind = Inbound::Kind::kPose;
+                                               in.agent_id = m.header.agent_id;
+                                               in.seq = m.header.seq;
+                                               in.t_us = m.header.utime;
+                                               in.estimate = estimateOf(m);
+                                               push(std::move(in));
+                                             });
   if (!s.ok()) return s;
   s = bus_->subscribe<cvslam::status_t>(allAgentsPattern(Stream::kStatus),
                                         [this](const cvslam::status_t& m) {
@@ -144,14 +144,15 @@ Status GroundStationNode::subscribe() {
   if (!recording_) return Status::Ok();
   for (int id : o_.agents) {
     // From the replay (sender −1): the UAV is in the channel's name only.
-    s = bus_->subscribe<cvslam::pose_t>(channels::groundTruth(id), [this, id](const cvslam::pose_t& m) {
-      Inbound in;
-      in.kind = Inbound::Kind::kTruth;
-      in.agent_id = id;
-      in.t_us = m.header.utime;
-      in.truth = truthState(fromPoseMessage(m));
-      push(std::move(in));
-    });
+    s = bus_->subscribe<cvslam::pose_t>(channels::groundTruth(id),
+                                        [this, id](const cvslam::pose_t& m) {
+                                          Inbound in;
+                                          in.kind = Inbound::Kind::kTruth;
+                                          in.agent_id = id;
+                                          in.t_us = m.header.utime;
+                                          in.truth = truthState(fromPoseMessage(m));
+                                          push(std::move(in));
+                                        });
     if (!s.ok()) return s;
   }
   return Status::Ok();
@@ -308,9 +309,8 @@ Status GroundStationNode::publishStatus(bool final) {
   std::string vehicles;
   for (int id : filter_.vehicles()) vehicles += (vehicles.empty() ? "" : ",") + std::to_string(id);
   const coop::CcTeamStatistics& st = filter_.statistics();
-  m.message = "gs: vehicles " + (vehicles.empty() ? std::string("none") : vehicles) +
-              "; batches " + std::to_string(st.batches) + ", rejected " +
-              std::to_string(st.rejected());
+  m.message = "gs: vehicles " + (vehicles.empty() ? std::string("none") : vehicles) + "; batches " +
+              std::to_string(st.batches) + ", rejected " + std::to_string(st.rejected());
   return bus_->publish(channels::status(kGroundStationId), m);
 }
 
@@ -393,14 +393,15 @@ std::string GroundStationNode::report() const {
   std::snprintf(buf, sizeof(buf),
                 "ground station: batches %ld, rejected %ld (invalid %ld, stale %ld, unknown "
                 "agent %ld); dropped before the filter: %s; vehicle starts %lld, agent restarts "
-                "%lld, timeouts %lld, vehicle resets %lld; GS_STATE sent %lld; step median %.2f ms, p95 %.2f ms, max "
+                "%lld, timeouts %lld, vehicle resets %lld; GS_STATE sent %lld; step median %.2f "
+                "ms, p95 %.2f ms, max "
                 "%.2f ms; max state size %d",
                 st.batches, st.rejected(), st.rejected_invalid, st.rejected_stale,
                 st.rejected_unknown_agent, dropped.empty() ? "none" : dropped.c_str(),
                 static_cast<long long>(starts_), static_cast<long long>(restarts_),
                 static_cast<long long>(timeouts_), static_cast<long long>(resets_),
-                static_cast<long long>(published_states_),
-                steps.median_ms, steps.p95_ms, steps.max_ms, st.max_state_size);
+                static_cast<long long>(published_states_), steps.median_ms, steps.p95_ms,
+                steps.max_ms, st.max_state_size);
   return buf;
 }
 

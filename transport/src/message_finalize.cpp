@@ -31,8 +31,7 @@ class CountSetter {
   }
   /// Rows of a fixed width (e.g. position[n][3]).
   template <typename T>
-  CountSetter& rows(const char* field, const std::vector<std::vector<T>>& v,
-                    std::size_t width) {
+  CountSetter& rows(const char* field, const std::vector<std::vector<T>>& v, std::size_t width) {
     same(field, v);
     for (const auto& row : v) {
       if (row.size() != width) {

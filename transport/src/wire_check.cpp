@@ -137,7 +137,7 @@ Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::obse
   WireReader r(body, size);
   int32_t num_imu = 0, n = 0, descriptor_length = 0;
   r.header().count(num_imu).array(num_imu, kI32 + 6 * kF32);  // age, gyro, accel
-  r.count(n).array(n, kI32 + kI8 + kI64 + 4 * kF32);           // index type landmark_id u v u v
+  r.count(n).array(n, kI32 + kI8 + kI64 + 4 * kF32);          // index type landmark_id u v u v
   r.count(descriptor_length).array(n, static_cast<std::size_t>(descriptor_length));
   return r.finish();
 }

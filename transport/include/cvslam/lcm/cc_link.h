@@ -53,8 +53,8 @@ class CcLink final : public CooperationLink {
   coop::CcBatchBuilder builder_;
   std::mutex mutex_;
   std::condition_variable arrived_;
-  std::optional<VehicleEstimate> latest_;  // latest GS_STATE (mutex_)
-  double gs_heard_s_;                      // wall time the ground station was last heard (mutex_)
+  std::optional<VehicleEstimate> latest_;   // latest GS_STATE (mutex_)
+  double gs_heard_s_;                       // wall time the ground station was last heard (mutex_)
   std::optional<VehicleEstimate> adopted_;  // the last frame's, when adopted
   Gs gs_ = Gs::kAbsent;
   bool logged_ = false;

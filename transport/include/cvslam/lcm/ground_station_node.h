@@ -37,14 +37,14 @@ namespace cvslam::transport {
 struct GroundStationNodeOptions {
   std::vector<int> agents;  ///< UAV ids served (--agents)
   std::string url = kDefaultLcmUrl;
-  std::string out_dir;              ///< run folder; empty: no record
-  std::string filter_name = "ekf";  ///< gs_state_t.filter
-  double status_period_s = 0.2;     ///< heartbeat on UAV0/STATUS (wall) [s]
-  double map_period_s = 1.0;        ///< GS/MAP period (dataset time) [s]
-  double agent_timeout_s = 1.0;     ///< a UAV silent this long is dropped (wall) [s]
-  double flush_period_s = 5.0;      ///< run record written every … (wall) [s]
-  double startup_wait_s = 2.0;      ///< announce on STATUS once every UAV was heard, or after
-  double idle_exit_s = 0.0;         ///< exit after this long without agent messages (0: never)
+  std::string out_dir;                ///< run folder; empty: no record
+  std::string filter_name = "ekf";    ///< gs_state_t.filter
+  double status_period_s = 0.2;       ///< heartbeat on UAV0/STATUS (wall) [s]
+  double map_period_s = 1.0;          ///< GS/MAP period (dataset time) [s]
+  double agent_timeout_s = 1.0;       ///< a UAV silent this long is dropped (wall) [s]
+  double flush_period_s = 5.0;        ///< run record written every … (wall) [s]
+  double startup_wait_s = 2.0;        ///< announce on STATUS once every UAV was heard, or after
+  double idle_exit_s = 0.0;           ///< exit after this long without agent messages (0: never)
   std::size_t inbox_capacity = 4096;  ///< messages waiting for the main thread; full → dropped
   bool verbose = false;
 
@@ -80,7 +80,7 @@ class GroundStationNode {
     int64_t seq = 0;
     int64_t t_us = 0;
     coop::CcObservationBatch batch;
-    VehicleEstimate estimate;  ///< kPose
+    VehicleEstimate estimate;           ///< kPose
     Vector9d truth = Vector9d::Zero();  ///< kTruth
     double arrival_s = 0.0;
   };
@@ -112,10 +112,10 @@ class GroundStationNode {
   mutable std::mutex inbox_mutex_;
   std::condition_variable inbox_cv_;
   std::vector<Inbound> inbox_;
-  std::map<std::string, int64_t> dropped_;  // before the filter, per reason (inbox_mutex_)
+  std::map<std::string, int64_t> dropped_;           // before the filter, per reason (inbox_mutex_)
   std::map<std::string, int64_t> dropped_recorded_;  // of those, given to the recorder
-  std::map<std::string, int64_t> bytes_received_;  // per stream (inbox_mutex_)
-  double last_agent_message_s_ = 0.0;              // inbox_mutex_
+  std::map<std::string, int64_t> bytes_received_;    // per stream (inbox_mutex_)
+  double last_agent_message_s_ = 0.0;                // inbox_mutex_
 
   std::map<int, int64_t> last_seq_obs_, last_seq_pose_;  // restart detection
   std::map<int, std::deque<std::pair<int64_t, Vector9d>>> truth_;

@@ -8,7 +8,8 @@
 // ≥ t, so nothing older can still come from it. An agent is live while it was heard within
 // `agent_timeout_s` (wall time) — every expected agent counts as heard at the orderer's creation,
 // so the first events wait for the agents not heard yet — a silent one is no longer waited for
-// (expire()), and is live again when heard again. Transport-free: the process feeds it what it decoded.
+// (expire()), and is live again when heard again. Transport-free: the process feeds it what it
+// decoded.
 //
 // Rejected on arrival (never released): events of agents not expected, and batches not after
 // the agent's previous batch or a released time of it (stale or reordered).
