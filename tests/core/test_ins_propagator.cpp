@@ -42,6 +42,13 @@ InsPropagatorOptions eulerOptions() {
   return o;
 }
 
+/// Options with the rotation error state.
+InsPropagatorOptions errorStateOptions() {
+  InsPropagatorOptions o;
+  o.attitude = vehicle::Attitude::kErrorState;
+  return o;
+}
+
 /// A state of the error-state INS: the moving state's Euler angles become the nominal.
 struct ErrorState {
   Eigen::VectorXd x;
@@ -87,7 +94,7 @@ TEST_P(InsPropagatorBias, StepJacobiansMatchCentralDifferences) {
 /// Error state: F and G are the Jacobians of x₀⊞δ ↦ step(x₀⊞δ)⊟step(x₀), with ⊞ adding δ to
 /// every entry (δθ in the chart about R̂) and ⊟ as boxMinus.
 TEST_P(InsPropagatorBias, ErrorStateStepJacobiansMatchCentralDifferences) {
-  InsPropagatorOptions o;
+  InsPropagatorOptions o = errorStateOptions();
   o.estimate_imu_bias = GetParam();
   const InsPropagator ins(o);
   const auto samples = knownMotion(0.01);
@@ -141,7 +148,7 @@ TEST(InsPropagator, ErrorStateCrossesPitch90WhereEulerFails) {
   EXPECT_FALSE(s.ok());
   EXPECT_NE(s.message().find("singularity"), std::string::npos) << s.message();
 
-  const InsPropagator ins;
+  const InsPropagator ins(errorStateOptions());
   const ErrorState e0 = errorState(ins, x_euler);
   ASSERT_TRUE(ins.propagate(e0.x, e0.q, samples, &tr).ok());
   const Eigen::Matrix3d R_true = e0.q.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0));
@@ -272,11 +279,11 @@ TEST(InsPropagatorOptions, LoadsAndValidates) {
   EXPECT_EQ(back.print(), o.print());
   EXPECT_EQ(back.gravity, 9.80665);
   EXPECT_TRUE(back.estimate_imu_bias);
-  EXPECT_EQ(back.attitude, vehicle::Attitude::kErrorState);
-  auto euler = ConfigNode::fromString("{attitude: euler}", "t.yaml");
+  EXPECT_EQ(back.attitude, vehicle::Attitude::kEuler);
+  auto error_state = ConfigNode::fromString("{attitude: error_state}", "t.yaml");
   InsPropagatorOptions o3;
-  ASSERT_TRUE(o3.load(*euler).ok());
-  EXPECT_EQ(o3.attitude, vehicle::Attitude::kEuler);
+  ASSERT_TRUE(o3.load(*error_state).ok());
+  EXPECT_EQ(o3.attitude, vehicle::Attitude::kErrorState);
   auto wrong = ConfigNode::fromString("{attitude: quaternion}", "t.yaml");
   EXPECT_EQ(o3.load(*wrong).message(), "t.yaml: attitude: must be error_state or euler");
 }
