@@ -111,10 +111,10 @@ TEST_P(InsPropagatorBias, ErrorStateStepJacobiansMatchCentralDifferences) {
     return boxMinus(e, e1);
   };
   EXPECT_LT(stepped(e0.x, w0).norm(), 1e-14);
-  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& x) { return stepped(x, w0); },
-                                    e0.x, F, 1e-6, 1e-8));
-  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& w) { return stepped(e0.x, w); },
-                                    w0, G, 1e-6, 1e-8));
+  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& x) { return stepped(x, w0); }, e0.x,
+                                    F, 1e-6, 1e-8));
+  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& w) { return stepped(e0.x, w); }, w0,
+                                    G, 1e-6, 1e-8));
   // The same from a non-zero δθ (a state mid-update): the chart carries it.
   Eigen::VectorXd x_off = e0.x;
   x_off.segment<3>(vehicle::kAttitude) << 0.02, -0.01, 0.03;
@@ -151,7 +151,8 @@ TEST(InsPropagator, ErrorStateCrossesPitch90WhereEulerFails) {
   const InsPropagator ins(errorStateOptions());
   const ErrorState e0 = errorState(ins, x_euler);
   ASSERT_TRUE(ins.propagate(e0.x, e0.q, samples, &tr).ok());
-  const Eigen::Matrix3d R_true = e0.q.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0));
+  const Eigen::Matrix3d R_true =
+      e0.q.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0));
   EXPECT_LT(so3::log(R_true.transpose() * tr.q_BtoN.toRotationMatrix()).norm(), 1e-9);
   EXPECT_EQ(tr.x.segment<3>(vehicle::kAttitude), Eigen::Vector3d::Zero());
   EXPECT_TRUE(tr.Phi.allFinite());
@@ -160,11 +161,12 @@ TEST(InsPropagator, ErrorStateCrossesPitch90WhereEulerFails) {
   Eigen::VectorXd x_up = Eigen::VectorXd::Zero(9);
   const Eigen::Quaterniond q_up(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
   ASSERT_TRUE(ins.propagate(x_up, q_up, samples, &tr).ok());
-  EXPECT_LT(so3::log((q_up.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0)))
-                         .transpose() *
-                     tr.q_BtoN.toRotationMatrix())
-                .norm(),
-            1e-9);
+  EXPECT_LT(
+      so3::log(
+          (q_up.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0))).transpose() *
+          tr.q_BtoN.toRotationMatrix())
+          .norm(),
+      1e-9);
 }
 
 TEST(InsPropagator, DynamicsMatchEquation25WithCorrectedGravitySign) {

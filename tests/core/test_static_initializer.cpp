@@ -76,8 +76,8 @@ TEST(StaticInitializer, StartsAnErrorStateFilterWithTheImuXAxisUp) {
   const Eigen::Matrix3d R_NtoB = init->q_BtoN.toRotationMatrix().transpose();
   EXPECT_LT((R_NtoB.col(2) - down_B).norm(), 1e-3);
   // FRD-level attitudes keep yaw zero: the rotation is that of the Euler angles.
-  const auto level = restingImu(Eigen::Vector3d(0.1, -0.2, 0.0), bg, Eigen::Vector3d::Zero(), 2.0,
-                                0.0, 0.0, 3);
+  const auto level =
+      restingImu(Eigen::Vector3d(0.1, -0.2, 0.0), bg, Eigen::Vector3d::Zero(), 2.0, 0.0, 0.0, 3);
   auto level_init = initializeAtRest(level, StaticInitializerOptions{}, kG, kAccelBiasSigma);
   ASSERT_TRUE(level_init.ok());
   EXPECT_LT((level_init->q_BtoN.toRotationMatrix() - rotationBodyToNav(level_init->euler)).norm(),

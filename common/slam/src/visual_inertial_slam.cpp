@@ -132,9 +132,9 @@ Status VisualInertialSlam::propagateTo(int64_t t_us) {
   }
   if (segment.size() >= 2) {
     InsTransition tr;
-    if (Status s = propagator_.propagate(state_.value(*state_.find(vehicle_)),
-                                         vehicle_model::nominalAttitude(state_, vehicle_), segment,
-                                         &tr);
+    if (Status s =
+            propagator_.propagate(state_.value(*state_.find(vehicle_)),
+                                  vehicle_model::nominalAttitude(state_, vehicle_), segment, &tr);
         !s.ok()) {
       return s;
     }
@@ -168,8 +168,8 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
     const double disparity = obs.z(0) - obs.z(2);
     if (disparity > 0.0) depths.push_back(c.fx * c.baseline / disparity);
   }
-  const Eigen::Vector3d m_star = KNearestMapManager::virtualPoint(
-      camera_, x.p_BinN, x.R_BtoN, map_manager_.sceneDepth(depths));
+  const Eigen::Vector3d m_star = KNearestMapManager::virtualPoint(camera_, x.p_BinN, x.R_BtoN,
+                                                                  map_manager_.sceneDepth(depths));
 
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());

@@ -159,8 +159,9 @@ Eigen::Matrix<T, kN, 1> InsPropagator::dynamics(const Eigen::Matrix<T, kN, 1>& x
     omega_B -= x.template segment<3>(vehicle::kGyroBias);
   }
   const Eigen::Matrix<T, 3, 3> R_NtoB =
-      chart == nullptr ? rotationNavToBody(attitude)
-                       : Eigen::Matrix<T, 3, 3>((chart->cast<T>() * so3::exp(attitude)).transpose());
+      chart == nullptr
+          ? rotationNavToBody(attitude)
+          : Eigen::Matrix<T, 3, 3>((chart->cast<T>() * so3::exp(attitude)).transpose());
   const Vec3 g_N(T(0.0), T(0.0), T(gravity));
 
   Eigen::Matrix<T, kN, 1> xdot;
