@@ -113,6 +113,24 @@ TEST(AgentCalibration, EurocFolderGivesTheRectifiedCameraAndImuNoise) {
   EXPECT_DOUBLE_EQ(c->options.ins.gyro_noise_density, 3e-4);
   EXPECT_DOUBLE_EQ(c->options.ins.accel_random_walk, 4e-3);
 
+  // An IMU mounted x-up with a lever arm (as the EuRoC VI-sensor's): the body frame is the
+  // IMU frame, the cameras are re-expressed relative to it.
+  EurocImuInfo mounted = imu;
+  const Eigen::Matrix3d R_ItoB =
+      Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Vector3d p_IinB(0.02, -0.01, 0.03);
+  mounted.T_BS.topLeftCorner<3, 3>() = R_ItoB;
+  mounted.T_BS.topRightCorner<3, 1>() = p_IinB;
+  std::ofstream(mav0 + "/imu0/sensor.yaml") << formatEurocImuYaml(mounted);
+  auto m = calibrationFromEuroc(dir.path(), VisualInertialSlamOptions());
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  const StereoCameraOptions& mo = m->camera.options();
+  EXPECT_TRUE(mo.R_BtoC.isApprox(StereoCameraOptions().R_BtoC * R_ItoB, 1e-12));
+  EXPECT_TRUE(mo.p_CinB.isApprox(R_ItoB.transpose() * (Eigen::Vector3d(0.1, 0.0, 0.05) - p_IinB),
+                                 1e-12));
+  EXPECT_NEAR(mo.baseline, 0.25, 1e-12);
+  std::ofstream(mav0 + "/imu0/sensor.yaml") << formatEurocImuYaml(imu);
+
   // Distorted cameras need the rectifier; its model has the rectified focal length.
   cam.distortion = {-0.28, 0.07, 0.0002, 0.00002};
   right.distortion = cam.distortion;

@@ -42,6 +42,13 @@ InsPropagatorOptions eulerOptions() {
   return o;
 }
 
+/// Options with the rotation error state.
+InsPropagatorOptions errorStateOptions() {
+  InsPropagatorOptions o;
+  o.attitude = vehicle::Attitude::kErrorState;
+  return o;
+}
+
 /// A state of the error-state INS: the moving state's Euler angles become the nominal.
 struct ErrorState {
   Eigen::VectorXd x;
@@ -87,7 +94,7 @@ TEST_P(InsPropagatorBias, StepJacobiansMatchCentralDifferences) {
 /// Error state: F and G are the Jacobians of x₀⊞δ ↦ step(x₀⊞δ)⊟step(x₀), with ⊞ adding δ to
 /// every entry (δθ in the chart about R̂) and ⊟ as boxMinus.
 TEST_P(InsPropagatorBias, ErrorStateStepJacobiansMatchCentralDifferences) {
-  InsPropagatorOptions o;
+  InsPropagatorOptions o = errorStateOptions();
   o.estimate_imu_bias = GetParam();
   const InsPropagator ins(o);
   const auto samples = knownMotion(0.01);
@@ -104,10 +111,10 @@ TEST_P(InsPropagatorBias, ErrorStateStepJacobiansMatchCentralDifferences) {
     return boxMinus(e, e1);
   };
   EXPECT_LT(stepped(e0.x, w0).norm(), 1e-14);
-  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& x) { return stepped(x, w0); },
-                                    e0.x, F, 1e-6, 1e-8));
-  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& w) { return stepped(e0.x, w); },
-                                    w0, G, 1e-6, 1e-8));
+  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& x) { return stepped(x, w0); }, e0.x,
+                                    F, 1e-6, 1e-8));
+  EXPECT_TRUE(test::jacobianMatches([&](const Eigen::VectorXd& w) { return stepped(e0.x, w); }, w0,
+                                    G, 1e-6, 1e-8));
   // The same from a non-zero δθ (a state mid-update): the chart carries it.
   Eigen::VectorXd x_off = e0.x;
   x_off.segment<3>(vehicle::kAttitude) << 0.02, -0.01, 0.03;
@@ -141,10 +148,11 @@ TEST(InsPropagator, ErrorStateCrossesPitch90WhereEulerFails) {
   EXPECT_FALSE(s.ok());
   EXPECT_NE(s.message().find("singularity"), std::string::npos) << s.message();
 
-  const InsPropagator ins;
+  const InsPropagator ins(errorStateOptions());
   const ErrorState e0 = errorState(ins, x_euler);
   ASSERT_TRUE(ins.propagate(e0.x, e0.q, samples, &tr).ok());
-  const Eigen::Matrix3d R_true = e0.q.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0));
+  const Eigen::Matrix3d R_true =
+      e0.q.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0));
   EXPECT_LT(so3::log(R_true.transpose() * tr.q_BtoN.toRotationMatrix()).norm(), 1e-9);
   EXPECT_EQ(tr.x.segment<3>(vehicle::kAttitude), Eigen::Vector3d::Zero());
   EXPECT_TRUE(tr.Phi.allFinite());
@@ -153,11 +161,12 @@ TEST(InsPropagator, ErrorStateCrossesPitch90WhereEulerFails) {
   Eigen::VectorXd x_up = Eigen::VectorXd::Zero(9);
   const Eigen::Quaterniond q_up(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
   ASSERT_TRUE(ins.propagate(x_up, q_up, samples, &tr).ok());
-  EXPECT_LT(so3::log((q_up.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0)))
-                         .transpose() *
-                     tr.q_BtoN.toRotationMatrix())
-                .norm(),
-            1e-9);
+  EXPECT_LT(
+      so3::log(
+          (q_up.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(omega * 2.0))).transpose() *
+          tr.q_BtoN.toRotationMatrix())
+          .norm(),
+      1e-9);
 }
 
 TEST(InsPropagator, DynamicsMatchEquation25WithCorrectedGravitySign) {
@@ -272,11 +281,11 @@ TEST(InsPropagatorOptions, LoadsAndValidates) {
   EXPECT_EQ(back.print(), o.print());
   EXPECT_EQ(back.gravity, 9.80665);
   EXPECT_TRUE(back.estimate_imu_bias);
-  EXPECT_EQ(back.attitude, vehicle::Attitude::kErrorState);
-  auto euler = ConfigNode::fromString("{attitude: euler}", "t.yaml");
+  EXPECT_EQ(back.attitude, vehicle::Attitude::kEuler);
+  auto error_state = ConfigNode::fromString("{attitude: error_state}", "t.yaml");
   InsPropagatorOptions o3;
-  ASSERT_TRUE(o3.load(*euler).ok());
-  EXPECT_EQ(o3.attitude, vehicle::Attitude::kEuler);
+  ASSERT_TRUE(o3.load(*error_state).ok());
+  EXPECT_EQ(o3.attitude, vehicle::Attitude::kErrorState);
   auto wrong = ConfigNode::fromString("{attitude: quaternion}", "t.yaml");
   EXPECT_EQ(o3.load(*wrong).message(), "t.yaml: attitude: must be error_state or euler");
 }

@@ -55,12 +55,12 @@ TEST(KNearestMapManager, FullMapKeepsEverything) {
 TEST(KNearestMapManager, VirtualPointLiesBelowADownwardCamera) {
   StereoCamera cam;  // default: looking down, baseline 0.2 m along the right wing
   const Eigen::Vector3d p(10, 20, -10), euler(0, 0, 0);
-  const Eigen::Vector3d m = KNearestMapManager::virtualPoint(cam, p, rotationBodyToNav(euler), 10.0);
+  const Eigen::Vector3d m =
+      KNearestMapManager::virtualPoint(cam, p, rotationBodyToNav(euler), 10.0);
   EXPECT_TRUE(m.isApprox(Eigen::Vector3d(10, 20.1, 0), 1e-12)) << m.transpose();
   // Heading east: the baseline (right wing) now points south.
-  const Eigen::Vector3d m_east =
-      KNearestMapManager::virtualPoint(
-          cam, p, rotationBodyToNav(Eigen::Vector3d(0, 0, M_PI / 2)), 10.0);
+  const Eigen::Vector3d m_east = KNearestMapManager::virtualPoint(
+      cam, p, rotationBodyToNav(Eigen::Vector3d(0, 0, M_PI / 2)), 10.0);
   EXPECT_TRUE(m_east.isApprox(Eigen::Vector3d(9.9, 20, 0), 1e-12)) << m_east.transpose();
 }
 

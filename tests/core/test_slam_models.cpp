@@ -12,8 +12,8 @@
 
 #include "cvslam/filter/covariance_helper.h"
 #include "cvslam/filter/vehicle_model.h"
-#include "cvslam/geometry/so3.h"
 #include "cvslam/geometry/euler.h"
+#include "cvslam/geometry/so3.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/slam/ci_updater.h"
 #include "cvslam/slam/landmark_book.h"
@@ -90,7 +90,8 @@ struct VehicleModels {
         initialiser(v.key, camera, o),
         loop_closer(v.key, camera, o),
         ci(v.key) {
-    book.setVehicleYawDirection(vehicle_model::yawDirection(EstimatedPose::fromEuler(v.x0.head<9>()), v.size));
+    book.setVehicleYawDirection(
+        vehicle_model::yawDirection(EstimatedPose::fromEuler(v.x0.head<9>()), v.size));
   }
   LandmarkBook book;
   StereoUpdater updater;
@@ -419,7 +420,9 @@ TEST(VehicleModel, PoseJacobianAndCorrectionOfTheVehicleBlock) {
   EXPECT_EQ(moved.segment<5>(vehicle::kVelocity), x_v.segment<5>(vehicle::kVelocity));
   // u_v: a global yaw moves the position by e3 × p and ψ by 1.
   const Eigen::VectorXd u = vehicle_model::yawDirection(
-      EstimatedPose::fromEuler((StereoCamera::Vector9d() << 1, -2, -10, 0, 0, 0, 0, 0, 0).finished()), 15);
+      EstimatedPose::fromEuler(
+          (StereoCamera::Vector9d() << 1, -2, -10, 0, 0, 0, 0, 0, 0).finished()),
+      15);
   EXPECT_EQ(u.head<3>(), Eigen::Vector3d(2, 1, 0));
   EXPECT_EQ(u(vehicle::kAttitude + 2), 1.0);
   EXPECT_EQ(u.tail<6>(), Eigen::VectorXd::Zero(6));
@@ -439,15 +442,15 @@ TEST(VehicleModel, ErrorStatePoseJacobiansCorrectionAndEulerLayout) {
   const Eigen::Quaterniond up(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
   for (const Eigen::Quaterniond& q : {level, up}) {
     SlamState s;
-    ASSERT_TRUE(
-        vehicle_model::addVehicle(s, key, x_v, q, Eigen::MatrixXd::Identity(15, 15)).ok());
+    ASSERT_TRUE(vehicle_model::addVehicle(s, key, x_v, q, Eigen::MatrixXd::Identity(15, 15)).ok());
     const StateVariable& veh = *s.find(key);
     const vehicle_model::Pose pose = vehicle_model::pose(s, veh);
     EXPECT_EQ(pose.attitude, vehicle::Attitude::kErrorState);
     // A landmark in front of the camera whatever the attitude.
     const Eigen::Vector3d p_C(0.3, -0.2, 4.0);
     const StereoCameraOptions& c = camera.options();
-    const Eigen::Vector3d p_LinN = pose.p_BinN + pose.R_BtoN * (c.R_BtoC.transpose() * p_C + c.p_CinB);
+    const Eigen::Vector3d p_LinN =
+        pose.p_BinN + pose.R_BtoN * (c.R_BtoC.transpose() * p_C + c.p_CinB);
     StereoCamera::Matrix4x9d dz_dpose;
     camera.project(pose, p_LinN, &dz_dpose);
     const auto moved = [&](const Eigen::VectorXd& x) {
@@ -485,13 +488,16 @@ TEST(VehicleModel, ErrorStatePoseJacobiansCorrectionAndEulerLayout) {
   vehicle_model::correct(corrected, dx, &nominal);
   EXPECT_EQ(corrected.segment<3>(vehicle::kAttitude), Eigen::Vector3d::Zero());
   EXPECT_EQ(corrected(vehicle::kAccelBias), 0.01);
-  const Eigen::Matrix3d expected = level.toRotationMatrix() * so3::exp<double>(Eigen::Vector3d(dx.segment<3>(vehicle::kAttitude)));
+  const Eigen::Matrix3d expected =
+      level.toRotationMatrix() *
+      so3::exp<double>(Eigen::Vector3d(dx.segment<3>(vehicle::kAttitude)));
   EXPECT_LT((nominal.toRotationMatrix() - expected).norm(), 1e-12);
 
   // Rigid move and the Euler layout (round trip of mean and covariance).
   SlamState s;
   Eigen::MatrixXd P = Eigen::MatrixXd::Identity(15, 15) * 0.01;
-  P(vehicle::kAttitude, vehicle::kAttitude + 2) = P(vehicle::kAttitude + 2, vehicle::kAttitude) = 0.002;
+  P(vehicle::kAttitude, vehicle::kAttitude + 2) = P(vehicle::kAttitude + 2, vehicle::kAttitude) =
+      0.002;
   Eigen::VectorXd x_euler = x_v;
   x_euler.segment<3>(vehicle::kAttitude) << 0.03, -0.02, 0.7;
   ASSERT_TRUE(vehicle_model::addVehicle(s, key, x_euler, P, vehicle::Attitude::kErrorState).ok());

@@ -8,6 +8,8 @@
 #include "cvslam/core/random.h"
 #include "cvslam/dataset/euroc_dataset.h"
 #include "cvslam/geometry/euler.h"
+#include "cvslam/slam/agent_setup.h"
+#include "cvslam/slam/visual_inertial_slam.h"
 #include "test_paths.h"
 
 namespace cvslam {
@@ -62,6 +64,46 @@ TEST(StaticInitializer, RecoversTiltAndGyroBiasAtRest) {
 
 // Rotors shake a standing MAV's IMU (EuRoC: up to 1.1 m/s², 0.08 rad/s RMS) by more than a
 // slow motion would: rest is the stability of the mean, so the vibration does not matter.
+/// The EuRoC VI-sensor's IMU mounting (x axis up, pitch 90°): the rest state is a rotation
+/// with gravity along N's z (Euler angles are singular there), and the error-state filter
+/// started from it (restSetup, VisualInertialSlam) stays where it stands.
+TEST(StaticInitializer, StartsAnErrorStateFilterWithTheImuXAxisUp) {
+  const Eigen::Vector3d euler(0.4, M_PI / 2, -0.7), bg(0.05, -0.01, 0.02);
+  const auto imu = restingImu(euler, bg, Eigen::Vector3d::Zero(), 4.0, 0.02, 0.002, 11);
+  auto init = initializeAtRest(imu, StaticInitializerOptions{}, kG, kAccelBiasSigma);
+  ASSERT_TRUE(init.ok()) << init.status().message();
+  const Eigen::Vector3d down_B = rotationNavToBody<double>(euler).col(2);
+  const Eigen::Matrix3d R_NtoB = init->q_BtoN.toRotationMatrix().transpose();
+  EXPECT_LT((R_NtoB.col(2) - down_B).norm(), 1e-3);
+  // FRD-level attitudes keep yaw zero: the rotation is that of the Euler angles.
+  const auto level =
+      restingImu(Eigen::Vector3d(0.1, -0.2, 0.0), bg, Eigen::Vector3d::Zero(), 2.0, 0.0, 0.0, 3);
+  auto level_init = initializeAtRest(level, StaticInitializerOptions{}, kG, kAccelBiasSigma);
+  ASSERT_TRUE(level_init.ok());
+  EXPECT_LT((level_init->q_BtoN.toRotationMatrix() - rotationBodyToNav(level_init->euler)).norm(),
+            1e-9);
+
+  VisualInertialSlamOptions options;
+  options.ins.attitude = vehicle::Attitude::kErrorState;
+  options.ins.estimate_imu_bias = true;
+  const AgentFilterSetup setup = restSetup(*init, InitialUncertainty{}, options);
+  ASSERT_TRUE(setup.q0_BtoN.has_value());
+  VisualInertialSlam slam(options, StereoCamera{});
+  ASSERT_TRUE(slam.initialize(setup.t0_us, setup.x0, *setup.q0_BtoN, setup.P0).ok());
+  for (const ImuSample& s : imu) {
+    if (s.t_us > setup.t0_us) {
+      ASSERT_TRUE(slam.addImu(s).ok());
+    }
+  }
+  ASSERT_TRUE(slam.propagateTo(imu.back().t_us).ok());
+  EXPECT_LT(slam.vehiclePose().p_BinN.norm(), 0.01);  // 3 s standing, x axis up
+  EXPECT_TRUE(slam.vehicleCovariance().allFinite());
+  // The Euler filter cannot start there: its initial state sits on the singularity.
+  options.ins.attitude = vehicle::Attitude::kEuler;
+  VisualInertialSlam euler_slam(options, StereoCamera{});
+  EXPECT_FALSE(euler_slam.initialize(setup.t0_us, setup.x0, *setup.q0_BtoN, setup.P0).ok());
+}
+
 TEST(StaticInitializer, RotorVibrationIsStillRest) {
   const Eigen::Vector3d euler(-0.1, 0.05, 0.0), bg(0.0, 0.02, -0.07);
   auto imu = restingImu(euler, bg, Eigen::Vector3d::Zero(), 1.0, 0.05, 0.003, 11);

@@ -89,7 +89,8 @@ Status addVehicle(SlamState& state, const VariableKey& vehicle, const Eigen::Vec
   return Status::Ok();
 }
 
-Eigen::Matrix3d errorCovarianceFromNav(const Eigen::Quaterniond& q_BtoN, const Eigen::Matrix3d& P_N) {
+Eigen::Matrix3d errorCovarianceFromNav(const Eigen::Quaterniond& q_BtoN,
+                                       const Eigen::Matrix3d& P_N) {
   const Eigen::Matrix3d R = q_BtoN.toRotationMatrix();
   return R.transpose() * P_N * R;
 }

@@ -206,8 +206,12 @@ template <int kN, typename MatF, typename MatG>
 void foldAttitude(Eigen::Matrix<double, kN, 1>* x, Eigen::Quaterniond* q, MatF* F, MatG* G) {
   const Eigen::Vector3d d = x->template segment<3>(vehicle::kAttitude);
   const Eigen::Matrix3d J_r = so3::rightJacobian<double>(d);
-  if (F != nullptr) F->template middleRows<3>(vehicle::kAttitude) = J_r * F->template middleRows<3>(vehicle::kAttitude);
-  if (G != nullptr) G->template middleRows<3>(vehicle::kAttitude) = J_r * G->template middleRows<3>(vehicle::kAttitude);
+  if (F != nullptr)
+    F->template middleRows<3>(vehicle::kAttitude) =
+        J_r * F->template middleRows<3>(vehicle::kAttitude);
+  if (G != nullptr)
+    G->template middleRows<3>(vehicle::kAttitude) =
+        J_r * G->template middleRows<3>(vehicle::kAttitude);
   *q = (*q * Eigen::Quaterniond(so3::exp<double>(d))).normalized();
   x->template segment<3>(vehicle::kAttitude).setZero();
 }
@@ -323,9 +327,9 @@ Eigen::VectorXd InsPropagator::noiseVariances(double dt) const {
   return q;
 }
 
-Eigen::VectorXd InsPropagator::stepMean(const Eigen::VectorXd& x,
-                                        const Eigen::Quaterniond& q_BtoN, const ImuSample& s0,
-                                        const ImuSample& s1, const Eigen::VectorXd& w,
+Eigen::VectorXd InsPropagator::stepMean(const Eigen::VectorXd& x, const Eigen::Quaterniond& q_BtoN,
+                                        const ImuSample& s0, const ImuSample& s1,
+                                        const Eigen::VectorXd& w,
                                         Eigen::Quaterniond* q_next) const {
   const double dt = 1e-6 * static_cast<double>(s1.t_us - s0.t_us);
   const bool euler = o_.attitude == vehicle::Attitude::kEuler;
@@ -429,7 +433,8 @@ Status InsPropagator::propagate(const Eigen::VectorXd& x, const Eigen::Quaternio
 Status InsPropagator::propagate(const Eigen::VectorXd& x, const std::vector<ImuSample>& samples,
                                 InsTransition* out) const {
   if (o_.attitude != vehicle::Attitude::kEuler) {
-    return Status::Error("InsPropagator::propagate without a nominal rotation needs attitude: euler");
+    return Status::Error(
+        "InsPropagator::propagate without a nominal rotation needs attitude: euler");
   }
   return propagate(x, Eigen::Quaterniond::Identity(), samples, out);
 }

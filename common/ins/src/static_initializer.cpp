@@ -35,12 +35,17 @@ std::string format(const char* fmt, double a, double b) {
 
 namespace {
 
-/// R_BtoN with N's z along gravity (−f_B at rest) and N's x along the horizontal part of the
-/// body axis least aligned with the vertical (StaticInitialization::q_BtoN).
+/// |cos| between body x and the vertical above which the heading is taken from another axis
+/// (x within ~26° of the vertical has too short a horizontal part).
+constexpr double kMaxHeadingAxisVerticality = 0.9;
+
+/// R_BtoN with N's z along gravity (−f_B at rest) and N's x along the horizontal part of body
+/// x, or, when x is near the vertical, of the body axis least aligned with it
+/// (StaticInitialization::q_BtoN).
 Eigen::Quaterniond gravityAlignedRotation(const Eigen::Vector3d& f_B) {
   const Eigen::Vector3d down_B = -f_B.normalized();  // N's z in B
   Eigen::Index axis = 0;
-  down_B.cwiseAbs().minCoeff(&axis);
+  if (std::abs(down_B.x()) > kMaxHeadingAxisVerticality) down_B.cwiseAbs().minCoeff(&axis);
   const Eigen::Vector3d a = Eigen::Vector3d::Unit(axis);
   const Eigen::Vector3d north_B = (a - a.dot(down_B) * down_B).normalized();  // N's x in B
   Eigen::Matrix3d R_NtoB;  // columns: N's axes in B

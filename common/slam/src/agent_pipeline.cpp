@@ -17,9 +17,7 @@ void useTrueLandmarkIds(StereoFrameObservations* frame) {
 
 AgentPipeline::AgentPipeline(int agent_id, const AgentFilterSetup& setup,
                              const StereoCamera& camera)
-    : id_(agent_id),
-      slam_(setup.options, camera),
-      dead_reckoning_(setup.options.ins) {
+    : id_(agent_id), slam_(setup.options, camera), dead_reckoning_(setup.options.ins) {
   dead_reckoning_.fromEulerLayout(setup.x0, &x_ins_, &q_ins_);
   if (setup.q0_BtoN) q_ins_ = *setup.q0_BtoN;
   x_ins_euler_ = dead_reckoning_.eulerLayout(x_ins_, q_ins_);

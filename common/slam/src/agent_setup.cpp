@@ -47,8 +47,9 @@ AgentFilterSetup restSetup(const StaticInitialization& rest, const InitialUncert
     // The rotation itself (no Euler angles at any mounting), σ about N's axes.
     s.q0_BtoN = rest.q_BtoN;
     const Eigen::Vector3d sigma_N = at_rest.attitude_sigma;
-    s.P0.block<3, 3>(vehicle::kAttitude, vehicle::kAttitude) = vehicle_model::errorCovarianceFromNav(
-        rest.q_BtoN, sigma_N.array().square().matrix().asDiagonal());
+    s.P0.block<3, 3>(vehicle::kAttitude, vehicle::kAttitude) =
+        vehicle_model::errorCovarianceFromNav(rest.q_BtoN,
+                                              sigma_N.array().square().matrix().asDiagonal());
   }
   if (options.ins.estimate_imu_bias) {
     s.x0.segment<3>(vehicle::kGyroBias) = rest.gyro_bias;

@@ -51,8 +51,7 @@ Status StereoUpdater::pass(SlamState& state, const LandmarkBook& book,
     if (lm == nullptr) continue;
     const Eigen::Vector3d p_LinN = state.value(*lm);
     // Predicted landmark behind the camera: the linearisation is meaningless, skip it.
-    if (camera_.landmarkInCamera(x, p_LinN).z() <=
-        0.0) {
+    if (camera_.landmarkInCamera(x, p_LinN).z() <= 0.0) {
       continue;
     }
     Eigen::Vector4d z_hat;

@@ -264,8 +264,7 @@ void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
   std::vector<Eigen::Vector4d> expected(previous_.size());
   std::vector<bool> ahead(previous_.size(), false);
   for (std::size_t j = 0; j < previous_.size(); ++j) {
-    const Eigen::Vector3d p_C =
-        camera.landmarkInCamera(x, previous_[j].p_LinN);
+    const Eigen::Vector3d p_C = camera.landmarkInCamera(x, previous_[j].p_LinN);
     if (p_C.z() <= camera.options().min_depth) continue;
     expected[j] = camera.project(p_C);
     ahead[j] = true;

@@ -12,8 +12,8 @@
 // rectified pair these share the rotation, so the chain above is the same model, factored so
 // that the Jacobians compose: dz_dxv = dz_dpC · dpC_dxv.
 //
-// Inverse observation model (landmark initialisation, docs/conventions.md): stereo triangulation from
-// the disparity d = u_L − u_R and the mean row (v_L + v_R)/2:
+// Inverse observation model (landmark initialisation, docs/conventions.md): stereo triangulation
+// from the disparity d = u_L − u_R and the mean row (v_L + v_R)/2:
 //   p_LinC = b/d · [u_L − cx, (fx/fy)(v̄ − cy), fx]
 //   p_LinN = p_BinN + R_NtoBᵀ (R_BtoCᵀ p_LinC + p_CinB)
 // with Jacobians dpL_dxv (3×9) and dpL_dz (3×4) for the augmentation

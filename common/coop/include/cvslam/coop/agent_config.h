@@ -26,8 +26,8 @@ struct AgentConfigArgs {
   int passes = 0;
   bool both_ways = false, one_way = false;
 
-  /// Adds --config, --filter, --map, --attitude, --passes, --detector, --ci, --both-ways and --one-way to
-  /// `app` (help texts: the tool's usage text).
+  /// Adds --config, --filter, --map, --attitude, --passes, --detector, --ci, --both-ways and
+  /// --one-way to `app` (help texts: the tool's usage text).
   void addTo(CLI::App& app);
   /// The options that need cooperation (--ci, --both-ways, --one-way) were given.
   bool anyCoop() const { return !ci.empty() || both_ways || one_way; }

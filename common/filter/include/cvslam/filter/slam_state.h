@@ -78,8 +78,8 @@ class SlamState {
   friend class CovarianceHelper;
   Eigen::VectorXd x_;
   Eigen::MatrixXd P_;
-  std::vector<StateVariable> vars_;  // index order
-  std::map<VariableKey, int> slot_;  // key -> position in vars_
+  std::vector<StateVariable> vars_;                    // index order
+  std::map<VariableKey, int> slot_;                    // key -> position in vars_
   std::map<VariableKey, Eigen::Quaterniond> nominal_;  // error-state vehicles' R̂
 };
 

@@ -62,7 +62,8 @@ Status addVehicle(SlamState& state, const VariableKey& vehicle, const Eigen::Vec
 
 /// Covariance of δθ (body frame) for an attitude uncertainty P_N given about N's axes (tilt
 /// about x and y, heading about z): R̂ Exp(δθ) = Exp(R̂ δθ) R̂, so P_δθ = R̂ᵀ P_N R̂.
-Eigen::Matrix3d errorCovarianceFromNav(const Eigen::Quaterniond& q_BtoN, const Eigen::Matrix3d& P_N);
+Eigen::Matrix3d errorCovarianceFromNav(const Eigen::Quaterniond& q_BtoN,
+                                       const Eigen::Matrix3d& P_N);
 
 /// The vehicle's mean and covariance in the Euler layout (for the run record and messages).
 /// At pitch ±90° φ and ψ are split arbitrarily and their variances are large, not infinite.

@@ -45,12 +45,13 @@ struct StaticInitializerOptions {
 
 /// The vehicle state found at rest, in the estimator's gravity-aligned NED frame.
 struct StaticInitialization {
-  int64_t t_us = 0;                                     ///< last sample of the window
-  Eigen::Vector3d euler = Eigen::Vector3d::Zero();      ///< φ θ ψ [rad], ψ = 0
+  int64_t t_us = 0;                                 ///< last sample of the window
+  Eigen::Vector3d euler = Eigen::Vector3d::Zero();  ///< φ θ ψ [rad], ψ = 0
   /// R_BtoN at rest for any IMU mounting (the error-state attitude, docs/filter.md): gravity
-  /// along N's z, and N's x the horizontal projection of the body axis farthest from the
-  /// vertical (body x for an FRD IMU, so that this is the rotation of `euler`; body z for the
-  /// EuRoC VI-sensor's x-up IMU, whose Euler angles are singular).
+  /// along N's z, and N's x the horizontal projection of body x (so that this is the
+  /// rotation of `euler`), or, when body x is within ~26° of the vertical (the EuRoC
+  /// VI-sensor's x-up IMU, whose Euler angles are singular), of the body axis farthest
+  /// from the vertical.
   Eigen::Quaterniond q_BtoN = Eigen::Quaterniond::Identity();
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();  ///< mean rate at rest [rad/s]
   /// 1σ of the gyro-bias estimate: the rate noise averaged over the window [rad/s].

@@ -19,8 +19,8 @@ constexpr int kSizeWithBias = 15;  ///< with IMU bias states
 
 /// How the attitude entries are read (`ins.attitude`).
 enum class Attitude {
-  kErrorState,  ///< δθ about a nominal rotation: no singularity (the default)
-  kEuler,       ///< ZYX Euler angles (thesis eq. 2.4), singular at pitch ±90°
+  kErrorState,  ///< δθ about a nominal rotation: no singularity, any IMU mounting
+  kEuler,       ///< ZYX Euler angles (thesis eq. 2.4), singular at pitch ±90° (the default)
 };
 
 constexpr int size(bool with_bias) {

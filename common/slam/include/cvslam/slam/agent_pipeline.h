@@ -85,8 +85,8 @@ class AgentPipeline {
   int id_;
   VisualInertialSlam slam_;
   InsPropagator dead_reckoning_;
-  Eigen::VectorXd x_ins_;     // the propagator's own parametrisation (ins.attitude)
-  Eigen::Quaterniond q_ins_;  // its nominal rotation (error state)
+  Eigen::VectorXd x_ins_;        // the propagator's own parametrisation (ins.attitude)
+  Eigen::Quaterniond q_ins_;     // its nominal rotation (error state)
   Eigen::VectorXd x_ins_euler_;  // x_ins_ in the Euler layout (insState)
   ImuSample last_imu_;
   bool have_imu_ = false;

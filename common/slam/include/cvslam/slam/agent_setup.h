@@ -9,8 +9,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <optional>
 #include <cstdint>
+#include <optional>
 
 #include "cvslam/core/status.h"
 #include "cvslam/ins/initial_uncertainty.h"

@@ -88,7 +88,7 @@ struct LoopDetection {
 /// What the archive query needs besides the observations.
 struct LoopQuery {
   int64_t t_us = 0;                   ///< frame time
-  EstimatedPose x_v;                    ///< current vehicle estimate
+  EstimatedPose x_v;                  ///< current vehicle estimate
   double min_last_seen_age_s = 30.0;  ///< loop landmarks: unseen for at least this [s]
   double min_archived_age_s = 10.0;   ///< and archived at least this long ago [s]
   vision::MatchNorm norm = vision::MatchNorm::kL2;  ///< descriptor distance (kHamming for ORB)
