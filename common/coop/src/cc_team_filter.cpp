@@ -88,8 +88,8 @@ Status CcTeamFilter::addVehicle(int agent_id, const StereoCamera& camera, int64_
     return s;
   }
   v.propagation.reset(t_us);
-  v.book.setVehicleYawDirection(vehicle_model::yawDirection(
-      vehicle_model::pose(impl_->state, *impl_->state.find(v.key)), n));
+  v.book.setVehicleYawDirection(
+      vehicle_model::yawDirection(vehicle_model::pose(impl_->state, *impl_->state.find(v.key)), n));
   stats_.agents[agent_id];
   ++map_version_;
   return Status::Ok();

@@ -33,6 +33,14 @@ void loadPeriodOrSpeed(const ConfigNode& node, double& period, double& speed) {
   node.check(speed >= 0.0, "speed", "must be >= 0");
 }
 
+// Any kind: the resting start (resting_start.h).
+void loadRestingStart(const ConfigNode& node, double& rest, double& ramp) {
+  node.get("rest", rest);
+  node.get("rest_ramp", ramp);
+  node.check(rest >= 0.0, "rest", "must be >= 0");
+  node.check(ramp >= 0.0, "rest_ramp", "must be >= 0");
+}
+
 }  // namespace
 
 Status TrajectorySpec::load(const ConfigNode& node, const std::string& base_dir) {
@@ -45,10 +53,7 @@ Status TrajectorySpec::load(const ConfigNode& node, const std::string& base_dir)
                 {"tum", TrajectoryKind::kTum},
                 {"hover", TrajectoryKind::kHover}});
   node.get("time_offset", time_offset);
-  node.get("rest", rest);
-  node.get("rest_ramp", rest_ramp);
-  node.check(rest >= 0.0, "rest", "must be >= 0");
-  node.check(rest_ramp >= 0.0, "rest_ramp", "must be >= 0");
+  loadRestingStart(node, rest, rest_ramp);
   if (kind != TrajectoryKind::kTum) loadAttitude(node, attitude);
   switch (kind) {
     case TrajectoryKind::kLoop:

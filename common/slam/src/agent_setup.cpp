@@ -73,8 +73,9 @@ AgentFilterSetup dynamicSetup(const DynamicInitialization& d, const InitialUncer
     // The rotation itself (an IMU mounted x-up has no usable Euler angles), σ about N's axes.
     s.q0_BtoN = d.q_BtoN;
     const Eigen::Vector3d sigma_N = in_motion.attitude_sigma;
-    s.P0.block<3, 3>(vehicle::kAttitude, vehicle::kAttitude) = vehicle_model::errorCovarianceFromNav(
-        d.q_BtoN, sigma_N.array().square().matrix().asDiagonal());
+    s.P0.block<3, 3>(vehicle::kAttitude, vehicle::kAttitude) =
+        vehicle_model::errorCovarianceFromNav(d.q_BtoN,
+                                              sigma_N.array().square().matrix().asDiagonal());
   }
   if (options.ins.estimate_imu_bias) {
     s.x0.segment<3>(vehicle::kGyroBias) = d.gyro_bias;

@@ -55,8 +55,8 @@ Status VehiclePropagation::propagateTo(int64_t t_us, const InsPropagator& propag
     const StateVariable* v = state.find(vehicle);
     if (v == nullptr) return Status::Error("propagation: the vehicle is not in the state");
     InsTransition tr;
-    if (Status s = propagator.propagate(state.value(*v), vehicle_model::nominalAttitude(state, vehicle),
-                                        segment, &tr);
+    if (Status s = propagator.propagate(
+            state.value(*v), vehicle_model::nominalAttitude(state, vehicle), segment, &tr);
         !s.ok()) {
       return s;
     }
