@@ -44,7 +44,9 @@ std::vector<Key> drain(CcEventOrderer& o, double now, bool flush = false) {
 TEST(CcEventOrderer, AnyArrivalOrderGivesTheSameSequence) {
   std::vector<CcEvent> events;
   for (int a : {1, 2, 3}) events.push_back(start(a, 0));
-  for (int64_t t = 100; t <= 1000; t += 100)
+  // Batches from t = 0: a start at t must not let another agent's batch at t pass the
+  // starting agent's own batch at t.
+  for (int64_t t = 0; t <= 1000; t += 100)
     for (int a : {1, 2, 3})
       if (!(a == 3 && t % 300 == 0)) events.push_back(batch(a, t));  // UAV3 skips some
   std::vector<Key> reference;
@@ -117,6 +119,19 @@ TEST(CcEventOrderer, AStartComesBeforeABatchOfTheSameTime) {
   const auto got = drain(o, 0.0);
   ASSERT_EQ(got.size(), 2u);
   EXPECT_EQ(std::get<2>(got[0]), static_cast<int>(CcEvent::Kind::kStart));
+}
+
+TEST(CcEventOrderer, AStartDoesNotFinishTheBatchOfItsTime) {
+  // UAV1's start estimate at 0 arrives, UAV2's start and batch at 0 follow before UAV1's batch
+  // at 0 (as a loaded lockstep run interleaves them): UAV2's batch must wait for it.
+  CcEventOrderer o({1, 2}, kTimeout, 0.0);
+  ASSERT_EQ(o.push(start(1, 0), 0.0), CcEventOrderer::Push::kQueued);
+  ASSERT_EQ(o.push(start(2, 0), 0.0), CcEventOrderer::Push::kQueued);
+  ASSERT_EQ(o.push(batch(2, 0), 0.0), CcEventOrderer::Push::kQueued);
+  // UAV1's start only: UAV1's batch at 0 may still come and precedes UAV2's start and batch.
+  EXPECT_EQ(drain(o, 0.0), (std::vector<Key>{{0, 1, 0}}));
+  ASSERT_EQ(o.push(batch(1, 0), 0.0), CcEventOrderer::Push::kQueued);
+  EXPECT_EQ(drain(o, 0.0), (std::vector<Key>{{0, 1, 1}, {0, 2, 0}, {0, 2, 1}}));
 }
 
 }  // namespace

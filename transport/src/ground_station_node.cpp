@@ -205,8 +205,10 @@ void GroundStationNode::take(Inbound& in) {
   event.agent_id = id;
   event.t_us = in.t_us;
   if (in.kind == Inbound::Kind::kPose) {
+    // A POSE at t may precede the agent's batch at t (its start estimate is repeated until
+    // the ground station answers): it finishes only what precedes t.
     if (filter_.hasVehicle(id) || pending_start_.count(id) > 0)
-      return orderer_.progress(id, in.t_us, in.arrival_s);
+      return orderer_.progress(id, in.t_us - 1, in.arrival_s);
     event.kind = coop::CcEvent::Kind::kStart;
     event.start = std::move(in.estimate);
     pending_start_[id] = in.t_us;

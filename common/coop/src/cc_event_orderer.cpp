@@ -35,7 +35,10 @@ void CcEventOrderer::progress(int agent_id, int64_t t_us, double now_s) {
 
 CcEventOrderer::Push CcEventOrderer::push(CcEvent event, double now_s) {
   if (!expects(event.agent_id)) return Push::kUnknownAgent;
-  progress(event.agent_id, event.t_us, now_s);
+  // A start at t sorts before the agent's batch at t, which is still to come: it finishes
+  // only what precedes t (else another agent's batch at t could pass that batch).
+  progress(event.agent_id, event.kind == CcEvent::Kind::kStart ? event.t_us - 1 : event.t_us,
+           now_s);
   Agent& a = heard_[event.agent_id];
   if (event.kind == CcEvent::Kind::kBatch) {
     if (event.t_us <= a.last_batch_us) return Push::kStale;
