@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -20,7 +21,9 @@ class TempFolder {
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
+  /// CVSLAM_KEEP_TEST_FOLDERS=1 keeps the folder (to inspect a failed run).
   ~TempFolder() {
+    if (const char* keep = std::getenv("CVSLAM_KEEP_TEST_FOLDERS"); keep && *keep == '1') return;
     std::error_code ec;
     std::filesystem::remove_all(path_, ec);
   }

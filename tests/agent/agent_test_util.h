@@ -6,6 +6,7 @@
 #include <mutex>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "cvslam/io/json_file.h"
@@ -37,6 +38,34 @@ inline std::size_t poseCount(const std::string& tum_path) {
   for (std::string line; std::getline(tum, line);)
     if (!line.empty() && line[0] != '#') ++n;
   return n;
+}
+
+/// Poses of a TUM trajectory by their time text (the pose columns as written).
+inline std::map<std::string, std::string> tumPoses(const std::string& tum_path) {
+  std::map<std::string, std::string> poses;
+  std::ifstream tum(tum_path);
+  for (std::string line; std::getline(tum, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto space = line.find(' ');
+    if (space != std::string::npos) poses[line.substr(0, space)] = line.substr(space + 1);
+  }
+  return poses;
+}
+
+/// The frames an agent in cc mode took from its own filter: frames_own of the last row of its
+/// coop.csv (-1 when it cannot be read).
+inline long ownFrames(const std::string& coop_csv) {
+  std::ifstream f(coop_csv);
+  std::string line, last;
+  while (std::getline(f, line))
+    if (!line.empty()) last = line;
+  const auto comma = last.rfind(',');
+  if (comma == std::string::npos) return -1;
+  try {
+    return std::stol(last.substr(comma + 1));
+  } catch (const std::exception&) {
+    return -1;
+  }
 }
 
 inline std::string agentUrl(int port) {
