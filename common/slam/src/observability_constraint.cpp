@@ -27,6 +27,16 @@ void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& 
   *H_L = H_oc.rightCols<3>();
 }
 
+void constrainStereoJacobianAttitude(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
+                                     StereoCamera::Matrix4x9d* H_v, StereoCamera::Matrix4x3d* H_L) {
+  const Eigen::Matrix<double, 4, 3> translation = H_v->middleCols<3>(vehicle::kPosition) + *H_L;
+  H_v->middleCols<3>(vehicle::kPosition) -= 0.5 * translation;
+  *H_L -= 0.5 * translation;
+  const Eigen::Vector4d yaw = *H_v * u_v.head<vehicle::kSizeNoBias>() + *H_L * u_L;
+  const Eigen::Vector3d u_att = u_v.segment<3>(vehicle::kAttitude);
+  H_v->middleCols<3>(vehicle::kAttitude) -= yaw * u_att.transpose() / u_att.squaredNorm();
+}
+
 Eigen::Vector3d moveYawDirection(const Eigen::Vector3d& u_position, const LoopAlignment& fit) {
   // u = e3 × p = (−p_y, p_x, 0): recover p's horizontal part, move it, rebuild u.
   const Eigen::Vector3d p(u_position.y(), -u_position.x(), fit.pivot.z());

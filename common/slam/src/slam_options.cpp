@@ -1,5 +1,7 @@
 #include "cvslam/slam/slam_options.h"
 
+#include <string>
+
 #include "cvslam/io/config_node.h"
 
 namespace cvslam {
@@ -15,6 +17,11 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.check(reactivation_min_age_s >= 0.0, "reactivation_min_age_s", "must be ≥ 0");
   node.get("first_estimate_jacobians", first_estimate_jacobians);
   node.get("observability_constrained", observability_constrained);
+  std::string projection = oc_projection == OcProjection::kFull ? "full" : "attitude";
+  node.get("oc_projection", projection);
+  node.check(projection == "attitude" || projection == "full", "oc_projection",
+             "must be attitude or full");
+  oc_projection = projection == "full" ? OcProjection::kFull : OcProjection::kAttitude;
   node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
   node.get("loop_closure_max_residual_m", loop_closure_max_residual_m);
   node.get("loop_closure_passes", loop_closure_passes);

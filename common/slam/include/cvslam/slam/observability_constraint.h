@@ -37,6 +37,15 @@ Eigen::Vector3d yawDirectionOfPoint(const Eigen::Vector3d& p);
 void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
                              StereoCamera::Matrix4x9d* H_v, StereoCamera::Matrix4x3d* H_L);
 
+/// The same constraint with the change confined (observability_constraint.h, SlamOptions::
+/// oc_projection): the translation residual H_p + H_L is split evenly between H_p and H_L,
+/// then the yaw residual r = H_v u_v + H_L u_L is removed from the attitude columns alone,
+/// H_att ← H_att − r u_attᵀ / |u_att|² (u_att: the attitude part of u_v, never zero). The
+/// position and landmark Jacobians — what makes a stereo observation informative — keep their
+/// linearisation; only ∂h/∂(attitude) along the yaw direction changes.
+void constrainStereoJacobianAttitude(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
+                                     StereoCamera::Matrix4x9d* H_v, StereoCamera::Matrix4x3d* H_L);
+
 /// Moves a yaw direction e3 × p (given as a 3-vector, its z ignored) with the rigid loop
 /// alignment p ↦ fit.apply(p), as the alignment moves the estimate it was taken at.
 Eigen::Vector3d moveYawDirection(const Eigen::Vector3d& u_position, const LoopAlignment& fit);
