@@ -17,11 +17,13 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.check(reactivation_min_age_s >= 0.0, "reactivation_min_age_s", "must be ≥ 0");
   node.get("first_estimate_jacobians", first_estimate_jacobians);
   node.get("observability_constrained", observability_constrained);
-  std::string projection = oc_projection == OcProjection::kFull ? "full" : "attitude";
+  std::string projection =
+      oc_projection == OcProjection::kUnweighted ? "unweighted" : "range_weighted";
   node.get("oc_projection", projection);
-  node.check(projection == "attitude" || projection == "full", "oc_projection",
-             "must be attitude or full");
-  oc_projection = projection == "full" ? OcProjection::kFull : OcProjection::kAttitude;
+  node.check(projection == "range_weighted" || projection == "unweighted", "oc_projection",
+             "must be range_weighted or unweighted");
+  oc_projection =
+      projection == "unweighted" ? OcProjection::kUnweighted : OcProjection::kRangeWeighted;
   node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
   node.get("loop_closure_max_residual_m", loop_closure_max_residual_m);
   node.get("loop_closure_passes", loop_closure_passes);

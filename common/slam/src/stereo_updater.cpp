@@ -63,12 +63,12 @@ Status StereoUpdater::pass(SlamState& state, const LandmarkBook& book,
       z_hat = camera_.project(x, p_LinN, &dz_dxv, &dz_dpL);
     }
     if (o_.observability_constrained && record != nullptr && record->constrained) {
-      const Eigen::VectorXd u_v = vehicle_model::yawDirectionAt(x, book.vehicleYawDirection());
-      if (o_.oc_projection == SlamOptions::OcProjection::kAttitude) {
-        constrainStereoJacobianAttitude(u_v, record->yaw_direction, &dz_dxv, &dz_dpL);
-      } else {
-        constrainStereoJacobian(u_v, record->yaw_direction, &dz_dxv, &dz_dpL);
-      }
+      // Range-weighted: the landmark's distance puts attitude and position on one scale.
+      const double lever = o_.oc_projection == SlamOptions::OcProjection::kRangeWeighted
+                               ? (p_LinN - x.p_BinN).norm()
+                               : 1.0;
+      constrainStereoJacobian(vehicle_model::yawDirectionAt(x, book.vehicleYawDirection()),
+                              record->yaw_direction, lever, &dz_dxv, &dz_dpL);
     }
     const int g = batch_.addObservation(obs.z - z_hat, R);
     if (g < 0) break;

@@ -15,7 +15,8 @@
 // while the yaw error grew to 3.7°.)
 // The remedy: carry u along the filter's own transition (u_v ← Φ u_v at propagation, u_L ←
 // ∂p_L/∂x_v u_v at initialisation) and project every observation Jacobian onto the
-// complement of span{translation, u}, the smallest change (Frobenius) with H N = 0.
+// complement of span{translation, u}: the smallest change with H N = 0, with the attitude
+// columns weighted by the landmark's range (SlamOptions::oc_projection; docs/filter.md).
 // The translation directions are already in the null space of the stereo Jacobian (it
 // depends on p_L − p), and the INS transition maps them onto themselves. The vehicle's u_v
 // comes from the vehicle model (filter/vehicle_model.h: vehicle_model::yawDirection).
@@ -30,21 +31,18 @@ namespace cvslam {
 /// The yaw direction e3 × p of a point p [m]: how p moves per radian of global yaw.
 Eigen::Vector3d yawDirectionOfPoint(const Eigen::Vector3d& p);
 
-/// Projects one stereo observation's Jacobians [H_v | H_L] (4 × (9 + 3)) so that they
-/// annihilate the global translation and the yaw direction [u_v(0:9) ; u_L]:
-/// H ← H − H N (Nᵀ N)⁻¹ Nᵀ with N the 12 × 4 null-space basis. The bias entries of u_v are
-/// zero by construction (the transition does not couple yaw into the biases).
+/// Changes one stereo observation's Jacobians [H_v | H_L] (4 × (9 + 3)) as little as possible
+/// so that they annihilate the global translation and the yaw direction [u_v(0:9) ; u_L]
+/// (N, 12 × 4): H ← H − H N (Nᵀ W⁻¹ N)⁻¹ Nᵀ W⁻¹, the smallest change in the norm
+/// Σ_j w_j |ΔH_j|² over the columns. Position and landmark columns are in pixels per metre,
+/// attitude columns in pixels per radian; `attitude_lever_m` = ℓ puts them on one scale — an
+/// attitude change of ΔH moves the image like a position change of ΔH / ℓ at range ℓ — so
+/// w = 1/ℓ² on the attitude columns and 1 elsewhere. ℓ = 1 m: the unweighted projection
+/// H − H N (NᵀN)⁻¹ Nᵀ. The bias entries of u_v are zero by construction (the transition
+/// does not couple yaw into the biases).
 void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
-                             StereoCamera::Matrix4x9d* H_v, StereoCamera::Matrix4x3d* H_L);
-
-/// The same constraint with the change confined (observability_constraint.h, SlamOptions::
-/// oc_projection): the translation residual H_p + H_L is split evenly between H_p and H_L,
-/// then the yaw residual r = H_v u_v + H_L u_L is removed from the attitude columns alone,
-/// H_att ← H_att − r u_attᵀ / |u_att|² (u_att: the attitude part of u_v, never zero). The
-/// position and landmark Jacobians — what makes a stereo observation informative — keep their
-/// linearisation; only ∂h/∂(attitude) along the yaw direction changes.
-void constrainStereoJacobianAttitude(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
-                                     StereoCamera::Matrix4x9d* H_v, StereoCamera::Matrix4x3d* H_L);
+                             double attitude_lever_m, StereoCamera::Matrix4x9d* H_v,
+                             StereoCamera::Matrix4x3d* H_L);
 
 /// Moves a yaw direction e3 × p (given as a 3-vector, its z ignored) with the rigid loop
 /// alignment p ↦ fit.apply(p), as the alignment moves the estimate it was taken at.

@@ -40,14 +40,14 @@ struct SlamOptions {
   /// directions carried through the filter's own transitions. Without it, the changing
   /// linearisation points make the yaw look observable and the filter over-confident.
   bool observability_constrained = true;
-  /// Where the observability constraint puts its change of the Jacobian
-  /// (observability_constraint.h). kAttitude: the translation part is split between the
-  /// vehicle's position and the landmark, and the yaw part goes to the vehicle's attitude
-  /// columns only, so that the relative-position Jacobian — the information of a stereo
-  /// observation — is left as linearised. kFull: the smallest change of all columns (the
-  /// earlier behaviour; docs/filter.md, "Observability constraint", for the Monte Carlo).
-  enum class OcProjection { kAttitude, kFull };
-  OcProjection oc_projection = OcProjection::kAttitude;
+  /// How the observability constraint changes a Jacobian (observability_constraint.h):
+  /// the smallest change with the attitude columns weighted by the landmark's range
+  /// (kRangeWeighted: ∂h/∂attitude and ∂h/∂position on one scale, so the yaw correction lands
+  /// mostly on the attitude columns and the relative-position Jacobian keeps its
+  /// linearisation), or unweighted (kUnweighted, the earlier behaviour: the change lands on the
+  /// position columns). docs/filter.md, "Observability constraint", for the Monte Carlo.
+  enum class OcProjection { kRangeWeighted, kUnweighted };
+  OcProjection oc_projection = OcProjection::kRangeWeighted;
   /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
   /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
   /// this many are observed in one frame and a rigid yaw + translation aligns where the

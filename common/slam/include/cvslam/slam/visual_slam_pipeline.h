@@ -1,11 +1,11 @@
 #pragma once
-// One agent's image path into its VSLAM filter (docs/architecture.md, docs/front_end.md; thesis §5.10): a rectified
-// stereo pair goes through the visual front end (chapter 4: detection, stereo matching under
-// the disparity window), the map predicts its landmarks' observations (map_prediction.h), the
-// observations are associated to them by descriptor and Mahalanobis gate (§5.5, §6.3.2: type 1
-// re-observed / type 3 new), and the frame is processed by VisualInertialSlam. No transport,
-// no simulation: cvslam_run feeds it rendered images, the agent process will feed it images
-// received over LCM.
+// One agent's image path into its VSLAM filter (docs/architecture.md, docs/front_end.md; thesis
+// §5.10): a rectified stereo pair goes through the visual front end (chapter 4: detection, stereo
+// matching under the disparity window), the map predicts its landmarks' observations
+// (map_prediction.h), the observations are associated to them by descriptor and Mahalanobis gate
+// (§5.5, §6.3.2: type 1 re-observed / type 3 new), and the frame is processed by
+// VisualInertialSlam. No transport, no simulation: cvslam_run feeds it rendered images, the agent
+// process will feed it images received over LCM.
 //
 // New landmarks are confirmed frame to frame first: a stereo match that is not a map landmark
 // is offered to the filter for initialisation only when the previous frame had a stereo match
