@@ -24,73 +24,74 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr double kInitialYawSigmaDeg = 1.0;
 
+/// One stereo observation's Jacobians at a pose (x, Euler layout; `error_state`: the rotation
+/// error state) and the yaw directions as the filter carries them: taken at slightly
+/// different points than the Jacobians.
+struct ConstrainedObservation {
+  StereoCamera::Matrix4x9d H_v;
+  StereoCamera::Matrix4x3d H_L;
+  Eigen::VectorXd u_v;
+  Eigen::Vector3d u_L;
+};
+
+ConstrainedObservation observationAt(const Eigen::Matrix<double, 9, 1>& x,
+                                     const Eigen::Vector3d& p_L, bool error_state) {
+  EstimatedPose pose = EstimatedPose::fromEuler(x);
+  if (error_state) pose.attitude = vehicle::Attitude::kErrorState;
+  ConstrainedObservation o;
+  StereoCamera{StereoCameraOptions{}}.project(pose, p_L, &o.H_v, &o.H_L);
+  EstimatedPose moved = pose;
+  moved.p_BinN += Eigen::Vector3d(0.3, -0.2, 0.0);
+  o.u_v = vehicle_model::yawDirection(moved, 15);
+  o.u_L = yawDirectionOfPoint(p_L + Eigen::Vector3d(-0.4, 0.1, 0.0));
+  return o;
+}
+
 TEST(ObservabilityConstraint, ProjectedJacobianAnnihilatesTranslationAndYaw) {
-  StereoCamera camera{StereoCameraOptions{}};
   Eigen::Matrix<double, 9, 1> x;
   x << 12.0, -7.0, -10.0, 3.0, 0.2, 0.0, 0.05, -0.03, 0.8;
-  const Eigen::Vector3d p_L(13.0, -6.0, 0.5);
   // The same pose with Euler angles and with the rotation error state.
-  const EstimatedPose euler_pose = EstimatedPose::fromEuler(x);
-  EstimatedPose error_pose = euler_pose;
-  error_pose.attitude = vehicle::Attitude::kErrorState;
-  for (const EstimatedPose& pose : {euler_pose, error_pose}) {
-    StereoCamera::Matrix4x9d H_v;
-    StereoCamera::Matrix4x3d H_L;
-    camera.project(pose, p_L, &H_v, &H_L);
-    // Directions taken at slightly different points (as the filter carries them).
-    EstimatedPose moved = pose;
-    moved.p_BinN += Eigen::Vector3d(0.3, -0.2, 0.0);
-    const Eigen::VectorXd u_v = vehicle_model::yawDirection(moved, 15);
-    const Eigen::Vector3d u_L = yawDirectionOfPoint(p_L + Eigen::Vector3d(-0.4, 0.1, 0.0));
-    const double before = (H_v * u_v.head<9>() + H_L * u_L).norm();
+  for (bool error_state : {false, true}) {
+    ConstrainedObservation o = observationAt(x, Eigen::Vector3d(13.0, -6.0, 0.5), error_state);
+    const double before = (o.H_v * o.u_v.head<9>() + o.H_L * o.u_L).norm();
     EXPECT_GT(before, 1.0);  // the unconstrained Jacobian "sees" this yaw direction
-    StereoCamera::Matrix4x9d H_v0 = H_v;
-    constrainStereoJacobian(u_v, u_L, 1.0, &H_v, &H_L);
-    EXPECT_LT((H_v * u_v.head<9>() + H_L * u_L).norm(), 1e-9);
-    EXPECT_LT((H_v.leftCols<3>() + H_L).norm(), 1e-9);  // translation
+    const StereoCamera::Matrix4x9d H_v0 = o.H_v;
+    constrainStereoJacobian(o.u_v, o.u_L, 1.0, &o.H_v, &o.H_L);
+    EXPECT_LT((o.H_v * o.u_v.head<9>() + o.H_L * o.u_L).norm(), 1e-9);
+    EXPECT_LT((o.H_v.leftCols<3>() + o.H_L).norm(), 1e-9);  // translation
     // The change is small next to the Jacobian itself (a projection, not a new model).
-    EXPECT_LT((H_v - H_v0).norm(), 0.1 * H_v0.norm());
+    EXPECT_LT((o.H_v - H_v0).norm(), 0.1 * H_v0.norm());
   }
 }
 
 TEST(ObservabilityConstraint, RangeWeightedProjectionMovesTheChangeToTheAttitude) {
-  StereoCamera camera{StereoCameraOptions{}};
   Eigen::Matrix<double, 9, 1> x;
   x << 140.0, -70.0, -10.0, 3.0, 0.2, 0.0, 0.05, -0.03, 0.8;  // far from the origin
   const Eigen::Vector3d p_L(141.0, -69.0, 0.5);
-  const EstimatedPose euler_pose = EstimatedPose::fromEuler(x);
-  EstimatedPose error_pose = euler_pose;
-  error_pose.attitude = vehicle::Attitude::kErrorState;
-  for (const EstimatedPose& pose : {euler_pose, error_pose}) {
-    StereoCamera::Matrix4x9d H_v0;
-    StereoCamera::Matrix4x3d H_L0;
-    camera.project(pose, p_L, &H_v0, &H_L0);
-    EstimatedPose moved = pose;
-    moved.p_BinN += Eigen::Vector3d(0.3, -0.2, 0.0);
-    const Eigen::VectorXd u_v = vehicle_model::yawDirection(moved, 15);
-    const Eigen::Vector3d u_L = yawDirectionOfPoint(p_L + Eigen::Vector3d(-0.4, 0.1, 0.0));
-    ASSERT_GT((H_v0 * u_v.head<9>() + H_L0 * u_L).norm(), 1.0);
+  for (bool error_state : {false, true}) {
+    const ConstrainedObservation o0 = observationAt(x, p_L, error_state);
+    ASSERT_GT((o0.H_v * o0.u_v.head<9>() + o0.H_L * o0.u_L).norm(), 1.0);
     // Share of the change on the position and landmark columns, per lever arm.
     auto positionShare = [&](double lever) {
-      StereoCamera::Matrix4x9d H_v = H_v0;
-      StereoCamera::Matrix4x3d H_L = H_L0;
-      constrainStereoJacobian(u_v, u_L, lever, &H_v, &H_L);
-      EXPECT_LT((H_v * u_v.head<9>() + H_L * u_L).norm(), 1e-9) << lever;  // yaw
-      EXPECT_LT((H_v.leftCols<3>() + H_L).norm(), 1e-9) << lever;          // translation
+      ConstrainedObservation o = o0;
+      constrainStereoJacobian(o.u_v, o.u_L, lever, &o.H_v, &o.H_L);
+      EXPECT_LT((o.H_v * o.u_v.head<9>() + o.H_L * o.u_L).norm(), 1e-9) << lever;  // yaw
+      EXPECT_LT((o.H_v.leftCols<3>() + o.H_L).norm(), 1e-9) << lever;              // translation
       // A Jacobian that satisfies the constraint is left alone.
-      StereoCamera::Matrix4x9d H_v1 = H_v;
-      StereoCamera::Matrix4x3d H_L1 = H_L;
-      constrainStereoJacobian(u_v, u_L, lever, &H_v1, &H_L1);
-      EXPECT_LT((H_v1 - H_v).norm() + (H_L1 - H_L).norm(), 1e-9) << lever;
-      const double position = (H_v.leftCols<3>() - H_v0.leftCols<3>()).norm() + (H_L - H_L0).norm();
+      ConstrainedObservation again = o;
+      constrainStereoJacobian(o.u_v, o.u_L, lever, &again.H_v, &again.H_L);
+      EXPECT_LT((again.H_v - o.H_v).norm() + (again.H_L - o.H_L).norm(), 1e-9) << lever;
+      const double position =
+          (o.H_v.leftCols<3>() - o0.H_v.leftCols<3>()).norm() + (o.H_L - o0.H_L).norm();
       const double attitude =
-          (H_v.middleCols<3>(vehicle::kAttitude) - H_v0.middleCols<3>(vehicle::kAttitude)).norm();
+          (o.H_v.middleCols<3>(vehicle::kAttitude) - o0.H_v.middleCols<3>(vehicle::kAttitude))
+              .norm();
       return position / (position + attitude);
     };
     // Weighted by the landmark's range (≈ 10 m), the change moves from the position columns
     // (unweighted: |e3 × p| ≈ 150 m here pulls it there) to the attitude columns.
     const double unweighted = positionShare(1.0);
-    const double weighted = positionShare((p_L - pose.p_BinN).norm());
+    const double weighted = positionShare((p_L - x.head<3>()).norm());
     std::cout << "position share of the change: unweighted " << unweighted << ", weighted "
               << weighted << "\n";
     EXPECT_LT(weighted, 0.1 * unweighted);
