@@ -13,6 +13,7 @@
 #include "cvslam/filter/vehicle_model.h"
 #include "cvslam/geometry/euler.h"
 #include "cvslam/geometry/so3.h"
+#include "cvslam/io/config_node.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/observability_constraint.h"
@@ -96,6 +97,20 @@ TEST(ObservabilityConstraint, RangeWeightedProjectionMovesTheChangeToTheAttitude
               << weighted << "\n";
     EXPECT_LT(weighted, 0.1 * unweighted);
   }
+}
+
+TEST(ObservabilityConstraint, ProjectionOptionIsReadAndChecked) {
+  SlamOptions o;
+  EXPECT_EQ(o.oc_projection, SlamOptions::OcProjection::kRangeWeighted);
+  auto unweighted = ConfigNode::fromString("oc_projection: unweighted\n", "slam.yaml");
+  ASSERT_TRUE(unweighted.ok());
+  ASSERT_TRUE(o.load(*unweighted).ok());
+  EXPECT_EQ(o.oc_projection, SlamOptions::OcProjection::kUnweighted);
+  auto bad = ConfigNode::fromString("oc_projection: sideways\n", "slam.yaml");
+  ASSERT_TRUE(bad.ok());
+  const Status s = SlamOptions().load(*bad);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("oc_projection"), std::string::npos) << s.message();
 }
 
 /// u_v is the derivative of the state coordinates under a global yaw α about N's z:

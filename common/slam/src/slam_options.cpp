@@ -1,7 +1,5 @@
 #include "cvslam/slam/slam_options.h"
 
-#include <string>
-
 #include "cvslam/io/config_node.h"
 
 namespace cvslam {
@@ -17,13 +15,9 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.check(reactivation_min_age_s >= 0.0, "reactivation_min_age_s", "must be ≥ 0");
   node.get("first_estimate_jacobians", first_estimate_jacobians);
   node.get("observability_constrained", observability_constrained);
-  std::string projection =
-      oc_projection == OcProjection::kUnweighted ? "unweighted" : "range_weighted";
-  node.get("oc_projection", projection);
-  node.check(projection == "range_weighted" || projection == "unweighted", "oc_projection",
-             "must be range_weighted or unweighted");
-  oc_projection =
-      projection == "unweighted" ? OcProjection::kUnweighted : OcProjection::kRangeWeighted;
+  node.getEnum("oc_projection", oc_projection,
+               {{"range_weighted", OcProjection::kRangeWeighted},
+                {"unweighted", OcProjection::kUnweighted}});
   node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
   node.get("loop_closure_max_residual_m", loop_closure_max_residual_m);
   node.get("loop_closure_passes", loop_closure_passes);
