@@ -307,6 +307,33 @@ TEST(CcTeamFilter, VehiclesComeAndGoTheMapStays) {
   EXPECT_FALSE(gs.removeVehicle(1).ok());
 }
 
+TEST(CcTeamFilter, LocalIdsMapOnlyWhatTheAgentMapped) {
+  // Image sensing (cc.association: local_ids): a batch carries every stereo match, most
+  // without an agent landmark id. Only the agent's landmarks enter the joint map, under one
+  // joint id per agent id, so that the agent's re-observations are type 1.
+  coop::CcTeamFilterOptions o = defaultOptions();
+  o.association = coop::CcAssociation::kLocalIds;
+  coop::CcTeamFilter gs(o);
+  const int n = InsPropagator(o.slam.ins).stateSize();
+  ASSERT_TRUE(gs.addVehicle(1, StereoCamera(StereoCameraOptions{}), 0, Eigen::VectorXd::Zero(n),
+                            Eigen::MatrixXd::Identity(n, n) * 0.01)
+                  .ok());
+  for (int64_t t = 100000; t <= 300000; t += 100000) {
+    coop::CcObservationBatch b = restBatch(1, t);  // agent landmark 7
+    StereoObservation anonymous = b.frame.observations[0];
+    anonymous.landmark_id = -1;
+    anonymous.index = 9;
+    anonymous.z = Eigen::Vector4d(200, 100, 185, 100);
+    b.frame.observations.push_back(anonymous);
+    coop::CcStepReport report;
+    ASSERT_TRUE(gs.processBatch(b, &report).ok()) << report.reason;
+    EXPECT_EQ(report.type1 + report.type3, 1) << "the anonymous match is not an observation";
+    EXPECT_EQ(report.type1, t == 100000 ? 0 : 1);
+  }
+  ASSERT_EQ(gs.map().size(), 1u);
+  EXPECT_TRUE(gs.map()[0].in_state);
+}
+
 TEST(CcBatchBuilder, BatchHoldsTheImuSinceThePreviousFrame) {
   coop::CcBatchBuilder b(3);
   for (int64_t t : {0, 5000, 10000, 15000}) {

@@ -184,9 +184,18 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
   types.assign(frame.observations.size(), 3);
   meet.clear();
   std::vector<int64_t> used;
+  std::vector<std::size_t> anonymous;
   for (std::size_t i = 0; i < frame.observations.size(); ++i) {
     StereoObservation& obs = frame.observations[i];
-    if (o.association == CcAssociation::kLocalIds && obs.landmark_id >= 0) {
+    if (o.association == CcAssociation::kLocalIds && obs.landmark_id < 0) {
+      // A stereo match the agent did not map: a landmark made of it would carry no agent id,
+      // so the agent's later observations of that feature (under the id it gives it when it
+      // maps it) could never be associated to it. The agent's own map decides what becomes a
+      // landmark (its confirmation across frames included); the joint map follows it.
+      anonymous.push_back(i);
+      continue;
+    }
+    if (o.association == CcAssociation::kLocalIds) {
       obs.landmark_id = jointOf(v, obs, o, used);
       used.push_back(obs.landmark_id);
     }
@@ -222,6 +231,10 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
     v.book.add(id, std::move(copy));
   }
   std::sort(meet.begin(), meet.end());
+  for (auto it = anonymous.rbegin(); it != anonymous.rend(); ++it) {
+    frame.observations.erase(frame.observations.begin() + static_cast<std::ptrdiff_t>(*it));
+    types.erase(types.begin() + static_cast<std::ptrdiff_t>(*it));
+  }
 }
 
 void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, double reactivation_min_age_s,
