@@ -3,16 +3,16 @@
 // calibration an agent process reads (scenario or EuRoC folder) starts it the same way.
 #include <gtest/gtest.h>
 
-#include "cvslam/io/config_node.h"
 #include "cvslam/dataset/euroc_sensor_yaml.h"
+#include "cvslam/io/config_node.h"
 #include "cvslam/io/json_file.h"
 #include "cvslam/io/run_reader.h"
 #include "cvslam/sensors/sensor_event_orderer.h"
-#include "cvslam/slam/agent_calibration.h"
 #include "cvslam/simrun/scenario_calibration.h"
+#include "cvslam/simrun/simulated_team_run.h"
+#include "cvslam/slam/agent_calibration.h"
 #include "cvslam/slam/agent_pipeline.h"
 #include "cvslam/slam/agent_run_recorder.h"
-#include "cvslam/simrun/simulated_team_run.h"
 #include "euroc_test_folder.h"
 #include "replay/small_scenario.h"
 
@@ -126,8 +126,8 @@ TEST(AgentCalibration, EurocFolderGivesTheRectifiedCameraAndImuNoise) {
   ASSERT_TRUE(m.ok()) << m.status().message();
   const StereoCameraOptions& mo = m->camera.options();
   EXPECT_TRUE(mo.R_BtoC.isApprox(StereoCameraOptions().R_BtoC * R_ItoB, 1e-12));
-  EXPECT_TRUE(mo.p_CinB.isApprox(R_ItoB.transpose() * (Eigen::Vector3d(0.1, 0.0, 0.05) - p_IinB),
-                                 1e-12));
+  EXPECT_TRUE(
+      mo.p_CinB.isApprox(R_ItoB.transpose() * (Eigen::Vector3d(0.1, 0.0, 0.05) - p_IinB), 1e-12));
   EXPECT_NEAR(mo.baseline, 0.25, 1e-12);
   std::ofstream(mav0 + "/imu0/sensor.yaml") << formatEurocImuYaml(imu);
 

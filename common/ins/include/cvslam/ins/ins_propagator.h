@@ -9,8 +9,8 @@
 //   ė   = E(φ, θ) ω                           (eq. 2.4; `attitude: euler`)
 //   δθ̇  = J_r(δθ)⁻¹ ω,  R_BtoN = R̂ Exp(δθ)    (`attitude: error_state`, so3.h)
 //   ḃ_a = n_ba,  ḃ_g = n_bg                   (random walks, beyond the thesis)
-// Error state (`attitude: error_state`, docs/filter.md): each step integrates in the chart around the
-// nominal R̂ at its start (the rotation written as δθ, RK4 on the chart, which is the
+// Error state (`attitude: error_state`, docs/filter.md): each step integrates in the chart around
+// the nominal R̂ at its start (the rotation written as δθ, RK4 on the chart, which is the
 // quaternion's RK4 up to the chart's own terms), then folds δθ₁ into the nominal,
 // R̂₁ = R̂ Exp(δθ₁), δθ = 0. F and G are the exact Jacobians of that map in the error
 // coordinates, x₀⊞δ ↦ step(x₀⊞δ)⊟step(x₀): the chart step's, times J_r(δθ₁) on the attitude
