@@ -68,6 +68,26 @@ inline long ownFrames(const std::string& coop_csv) {
   }
 }
 
+/// cvslam_agent's command line for one UAV of `scenario` on `url`, recording into `out`,
+/// exiting 3 s after the sensors fall silent.
+inline std::vector<std::string> agentArgs(int id, const std::string& scenario,
+                                          const std::string& url, const std::string& out,
+                                          const std::string& mode = "single") {
+  return {CVSLAM_AGENT_EXE,
+          "--id",
+          std::to_string(id),
+          "--scenario",
+          scenario,
+          "--mode",
+          mode,
+          "--lcm-url",
+          url,
+          "--out",
+          out,
+          "--idle-exit",
+          "3"};
+}
+
 inline std::string agentUrl(int port) {
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
 }

@@ -18,23 +18,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::vector<std::string> agentArgs(int id, const std::string& scenario, const std::string& url,
-                                   const std::string& out, const std::string& mode = "single") {
-  return {CVSLAM_AGENT_EXE,
-          "--id",
-          std::to_string(id),
-          "--scenario",
-          scenario,
-          "--mode",
-          mode,
-          "--lcm-url",
-          url,
-          "--out",
-          out,
-          "--idle-exit",
-          "3"};
-}
-
 bool validRecord(const std::string& run, int id, std::size_t min_poses) {
   const std::string dir = run + "/agent_" + std::to_string(id);
   const std::size_t poses = test::poseCount(dir + "/trajectory.tum");
@@ -52,8 +35,8 @@ TEST(AgentProcess, LockstepReproducesCvslamRun) {
             0)
       << err;
   const std::string url = test::agentUrl(27800);
-  test::Child a1(agentArgs(1, scenario, url, tmp / "lcm"), tmp / "a1");
-  test::Child a2(agentArgs(2, scenario, url, tmp / "lcm"), tmp / "a2");
+  test::Child a1(test::agentArgs(1, scenario, url, tmp / "lcm"), tmp / "a1");
+  test::Child a2(test::agentArgs(2, scenario, url, tmp / "lcm"), tmp / "a2");
   test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features",
                       "--lockstep", "--lockstep-timeout", "20", "--lcm-url", url, "--quiet"},
                      tmp / "replay");
@@ -98,9 +81,9 @@ TEST(AgentProcess, PeersSurviveAKilledAgentWhichRejoins) {
   test::SummaryListener listener(url);
   ASSERT_TRUE(listener.ok());
   // DC mode: the survivor also cooperates with the peer before and after its restart.
-  test::Child a1(agentArgs(1, scenario, url, tmp / "lcm", "dc"), tmp / "a1");
-  auto a2 =
-      std::make_unique<test::Child>(agentArgs(2, scenario, url, tmp / "lcm", "dc"), tmp / "a2");
+  test::Child a1(test::agentArgs(1, scenario, url, tmp / "lcm", "dc"), tmp / "a1");
+  auto a2 = std::make_unique<test::Child>(test::agentArgs(2, scenario, url, tmp / "lcm", "dc"),
+                                          tmp / "a2");
   std::this_thread::sleep_for(500ms);  // subscribed
   test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--rate",
                       "4", "--lcm-url", url, "--quiet"},
@@ -110,7 +93,7 @@ TEST(AgentProcess, PeersSurviveAKilledAgentWhichRejoins) {
   kill(a2->pid(), SIGKILL);  // no chance to clean up
   a2.reset();
   std::this_thread::sleep_for(500ms);
-  test::Child a2b(agentArgs(2, scenario, url, tmp / "lcm2", "dc"), tmp / "a2b");
+  test::Child a2b(test::agentArgs(2, scenario, url, tmp / "lcm2", "dc"), tmp / "a2b");
   EXPECT_EQ(replay.wait(60s), 0) << replay.err();
   EXPECT_EQ(a1.wait(30s), 0) << a1.err();
   EXPECT_EQ(a2b.wait(30s), 0) << a2b.err();
@@ -136,7 +119,7 @@ TEST(AgentProcess, FloodOfJunkIsCountedNotFatal) {
   const std::string url = test::agentUrl(27802);
   test::SummaryListener listener(url);
   // DC mode: the agent listens on the cooperation channels too.
-  test::Child a1(agentArgs(1, scenario, url, tmp / "lcm", "dc"), tmp / "a1");
+  test::Child a1(test::agentArgs(1, scenario, url, tmp / "lcm", "dc"), tmp / "a1");
   std::this_thread::sleep_for(500ms);
   test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--rate",
                       "4", "--lcm-url", url, "--quiet"},

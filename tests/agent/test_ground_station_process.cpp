@@ -25,23 +25,6 @@ namespace {
 using namespace std::chrono_literals;
 using test::slurp;
 
-std::vector<std::string> ccAgent(int id, const std::string& scenario, const std::string& url,
-                                 const std::string& out) {
-  return {CVSLAM_AGENT_EXE,
-          "--id",
-          std::to_string(id),
-          "--scenario",
-          scenario,
-          "--mode",
-          "cc",
-          "--lcm-url",
-          url,
-          "--out",
-          out,
-          "--idle-exit",
-          "3"};
-}
-
 std::vector<std::string> groundStation(const std::string& scenario, const std::string& url,
                                        const std::string& out) {
   return {CVSLAM_GS_EXE, "--agents", "1,2", "--scenario",  scenario, "--lcm-url",
@@ -113,7 +96,7 @@ TEST(GroundStationProcess, LockstepReproducesCvslamRunCc) {
   std::vector<std::unique_ptr<test::Child>> agents;
   for (int id : {1, 2}) {
     // A generous wait: under CI load the estimate must still come for every frame.
-    auto args = ccAgent(id, scenario, url, tmp / "lcm");
+    auto args = test::agentArgs(id, scenario, url, tmp / "lcm", "cc");
     args.insert(args.end(), {"--gs-wait", "10"});
     agents.push_back(std::make_unique<test::Child>(args, tmp / ("a" + std::to_string(id))));
   }
@@ -158,8 +141,8 @@ TEST(GroundStationProcess, AgentsGoOnWithoutTheGroundStationWhichTakesOverAfterI
   StatusListener status(url);
   ASSERT_TRUE(status.ok());
   auto gs = std::make_unique<test::Child>(groundStation(scenario, url, tmp / "gs1"), tmp / "gs1");
-  test::Child a1(ccAgent(1, scenario, url, tmp / "lcm"), tmp / "a1");
-  test::Child a2(ccAgent(2, scenario, url, tmp / "lcm"), tmp / "a2");
+  test::Child a1(test::agentArgs(1, scenario, url, tmp / "lcm", "cc"), tmp / "a1");
+  test::Child a2(test::agentArgs(2, scenario, url, tmp / "lcm", "cc"), tmp / "a2");
   auto replay = replayWhenAllListen(status, scenario, url, tmp / "replay");
   ASSERT_TRUE(replay) << status.last(0);
   ASSERT_TRUE(status.waitFor(1, "gs: fresh", 20s)) << status.last(1);
@@ -227,8 +210,9 @@ TEST(GroundStationProcess, AKilledAgentIsDroppedAndRejoinsWhenRestarted) {
   StatusListener status(url);
   ASSERT_TRUE(status.ok());
   test::Child gs(groundStation(scenario, url, tmp / "lcm"), tmp / "gs");
-  test::Child a1(ccAgent(1, scenario, url, tmp / "lcm"), tmp / "a1");
-  auto a2 = std::make_unique<test::Child>(ccAgent(2, scenario, url, tmp / "lcm"), tmp / "a2");
+  test::Child a1(test::agentArgs(1, scenario, url, tmp / "lcm", "cc"), tmp / "a1");
+  auto a2 = std::make_unique<test::Child>(test::agentArgs(2, scenario, url, tmp / "lcm", "cc"),
+                                          tmp / "a2");
   auto replay = replayWhenAllListen(status, scenario, url, tmp / "replay");
   ASSERT_TRUE(replay) << status.last(0);
   ASSERT_TRUE(status.waitFor(0, "vehicles 1,2", 20s)) << status.last(0);
@@ -237,7 +221,7 @@ TEST(GroundStationProcess, AKilledAgentIsDroppedAndRejoinsWhenRestarted) {
   a2.reset();
   // The ground station drops UAV2 after its timeout and goes on with UAV1.
   ASSERT_TRUE(status.waitFor(0, "vehicles 1;", 20s)) << status.last(0);
-  test::Child a2b(ccAgent(2, scenario, url, tmp / "lcm2"), tmp / "a2b");
+  test::Child a2b(test::agentArgs(2, scenario, url, tmp / "lcm2", "cc"), tmp / "a2b");
   // Restarted, it starts at the ground truth of the moment; the ground station starts its
   // vehicle from the agent's first POSE and serves it again.
   EXPECT_TRUE(status.waitFor(0, "vehicles 1,2", 20s)) << status.last(0);
