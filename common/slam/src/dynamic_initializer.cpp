@@ -11,21 +11,11 @@
 #include <string>
 
 #include "cvslam/geometry/euler.h"
+#include "cvslam/geometry/so3.h"
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/io/config_node.h"
 
 namespace cvslam {
-
-namespace {
-
-// Rotation Exp(ω dt) of a constant rate.
-Eigen::Matrix3d expRotation(const Eigen::Vector3d& phi) {
-  const double angle = phi.norm();
-  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(angle, phi / angle).toRotationMatrix();
-}
-
-}  // namespace
 
 Status DynamicInitializerOptions::load(const ConfigNode& node) {
   node.get("window_s", window_s);
@@ -210,7 +200,7 @@ Eigen::Matrix3d DynamicInitializer::integrateRotation(int64_t t0, int64_t t1,
   Eigen::Matrix3d dR = Eigen::Matrix3d::Identity();
   for (std::size_t i = 0; i + 1 < s.size(); ++i) {
     const double dt = 1e-6 * static_cast<double>(s[i + 1].t_us - s[i].t_us);
-    dR = dR * expRotation((0.5 * (s[i].gyro_B + s[i + 1].gyro_B) - gyro_bias) * dt);
+    dR = dR * so3::exp<double>((0.5 * (s[i].gyro_B + s[i + 1].gyro_B) - gyro_bias) * dt);
   }
   return dR;
 }
@@ -224,7 +214,7 @@ void DynamicInitializer::preintegrate(int64_t t0, int64_t t1, const Eigen::Vecto
   for (std::size_t i = 0; i + 1 < s.size(); ++i) {
     const double dt = 1e-6 * static_cast<double>(s[i + 1].t_us - s[i].t_us);
     const Eigen::Matrix3d dR1 =
-        dR * expRotation((0.5 * (s[i].gyro_B + s[i + 1].gyro_B) - gyro_bias) * dt);
+        dR * so3::exp<double>((0.5 * (s[i].gyro_B + s[i + 1].gyro_B) - gyro_bias) * dt);
     const Eigen::Vector3d a = 0.5 * (dR * s[i].accel_B + dR1 * s[i + 1].accel_B);  // midpoint
     *alpha += *beta * dt + 0.5 * a * dt * dt;
     *beta += a * dt;
