@@ -21,7 +21,7 @@ using AllMessageTypes =
                      cvslam::pose_t, cvslam::agent_state_t, cvslam::agent_summary_t,
                      cvslam::feature_index_t, cvslam::shared_request_t, cvslam::shared_landmarks_t,
                      cvslam::observation_batch_t, cvslam::gs_state_t, cvslam::map_t,
-                     cvslam::status_t>;
+                     cvslam::agent_map_t, cvslam::status_t>;
 
 /// Names typed tests after the message type (CodecTest/imu_t.…) instead of an index.
 struct TypeNames {
@@ -156,6 +156,15 @@ inline void fill(cvslam::map_t& m) {
     m.covariance.push_back({0.5, 0.0, 0.0, 0.5, 0.0, 0.5});
   }
 }
+inline void fill(cvslam::agent_map_t& m) {
+  setHeader(m.header, 12500);
+  for (int i = 0; i < 5; ++i) {
+    m.id.push_back(100 + i);
+    m.position.push_back({1.0f * i, 2.0f, -3.0f});
+    m.position_std.push_back(0.1f * (i + 1));
+    m.active.push_back(i % 2 == 0);
+  }
+}
 inline void fill(cvslam::status_t& m) {
   setHeader(m.header, 13000);
   m.processed_utime = 12950;
@@ -223,6 +232,9 @@ inline CountField firstCount(const cvslam::gs_state_t*) {
 inline CountField firstCount(const cvslam::map_t*) {
   return {36, 6};
 }
+inline CountField firstCount(const cvslam::agent_map_t*) {
+  return {28, 5};
+}
 inline CountField firstCount(const cvslam::status_t*) {
   return {37, 16};
 }  // string length
@@ -276,6 +288,9 @@ inline void poison(cvslam::gs_state_t& m) {
 }
 inline void poison(cvslam::map_t& m) {
   m.covariance[5][5] = std::nan("");
+}
+inline void poison(cvslam::agent_map_t& m) {
+  m.position_std[2] = -1.0f;
 }
 inline void poison(cvslam::status_t& m) {
   m.health = 17;

@@ -41,6 +41,7 @@ Status AgentNodeOptions::load(const ConfigNode& node) {
   node.get("status_period_s", status_period_s);
   node.get("summary_period_s", summary_period_s);
   node.get("flush_period_s", flush_period_s);
+  node.get("map_period_s", map_period_s);
   node.get("max_wait_s", max_wait_s);
   int imu = static_cast<int>(imu_queue), frames = static_cast<int>(frame_queue);
   node.get("imu_queue", imu);
@@ -48,6 +49,7 @@ Status AgentNodeOptions::load(const ConfigNode& node) {
   node.check(status_period_s > 0.0, "status_period_s", "must be > 0");
   node.check(summary_period_s > 0.0, "summary_period_s", "must be > 0");
   node.check(flush_period_s > 0.0, "flush_period_s", "must be > 0");
+  node.check(map_period_s >= 0.0, "map_period_s", "must be >= 0 (0: never)");
   node.check(max_wait_s > 0.0, "max_wait_s", "must be > 0");
   node.check(imu > 0, "imu_queue", "must be > 0");
   node.check(frames > 0, "frame_queue", "must be > 0");
@@ -331,6 +333,13 @@ Status AgentNode::afterFrame(double arrival_s) {
   pose.num_landmarks = frame.report.landmarks_in_state;
   pose.num_archived = static_cast<int32_t>(slam.archive().size());
   if (Status s = bus_->publish(channels::pose(o_.id), pose); !s.ok()) return s;
+  if (o_.map_period_s > 0.0 &&
+      (last_map_us_ < 0 || frame.t_us - last_map_us_ >= std::llround(o_.map_period_s * 1e6))) {
+    last_map_us_ = frame.t_us;
+    Expected<cvslam::agent_map_t> map = agentMapMessage(o_.id, frame.t_us, slam.map());
+    if (!map.ok()) return map.status();
+    if (Status s = bus_->publish(channels::agentMap(o_.id), *map); !s.ok()) return s;
+  }
   const double latency_ms = (now() - arrival_s) * 1e3;
   latencies_ms_.push_back(latency_ms);
   if (recorder_.isOpen()) {

@@ -1,5 +1,7 @@
 #include "cvslam/lcm/cc_convert.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "covariance_triangle.h"
@@ -126,6 +128,23 @@ VehicleEstimate fromMessage(const cvslam::gs_state_t& m) {
 
 VehicleEstimate estimateOf(const cvslam::agent_state_t& m) {
   return vehicleEstimate(m);
+}
+
+Expected<cvslam::agent_map_t> agentMapMessage(int agent_id, int64_t t_us,
+                                              const std::vector<MapLandmark>& map) {
+  cvslam::agent_map_t m{};
+  m.header.utime = t_us;
+  m.header.agent_id = agent_id;
+  m.id.reserve(map.size());
+  for (const MapLandmark& l : map) {
+    m.id.push_back(l.id);
+    m.position.push_back({static_cast<float>(l.p_LinN.x()), static_cast<float>(l.p_LinN.y()),
+                          static_cast<float>(l.p_LinN.z())});
+    m.position_std.push_back(
+        static_cast<float>(std::sqrt(std::max(0.0, l.covariance.trace() / 3.0))));
+    m.active.push_back(l.in_state);
+  }
+  return finalized(std::move(m));
 }
 
 Expected<cvslam::map_t> toMessage(const std::vector<MapLandmark>& map, int64_t t_us,

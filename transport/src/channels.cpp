@@ -9,11 +9,10 @@ namespace {
 
 constexpr const char* kAgentPrefix = "UAV";
 
-constexpr std::array<Stream, 13> kAllStreams = {
-    Stream::kImu,  Stream::kStereo,  Stream::kFeatures,  Stream::kGroundTruth,
-    Stream::kPose, Stream::kIndex,   Stream::kSharedReq, Stream::kShared,
-    Stream::kObs,  Stream::kGsState, Stream::kStatus,    Stream::kTeamSummary,
-    Stream::kGsMap};
+constexpr std::array<Stream, 14> kAllStreams = {
+    Stream::kImu,    Stream::kStereo,  Stream::kFeatures, Stream::kGroundTruth, Stream::kPose,
+    Stream::kIndex,  Stream::kSharedReq, Stream::kShared, Stream::kObs,        Stream::kGsState,
+    Stream::kStatus, Stream::kMap,     Stream::kTeamSummary, Stream::kGsMap};
 
 // Canonical decimal id: digits only, no leading zero (so every id has exactly one name).
 std::optional<int32_t> parseId(const std::string& text) {
@@ -68,6 +67,8 @@ const char* streamName(Stream stream) {
       return "GS_STATE";
     case Stream::kStatus:
       return "STATUS";
+    case Stream::kMap:
+      return "MAP";
     case Stream::kTeamSummary:
       return "SUMMARY";
     case Stream::kGsMap:
@@ -109,7 +110,8 @@ std::optional<ChannelId> parseChannel(const std::string& name) {
       if (name == channelName(stream)) return ChannelId{std::nullopt, stream};
       continue;
     }
-    if (head.rfind(kAgentPrefix, 0) != 0) return std::nullopt;
+    // Not `UAV…`: maybe a broadcast with the same suffix (GS/MAP beside UAV<id>/MAP).
+    if (head.rfind(kAgentPrefix, 0) != 0) continue;
     const auto id = parseId(head.substr(3));
     if (!id) return std::nullopt;
     return ChannelId{id, stream};

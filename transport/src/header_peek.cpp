@@ -17,6 +17,7 @@ std::pair<int64_t, const char*> entry() {
 // Every message type of lcmtypes/ (header_t itself is never sent alone).
 const std::vector<std::pair<int64_t, const char*>>& knownTypes() {
   static const std::vector<std::pair<int64_t, const char*>> types = {
+      entry<cvslam::agent_map_t>(),
       entry<cvslam::agent_state_t>(),
       entry<cvslam::agent_summary_t>(),
       entry<cvslam::feature_index_t>(),

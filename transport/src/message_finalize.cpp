@@ -93,6 +93,15 @@ Status finalize(cvslam::stereo_features_t& msg) {
       .status();
 }
 
+Status finalize(cvslam::agent_map_t& msg) {
+  return CountSetter()
+      .leading("id", msg.id, msg.num_landmarks)
+      .rows("position", msg.position, 3)
+      .same("position_std", msg.position_std)
+      .same("active", msg.active)
+      .status();
+}
+
 Status finalize(cvslam::agent_state_t& msg) {
   CountSetter c;
   c.leading("state", msg.state, msg.state_dim);

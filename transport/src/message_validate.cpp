@@ -143,6 +143,19 @@ Status validate(const cvslam::pose_t& msg) {
       .status();
 }
 
+Status validate(const cvslam::agent_map_t& msg) {
+  Checker c(msg.header);
+  c.count("id", msg.num_landmarks, msg.id)
+      .rows("position", msg.num_landmarks, msg.position, 3)
+      .count("position_std", msg.num_landmarks, msg.position_std)
+      .count("active", msg.num_landmarks, msg.active)
+      .finite("position", msg.position)
+      .finite("position_std", msg.position_std);
+  for (int64_t id : msg.id) c.require(id >= 0, "negative landmark id");
+  for (float s : msg.position_std) c.require(s >= 0.0f, "negative position_std");
+  return c.status();
+}
+
 Status validate(const cvslam::agent_state_t& msg) {
   Checker c(msg.header);
   c.require(msg.num_landmarks >= 0 && msg.num_archived >= 0, "negative landmark count");

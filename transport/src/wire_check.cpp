@@ -103,6 +103,13 @@ Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agen
   return r.finish();
 }
 
+Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agent_map_t*) {
+  WireReader r(body, size);
+  int32_t n = 0;
+  r.header().count(n).array(n, kI64 + 4 * kF32 + kI8);  // id, position, position_std, active
+  return r.finish();
+}
+
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agent_summary_t*) {
   WireReader r(body, size);
   int32_t n = 0;

@@ -40,6 +40,7 @@ struct AgentNodeOptions {
   double status_period_s = 0.2;     ///< STATUS heartbeat period (wall) [s]
   double summary_period_s = 1.0;    ///< single mode: SUMMARY period (dataset time) [s]
   double flush_period_s = 5.0;      ///< run record written every … (wall) [s]
+  double map_period_s = 1.0;        ///< UAV<id>/MAP (for displays) every … (dataset) [s]; 0: never
   double idle_exit_s = 0.0;         ///< exit after this long without sensor data (0: never) [s]
   double max_wait_s = 0.3;          ///< orderer: release a frame without IMU past it after [s]
   std::size_t imu_queue = 20000;    ///< inbound buffers (messages); full → dropped, counted
@@ -67,7 +68,7 @@ struct AgentNodeOptions {
   Cc cc;
   bool verbose = false;
 
-  /// agent.yaml section `agent:` (status_period_s, summary_period_s, flush_period_s,
+  /// agent.yaml section `agent:` (status_period_s, summary_period_s, flush_period_s, map_period_s,
   /// max_wait_s, imu_queue, frame_queue, initial: {position_sigma, velocity_sigma,
   /// attitude_sigma_deg}, start: known | rest | dynamic | auto, static_init: {window_s,
   /// segments, max_accel_mean_change, max_gyro_mean_change, max_gravity_error},
@@ -175,6 +176,7 @@ class AgentNode {
   // on its way (cvslam_replay publishes an instant's frame last), see publishStatus().
   bool frame_may_follow_ = false;
   int64_t last_summary_us_ = -1;
+  int64_t last_map_us_ = -1;
   double last_arrival_s_ = 0.0;  // wall time of the latest sensor message (inbox_mutex_)
   double start_s_ = 0.0;
   std::vector<double> latencies_ms_;

@@ -35,6 +35,11 @@ void setVehicleEstimate(Msg& msg, const Eigen::VectorXd& x_v, const Eigen::Matri
   msg.covariance_size = static_cast<int32_t>(msg.covariance.size());
 }
 
+/// An agent's map (active and archived landmarks) on UAV<id>/MAP, for displays: positions
+/// and one spread sqrt(trace(P_LL)/3) per landmark.
+Expected<cvslam::agent_map_t> agentMapMessage(int agent_id, int64_t t_us,
+                                              const std::vector<MapLandmark>& map);
+
 /// An agent's estimate on UAV<id>/POSE (num_landmarks, num_archived: 0 unless set after).
 cvslam::agent_state_t agentStateMessage(int agent_id, const std::string& filter, int64_t t_us,
                                         const Eigen::VectorXd& x_v, const Eigen::MatrixXd& P_v);

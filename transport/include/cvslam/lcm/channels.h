@@ -25,6 +25,7 @@ enum class Stream {
   kObs,          ///< UAV<id>/OBS         observation_batch_t
   kGsState,      ///< UAV<id>/GS_STATE    gs_state_t (directed to id)
   kStatus,       ///< UAV<id>/STATUS      status_t
+  kMap,          ///< UAV<id>/MAP         agent_map_t (the agent's landmarks, for displays)
   kTeamSummary,  ///< TEAM/SUMMARY        agent_summary_t (broadcast)
   kGsMap,        ///< GS/MAP              map_t (broadcast)
 };
@@ -98,6 +99,9 @@ inline std::string gsState(int32_t id) {
 }
 inline std::string status(int32_t id) {
   return channelName(Stream::kStatus, id);
+}
+inline std::string agentMap(int32_t id) {
+  return channelName(Stream::kMap, id);
 }
 inline std::string teamSummary() {
   return channelName(Stream::kTeamSummary);

@@ -14,6 +14,7 @@ Status finalize(cvslam::imu_t& msg);
 Status finalize(cvslam::stereo_image_t& msg);
 Status finalize(cvslam::stereo_features_t& msg);
 Status finalize(cvslam::pose_t& msg);
+Status finalize(cvslam::agent_map_t& msg);
 Status finalize(cvslam::agent_state_t& msg);
 Status finalize(cvslam::agent_summary_t& msg);
 Status finalize(cvslam::feature_index_t& msg);

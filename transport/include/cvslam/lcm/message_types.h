@@ -1,6 +1,7 @@
 #pragma once
 // All generated cvslam LCM message types (lcmtypes/*.lcm, docs/architecture.md) in one include.
 
+#include "cvslam/agent_map_t.hpp"
 #include "cvslam/agent_state_t.hpp"
 #include "cvslam/agent_summary_t.hpp"
 #include "cvslam/feature_index_t.hpp"

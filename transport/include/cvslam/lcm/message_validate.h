@@ -14,6 +14,7 @@ Status validate(const cvslam::imu_t& msg);
 Status validate(const cvslam::stereo_image_t& msg);
 Status validate(const cvslam::stereo_features_t& msg);
 Status validate(const cvslam::pose_t& msg);
+Status validate(const cvslam::agent_map_t& msg);
 Status validate(const cvslam::agent_state_t& msg);
 Status validate(const cvslam::agent_summary_t& msg);
 Status validate(const cvslam::feature_index_t& msg);

@@ -24,6 +24,7 @@ Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::imu_
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::stereo_image_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::stereo_features_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::pose_t*);
+Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agent_map_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agent_state_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agent_summary_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::feature_index_t*);
