@@ -1,6 +1,7 @@
 #include "view_http_server.h"
 
 #include <httplib.h>
+#include <sys/socket.h>
 
 #include <chrono>
 #include <thread>
@@ -27,6 +28,12 @@ ViewHttpServer::~ViewHttpServer() { stop(); }
 
 void ViewHttpServer::routes() {
   server_ = std::make_unique<httplib::Server>();
+  // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, with which a second viewer on
+  // the same port would bind too and take half the connections instead of failing.
+  server_->set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   const int workers = o_.max_clients + kSpareWorkers;
   server_->new_task_queue = [workers] {
     return new httplib::ThreadPool(static_cast<std::size_t>(workers));
