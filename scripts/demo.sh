@@ -6,7 +6,9 @@
 # (ATE single vs DC, cooperation bytes sent per second) and write plots.
 #
 #   scripts/demo.sh [--out DIR] [--detector orb|adaptive_sift|sift] [--sensing images|features]
-#                   [--duration S] [--build DIR] [--no-build]
+#                   [--duration S] [--build DIR] [--no-build] [--view [--view-port P]]
+#
+# --view: watch each run in a browser (cvslam_view; the URL is printed, default port 8088).
 #
 # Detector: adaptive SIFT (the image-sensing default, ≈ 2.5 min of runs on 2 idle cores). ORB
 # (--detector orb) is ≈ 3× faster and has its own feature-index vocabulary
@@ -16,15 +18,18 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 OUT="$ROOT/runs/demo" DETECTOR=adaptive_sift SENSING=images DURATION="" BUILD="$ROOT/build" DO_BUILD=true
 SCENARIO="$ROOT/config/scenarios/team3_aerial.yaml"
+VIEW_ARGS=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --out) OUT="$2"; shift 2 ;;
     --detector) DETECTOR="$2"; shift 2 ;;
     --sensing) SENSING="$2"; shift 2 ;;
     --duration) DURATION="$2"; shift 2 ;;
     --build) BUILD="$2"; shift 2 ;;
     --no-build) DO_BUILD=false; shift ;;
+    --view) VIEW_ARGS+=(--view); shift ;;
+    --view-port) VIEW_ARGS+=(--view-port "$2"); shift 2 ;;
     *) echo "demo.sh: unknown option '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -38,7 +43,7 @@ if $DO_BUILD && [ ! -f "$BUILD/CMakeCache.txt" ]; then
   command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
 fi
-$DO_BUILD && cmake --build "$BUILD" -j2 --target cvslam_agent cvslam_replay cvslam_eval >/dev/null
+$DO_BUILD && cmake --build "$BUILD" -j2 --target cvslam_agent cvslam_replay cvslam_eval cvslam_view >/dev/null
 
 extra=()
 [ -n "$DURATION" ] && extra+=(--duration "$DURATION")
@@ -51,7 +56,7 @@ for mode in dc single; do
   rm -rf "$OUT/$mode"
   start=$(date +%s)
   "$ROOT/scripts/launch.sh" --scenario "$SCENARIO" --mode "$mode" --sensing "$SENSING" \
-    --lockstep --lcm-url "$URL" --build "$BUILD" --out "$OUT/$mode" "${extra[@]}" "${agent_args[@]}"
+    --lockstep --lcm-url "$URL" --build "$BUILD" --out "$OUT/$mode" "${extra[@]}" "${agent_args[@]}" "${VIEW_ARGS[@]}"
   echo "   $(( $(date +%s) - start )) s"
   "$BUILD/tools/cvslam_eval" --run "$OUT/$mode" --summary-json "$OUT/$mode/summary.json" >/dev/null
 done

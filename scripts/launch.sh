@@ -25,13 +25,16 @@
 #   --duration S, --seed N passed to the replay (and, for scenarios, to the agents)
 #   --agent-arg ARG        extra argument for every agent (repeatable), e.g. --detector orb
 #   --gs-arg ARG           extra argument for the ground station (repeatable), e.g. --config F
+#   --view                 also start cvslam_view, the team in a browser page (its URL is
+#                          printed); it stops with the run: `cvslam_view --run DIR` shows it again
+#   --view-port P          cvslam_view's HTTP port (default 8088)
 set -uo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BUILD="$ROOT/build"
 OUT="" SCENARIO="" MODE=single SENSING=images PACING=(--lockstep) AGENTS=""
 URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16777216'
-CONFIG="" DURATION="" SEED="" WITH_GS=false
+CONFIG="" DURATION="" SEED="" WITH_GS=false WITH_VIEW=false VIEW_PORT=8088
 DATASETS=() AGENT_EXTRA=() GS_EXTRA=()
 
 die() { echo "launch.sh: $*" >&2; exit 2; }
@@ -54,6 +57,8 @@ while [ $# -gt 0 ]; do
     --seed) SEED="${2:?--seed needs a value}"; shift 2 ;;
     --agent-arg) AGENT_EXTRA+=("${2:?--agent-arg needs a value}"); shift 2 ;;
     --gs-arg) GS_EXTRA+=("${2:?--gs-arg needs a value}"); shift 2 ;;
+    --view) WITH_VIEW=true; shift ;;
+    --view-port) VIEW_PORT="${2:?--view-port needs a value}"; shift 2 ;;
     *) die "unknown option '$1' (try --help)" ;;
   esac
 done
@@ -64,8 +69,10 @@ case "$MODE" in single|dc) ;; cc) WITH_GS=true ;; *) die "--mode must be single,
 REPLAY="$BUILD/sensors_replay/cvslam_replay"
 AGENT="$BUILD/agent/cvslam_agent"
 GS="$BUILD/ground_station/cvslam_ground_station"
+VIEW="$BUILD/view/cvslam_view"
 for exe in "$REPLAY" "$AGENT"; do [ -x "$exe" ] || die "$exe not built (cmake --build build)"; done
 if $WITH_GS && [ ! -x "$GS" ]; then die "$GS not built (cmake --build build)"; fi
+if $WITH_VIEW && [ ! -x "$VIEW" ]; then die "$VIEW not built (cmake --build build)"; fi
 
 # Which UAVs: given, or the scenario's agent ids, or the datasets' ids.
 if [ -z "$AGENTS" ]; then
@@ -88,6 +95,14 @@ stop_all() {
   for pid in "${PIDS[@]}"; do kill -TERM "$pid" 2>/dev/null; done
 }
 trap 'echo "launch.sh: stopping"; stop_all' INT TERM
+
+# The viewer before anyone publishes, so the page shows the whole run.
+if $WITH_VIEW; then
+  start view "$VIEW" --lcm-url "$URL" --port "$VIEW_PORT" --quiet
+  sleep 0.3
+  kill -0 "${PIDS[-1]}" 2>/dev/null || die "cvslam_view did not start: $(tail -n 1 "$OUT/logs/view.err")"
+  echo "launch.sh: the team in a browser: http://127.0.0.1:$VIEW_PORT/ (after the run: $VIEW --run $OUT)"
+fi
 
 # The ground station first: in --rate runs it must be listening when the agents start and
 # publish their initial estimates (it would start them from a later POSE otherwise).
