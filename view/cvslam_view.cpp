@@ -51,7 +51,9 @@ options:
 )";
 
 std::atomic<bool> g_stop{false};
-void onSignal(int) { g_stop = true; }
+void onSignal(int) {
+  g_stop = true;
+}
 
 int fail(const std::string& message) {
   std::fprintf(stderr, "cvslam_view: %s\n", message.c_str());
@@ -130,8 +132,7 @@ int main(int argc, char** argv) {
     node = std::move(*created);
     cvslam::transport::ViewNode* n = node.get();
     web = std::make_unique<cvslam::view::ViewHttpServer>(
-        http, cvslam::view::kViewPage,
-        [n](cvslam::view::ViewCursor& c) { return n->delta(c); });
+        http, cvslam::view::kViewPage, [n](cvslam::view::ViewCursor& c) { return n->delta(c); });
   }
   if (Status s = web->bind(); !s.ok()) return fail(s.message());
   if (node) {
@@ -164,8 +165,7 @@ int main(int argc, char** argv) {
   if (node) node->stop();
   if (node)
     std::printf("cvslam_view: %lld messages, %lld malformed (dropped), %lld viewers, %lld events\n",
-                static_cast<long long>(node->messages()),
-                static_cast<long long>(node->malformed()),
+                static_cast<long long>(node->messages()), static_cast<long long>(node->malformed()),
                 static_cast<long long>(web->clientsServed()),
                 static_cast<long long>(web->eventsSent()));
   return 0;

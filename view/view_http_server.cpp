@@ -24,7 +24,9 @@ ViewHttpServer::ViewHttpServer(ViewHttpOptions options, std::string page, Json r
   routes();
 }
 
-ViewHttpServer::~ViewHttpServer() { stop(); }
+ViewHttpServer::~ViewHttpServer() {
+  stop();
+}
 
 void ViewHttpServer::routes() {
   server_ = std::make_unique<httplib::Server>();
@@ -76,8 +78,8 @@ void ViewHttpServer::routes() {
           const std::string event = "data: " + delta_(*cursor).dump() + "\n\n";
           if (!sink.write(event.data(), event.size())) return false;
           ++events_sent_;
-          const auto until = std::chrono::steady_clock::now() +
-                             std::chrono::duration<double>(o_.push_period_s);
+          const auto until =
+              std::chrono::steady_clock::now() + std::chrono::duration<double>(o_.push_period_s);
           while (!stopping_ && std::chrono::steady_clock::now() < until)
             std::this_thread::sleep_for(std::chrono::milliseconds(20));
           return !stopping_.load();
@@ -99,7 +101,9 @@ Status ViewHttpServer::bind() {
   return Status::Ok();
 }
 
-void ViewHttpServer::serve() { server_->listen_after_bind(); }
+void ViewHttpServer::serve() {
+  server_->listen_after_bind();
+}
 
 void ViewHttpServer::stop() {
   stopping_ = true;

@@ -42,7 +42,8 @@ TEST(TeamView, ClientsGetEachSampleOnceAndANewClientGetsEverything) {
   o.track_min_step_m = 0.5;
   TeamView view(o);
   // 0.1 m steps: one kept sample per 0.5 m (or per track_max_gap_s = 0.5 s of time).
-  for (int k = 0; k <= 20; ++k) view.addEstimate(estimate(1, 0.01 * k, Eigen::Vector3d(0.1 * k, 0, 0)), 0);
+  for (int k = 0; k <= 20; ++k)
+    view.addEstimate(estimate(1, 0.01 * k, Eigen::Vector3d(0.1 * k, 0, 0)), 0);
   ViewCursor a;
   Json d = view.delta(a, 0);
   EXPECT_TRUE(d["reset"].get<bool>());
@@ -107,9 +108,9 @@ TEST(TeamView, MemoryStaysBoundedAndClientsStartOverAfterThinning) {
   }
   const Json d = view.delta(c, 0);
   EXPECT_LE(d["agents"]["1"]["samples"].size(), 100u);
-  EXPECT_EQ(d["agents"]["1"]["samples_from"].get<int>(), 0);  // thinned: from the start
+  EXPECT_EQ(d["agents"]["1"]["samples_from"].get<int>(), 0);              // thinned: from the start
   EXPECT_EQ(d["agents"]["1"]["samples"].back()[1].get<double>(), 999.0);  // newest kept
-  EXPECT_EQ(d["links"].size(), 10u);  // the ten newest
+  EXPECT_EQ(d["links"].size(), 10u);                                      // the ten newest
 }
 
 TEST(TeamView, AgentsBeyondTheLimitAreCountedNotTracked) {

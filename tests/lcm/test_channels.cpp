@@ -25,9 +25,10 @@ TEST(Channels, BuildsTheDesignNames) {
 }
 
 TEST(Channels, EveryNameParsesBackAndIsPlain) {
-  const Stream all[] = {Stream::kImu,  Stream::kStereo,  Stream::kFeatures,  Stream::kGroundTruth,
-                        Stream::kPose, Stream::kIndex,   Stream::kSharedReq, Stream::kShared,
-                        Stream::kObs,  Stream::kGsState, Stream::kStatus,    Stream::kMap,
+  const Stream all[] = {Stream::kImu,         Stream::kStereo, Stream::kFeatures,
+                        Stream::kGroundTruth, Stream::kPose,   Stream::kIndex,
+                        Stream::kSharedReq,   Stream::kShared, Stream::kObs,
+                        Stream::kGsState,     Stream::kStatus, Stream::kMap,
                         Stream::kTeamSummary, Stream::kGsMap};
   for (Stream s : all) {
     for (int32_t id : {0, 1, 12, 2147483647}) {
@@ -48,8 +49,8 @@ TEST(Channels, EveryNameParsesBackAndIsPlain) {
 TEST(Channels, RejectsForeignAndNonCanonicalNames) {
   for (const char* bad :
        {"", "UAV/IMU", "UAV1", "UAV1/", "UAV1/imu", "UAV01/IMU", "UAV-1/IMU", "UAV+1/IMU",
-        "UAV1x/IMU", "uav1/IMU", "UAV1/IMU/X", "UAV1/SUMMARY", "TEAM/IMU", "TEAM/MAP", "GS1/MAP", "GS/SUMMARY",
-        "TEAM/SUMMARY2", "UAV2147483648/IMU", "UAV1/SHARED_REQX"}) {
+        "UAV1x/IMU", "uav1/IMU", "UAV1/IMU/X", "UAV1/SUMMARY", "TEAM/IMU", "TEAM/MAP", "GS1/MAP",
+        "GS/SUMMARY", "TEAM/SUMMARY2", "UAV2147483648/IMU", "UAV1/SHARED_REQX"}) {
     EXPECT_FALSE(parseChannel(bad).has_value()) << bad;
   }
 }

@@ -24,7 +24,9 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string team3() { return std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/team3_aerial.yaml"; }
+std::string team3() {
+  return std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/team3_aerial.yaml";
+}
 
 /// GET http://127.0.0.1:port/path (empty on failure).
 std::string httpGet(int port, const std::string& path) {
@@ -32,6 +34,15 @@ std::string httpGet(int port, const std::string& path) {
   c.set_read_timeout(5, 0);
   auto res = c.Get(path.c_str());
   return res && res->status == 200 ? res->body : std::string();
+}
+
+/// cvslam_view live on LCM `url`, HTTP `port`, logging to tmp/view.{out,err}.
+std::unique_ptr<test::Child> liveView(const test::TempFolder& tmp, const std::string& url,
+                                      int port) {
+  return std::make_unique<test::Child>(
+      std::vector<std::string>{CVSLAM_VIEW_EXE, "--lcm-url", url, "--port", std::to_string(port),
+                               "--quiet"},
+      tmp / "view");
 }
 
 /// Waits until the view answers on its port.
@@ -79,9 +90,8 @@ TEST(ViewProcess, ThreeUavLockstepTeamInHeadlessChromium) {
   test::TempFolder tmp;
   const std::string url = test::agentUrl(27850);
   const int http = 18150;
-  test::Child view({CVSLAM_VIEW_EXE, "--lcm-url", url, "--port", std::to_string(http), "--quiet"},
-                   tmp / "view");
-  ASSERT_TRUE(waitForView(http)) << view.err();
+  const auto view = liveView(tmp, url, http);
+  ASSERT_TRUE(waitForView(http)) << view->err();
   test::WebDriver browser(18151, tmp / "chromedriver");
   ASSERT_TRUE(browser.ok()) << browser.error();
   ASSERT_TRUE(browser.open("http://127.0.0.1:" + std::to_string(http) + "/"));
@@ -89,10 +99,10 @@ TEST(ViewProcess, ThreeUavLockstepTeamInHeadlessChromium) {
   for (int id : {1, 2, 3})
     agents.push_back(std::make_unique<test::Child>(
         test::agentArgs(id, team3(), url, tmp / "run", "dc"), tmp / ("a" + std::to_string(id))));
-  test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", team3(), "--sensing", "features",
-                      "--lockstep", "--lockstep-timeout", "20", "--duration", "20", "--lcm-url",
-                      url, "--quiet"},
-                     tmp / "replay");
+  test::Child replay(
+      {CVSLAM_REPLAY_EXE, "--scenario", team3(), "--sensing", "features", "--lockstep",
+       "--lockstep-timeout", "20", "--duration", "20", "--lcm-url", url, "--quiet"},
+      tmp / "replay");
   // While the team flies: every link the page draws, as it draws it.
   std::set<std::string> drawn;
   auto collect = [&] {
@@ -118,7 +128,8 @@ TEST(ViewProcess, ThreeUavLockstepTeamInHeadlessChromium) {
     const int id = std::stoi(entry.substr(0, entry.find(':')));
     const auto counts = split(entry.substr(entry.find(':') + 1), '/');
     ASSERT_EQ(counts.size(), 2u) << entry;
-    const std::size_t own = landmarkRows(tmp / ("run/agent_" + std::to_string(id) + "/landmarks.csv"));
+    const std::size_t own =
+        landmarkRows(tmp / ("run/agent_" + std::to_string(id) + "/landmarks.csv"));
     EXPECT_GT(own, 0u);
     EXPECT_EQ(std::stoul(counts[0]) + std::stoul(counts[1]), own) << "UAV" << id;
   }
@@ -142,9 +153,8 @@ TEST(ViewProcess, MalformedMessagesAreCountedAndIgnored) {
   test::TempFolder tmp;
   const std::string url = test::agentUrl(27851);
   const int http = 18152;
-  test::Child view({CVSLAM_VIEW_EXE, "--lcm-url", url, "--port", std::to_string(http), "--quiet"},
-                   tmp / "view");
-  ASSERT_TRUE(waitForView(http)) << view.err();
+  const auto view = liveView(tmp, url, http);
+  ASSERT_TRUE(waitForView(http)) << view->err();
   transport::BusOptions o;
   o.url = url;
   auto bus = transport::LcmBus::create(o);
@@ -196,9 +206,8 @@ TEST(ViewProcess, StalledAndClosedClientsDoNotHoldTheProcess) {
   test::TempFolder tmp;
   const std::string url = test::agentUrl(27852);
   const int http = 18153;
-  test::Child view({CVSLAM_VIEW_EXE, "--lcm-url", url, "--port", std::to_string(http), "--quiet"},
-                   tmp / "view");
-  ASSERT_TRUE(waitForView(http)) << view.err();
+  const auto view = liveView(tmp, url, http);
+  ASSERT_TRUE(waitForView(http)) << view->err();
   // A client that asks for the event stream and never reads, with a tiny receive buffer.
   const int stalled = ::socket(AF_INET, SOCK_STREAM, 0);
   const int small = 1024;
@@ -317,10 +326,8 @@ TEST(ViewProcess, FinishedRunFolderPlaysWithATimeSlider) {
 TEST(ViewProcess, BindsToLocalhostByDefault) {
   test::TempFolder tmp;
   const int http = 18154;
-  test::Child view({CVSLAM_VIEW_EXE, "--lcm-url", test::agentUrl(27853), "--port",
-                    std::to_string(http), "--quiet"},
-                   tmp / "view");
-  ASSERT_TRUE(waitForView(http)) << view.err();
+  const auto view = liveView(tmp, test::agentUrl(27853), http);
+  ASSERT_TRUE(waitForView(http)) << view->err();
   // /proc/net/tcp: the listening socket's local address is 127.0.0.1 (0100007F).
   std::ifstream tcp("/proc/net/tcp");
   char port_hex[8];
@@ -354,9 +361,9 @@ TEST(ViewProcess, BadCommandLinesGiveOneLineAndStatus2) {
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   }
   // A port already taken.
-  test::Child first({CVSLAM_VIEW_EXE, "--lcm-url", test::agentUrl(27854), "--port", "18155",
-                     "--quiet"},
-                    tmp / "first");
+  test::Child first(
+      {CVSLAM_VIEW_EXE, "--lcm-url", test::agentUrl(27854), "--port", "18155", "--quiet"},
+      tmp / "first");
   ASSERT_TRUE(waitForView(18155));
   std::string err;
   EXPECT_EQ(test::run({CVSLAM_VIEW_EXE, "--lcm-url", test::agentUrl(27854), "--port", "18155"},

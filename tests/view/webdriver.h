@@ -33,8 +33,8 @@ class WebDriver {
              {{"binary", "/usr/bin/chromium"},
               {"args",
                {"--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                "--disable-background-networking", "--disable-component-update",
-                "--disable-sync", "--disable-dev-shm-usage", "--hide-scrollbars",
+                "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                "--disable-dev-shm-usage", "--hide-scrollbars",
                 "--window-size=" + std::to_string(width) + "," + std::to_string(height)}}}}}}}}};
     const Json answer = post("/session", caps);
     if (answer.contains("value") && answer["value"].contains("sessionId"))
@@ -53,14 +53,15 @@ class WebDriver {
   }
   /// Runs `script` (a function body) in the page; its return value.
   Json execute(const std::string& script) {
-    const Json answer =
-        post("/session/" + session_ + "/execute/sync", {{"script", script}, {"args", Json::array()}});
+    const Json answer = post("/session/" + session_ + "/execute/sync",
+                             {{"script", script}, {"args", Json::array()}});
     return answer.contains("value") ? answer["value"] : Json();
   }
   /// The page's #report data attributes (view/web/index.html), as strings.
   Json report() {
     return execute(
-        "const r = document.getElementById('report'); return r ? Object.assign({}, r.dataset) : null;");
+        "const r = document.getElementById('report'); return r ? Object.assign({}, r.dataset) : "
+        "null;");
   }
   /// A PNG of the window, base64 as WebDriver gives it.
   std::string screenshotBase64() {
@@ -89,12 +90,18 @@ inline std::string base64Decode(const std::string& in) {
   int bits = 0, value = 0;
   for (char c : in) {
     int d;
-    if (c >= 'A' && c <= 'Z') d = c - 'A';
-    else if (c >= 'a' && c <= 'z') d = c - 'a' + 26;
-    else if (c >= '0' && c <= '9') d = c - '0' + 52;
-    else if (c == '+') d = 62;
-    else if (c == '/') d = 63;
-    else continue;
+    if (c >= 'A' && c <= 'Z')
+      d = c - 'A';
+    else if (c >= 'a' && c <= 'z')
+      d = c - 'a' + 26;
+    else if (c >= '0' && c <= '9')
+      d = c - '0' + 52;
+    else if (c == '+')
+      d = 62;
+    else if (c == '/')
+      d = 63;
+    else
+      continue;
     value = (value << 6) | d;
     bits += 6;
     if (bits >= 8) {

@@ -10,9 +10,10 @@ namespace {
 constexpr const char* kAgentPrefix = "UAV";
 
 constexpr std::array<Stream, 14> kAllStreams = {
-    Stream::kImu,    Stream::kStereo,  Stream::kFeatures, Stream::kGroundTruth, Stream::kPose,
-    Stream::kIndex,  Stream::kSharedReq, Stream::kShared, Stream::kObs,        Stream::kGsState,
-    Stream::kStatus, Stream::kMap,     Stream::kTeamSummary, Stream::kGsMap};
+    Stream::kImu,         Stream::kStereo,  Stream::kFeatures,  Stream::kGroundTruth,
+    Stream::kPose,        Stream::kIndex,   Stream::kSharedReq, Stream::kShared,
+    Stream::kObs,         Stream::kGsState, Stream::kStatus,    Stream::kMap,
+    Stream::kTeamSummary, Stream::kGsMap};
 
 // Canonical decimal id: digits only, no leading zero (so every id has exactly one name).
 std::optional<int32_t> parseId(const std::string& text) {
@@ -31,10 +32,14 @@ std::optional<int32_t> parseId(const std::string& text) {
 
 Stream channelStream(SensorEventType type) {
   switch (type) {
-    case SensorEventType::kImu: return Stream::kImu;
-    case SensorEventType::kGroundTruth: return Stream::kGroundTruth;
-    case SensorEventType::kStereoImage: return Stream::kStereo;
-    case SensorEventType::kFeatures: return Stream::kFeatures;
+    case SensorEventType::kImu:
+      return Stream::kImu;
+    case SensorEventType::kGroundTruth:
+      return Stream::kGroundTruth;
+    case SensorEventType::kStereoImage:
+      return Stream::kStereo;
+    case SensorEventType::kFeatures:
+      return Stream::kFeatures;
   }
   return Stream::kImu;  // unreachable: every enumerator is handled above
 }

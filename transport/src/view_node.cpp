@@ -9,7 +9,9 @@
 namespace cvslam::transport {
 namespace {
 
-double seconds(int64_t t_us) { return static_cast<double>(t_us) * 1e-6; }
+double seconds(int64_t t_us) {
+  return static_cast<double>(t_us) * 1e-6;
+}
 
 // The position block and heading of a vehicle state on the wire ([X Y Z U V W φ θ ψ ...],
 // row-major covariance; agent_state_t.lcm).
@@ -70,8 +72,7 @@ Expected<std::unique_ptr<ViewNode>> ViewNode::create(const ViewNodeOptions& opti
 }
 
 double ViewNode::now() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 template <typename Fn>
@@ -140,8 +141,7 @@ Status ViewNode::subscribe() {
           const double wall = now();
           locked([&] {
             view_.addTraffic(m.header.agent_id, bytes, wall);
-            view_.addLink(m.header.agent_id, j, seconds(m.header.utime),
-                          view::LinkKind::kRequest);
+            view_.addLink(m.header.agent_id, j, seconds(m.header.utime), view::LinkKind::kRequest);
           });
         });
     if (s.ok())
@@ -162,10 +162,11 @@ Status ViewNode::subscribe() {
                                               locked([&] { view_.addGroundStationEstimate(e); });
                                             });
     if (s.ok())
-      s = bus.subscribe<cvslam::pose_t>(channels::groundTruth(j), [this, j](const cvslam::pose_t& m) {
-        const Eigen::Vector3d p(m.position[0], m.position[1], m.position[2]);
-        locked([&] { view_.addTruth(j, seconds(m.header.utime), p); });
-      });
+      s = bus.subscribe<cvslam::pose_t>(
+          channels::groundTruth(j), [this, j](const cvslam::pose_t& m) {
+            const Eigen::Vector3d p(m.position[0], m.position[1], m.position[2]);
+            locked([&] { view_.addTruth(j, seconds(m.header.utime), p); });
+          });
     if (!o_.latency) continue;
     if (s.ok())
       s = bus.subscribe<cvslam::stereo_features_t>(
@@ -183,9 +184,13 @@ Status ViewNode::subscribe() {
   return s;
 }
 
-Status ViewNode::start() { return bus_->start(); }
+Status ViewNode::start() {
+  return bus_->start();
+}
 
-void ViewNode::stop() { bus_->stop(); }
+void ViewNode::stop() {
+  bus_->stop();
+}
 
 Json ViewNode::delta(view::ViewCursor& cursor) {
   const double wall = now();

@@ -109,7 +109,8 @@ Expected<Json> runViewJson(const std::string& run_dir, const TeamViewOptions& op
       t0 = std::min(t0, e.t);
       t1 = std::max(t1, e.t);
     }
-    for (; k < run->truth.size(); ++k) view.addTruth(id, run->truth[k].t, run->truth[k].x.head<3>());
+    for (; k < run->truth.size(); ++k)
+      view.addTruth(id, run->truth[k].t, run->truth[k].x.head<3>());
     std::vector<ViewLandmark> map = viewLandmarks(run->landmarks);
     // The final map's counts: landmarks.csv holds the active and the archived ones.
     const int active = estimates.empty() ? 0 : std::max(estimates.back().landmarks_active, 0);

@@ -12,14 +12,18 @@ namespace {
 // JSON numbers at the precision a display needs: positions to the millimetre, everything
 // else to four significant digits, so a delta stays small (nlohmann writes the shortest text
 // that reads back the same double).
-double mm(double x) { return std::round(x * 1e3) / 1e3; }
+double mm(double x) {
+  return std::round(x * 1e3) / 1e3;
+}
 double sig4(double x) {
   if (!std::isfinite(x) || x == 0.0) return x;
   char text[32];
   std::snprintf(text, sizeof text, "%.4g", x);
   return std::strtod(text, nullptr);
 }
-Json optional(const std::optional<double>& v) { return v ? Json(sig4(*v)) : Json(nullptr); }
+Json optional(const std::optional<double>& v) {
+  return v ? Json(sig4(*v)) : Json(nullptr);
+}
 
 Json landmarksJson(double t, const std::vector<ViewLandmark>& landmarks) {
   Json points = Json::array();
@@ -52,9 +56,12 @@ Status TeamViewOptions::load(const ConfigNode& node) {
 
 const char* linkKindName(LinkKind kind) {
   switch (kind) {
-    case LinkKind::kRequest: return "request";
-    case LinkKind::kLandmarks: return "landmarks";
-    case LinkKind::kObservations: return "observations";
+    case LinkKind::kRequest:
+      return "request";
+    case LinkKind::kLandmarks:
+      return "landmarks";
+    case LinkKind::kObservations:
+      return "observations";
   }
   return "";
 }
@@ -96,8 +103,17 @@ void TeamView::addEstimate(const ViewEstimate& e, double wall_s) {
   Agent* a = agent(e.agent_id);
   if (a == nullptr) return;
   latest_t_ = std::max(latest_t_, e.t);
-  Sample s{e.t, e.p, e.P(0, 0), e.P(0, 1), e.P(1, 1), std::sqrt(std::max(0.0, e.P.trace())),
-           e.yaw, std::nullopt, std::nullopt, std::nullopt, e.landmarks_active};
+  Sample s{e.t,
+           e.p,
+           e.P(0, 0),
+           e.P(0, 1),
+           e.P(1, 1),
+           std::sqrt(std::max(0.0, e.P.trace())),
+           e.yaw,
+           std::nullopt,
+           std::nullopt,
+           std::nullopt,
+           e.landmarks_active};
   // Position NEES against the truth nearest in time (3 dof).
   const std::pair<double, Eigen::Vector3d>* truth = nullptr;
   for (const auto& tr : a->recent_truth) {
@@ -247,8 +263,8 @@ Json TeamView::delta(ViewCursor& c, double wall_s) const {
     sent_truth = a.truth.size();
     if (a.last) {
       const Sample& s = *a.last;
-      j["now"] = {s.t, mm(s.p.x()), mm(s.p.y()), mm(s.p.z()), sig4(s.cxx), sig4(s.cxy),
-                  sig4(s.cyy), sig4(s.sigma), sig4(s.yaw)};
+      j["now"] = {s.t,         mm(s.p.x()), mm(s.p.y()),   mm(s.p.z()), sig4(s.cxx),
+                  sig4(s.cxy), sig4(s.cyy), sig4(s.sigma), sig4(s.yaw)};
     }
     int64_t& map_sent = c.map_version[id];
     if (reset || map_sent != a.map_version) {
@@ -257,7 +273,12 @@ Json TeamView::delta(ViewCursor& c, double wall_s) const {
     }
     if (a.gs) {
       const ViewEstimate& g = *a.gs;
-      j["gs"] = {g.t, mm(g.p.x()), mm(g.p.y()), mm(g.p.z()), sig4(g.P(0, 0)), sig4(g.P(0, 1)),
+      j["gs"] = {g.t,
+                 mm(g.p.x()),
+                 mm(g.p.y()),
+                 mm(g.p.z()),
+                 sig4(g.P(0, 0)),
+                 sig4(g.P(0, 1)),
                  sig4(g.P(1, 1))};
     }
     agents[std::to_string(id)] = std::move(j);

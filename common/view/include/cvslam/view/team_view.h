@@ -33,10 +33,10 @@ struct TeamViewOptions {
   int max_samples_per_uav = 20000;
   /// A link stays drawn this long after the exchange that made it (dataset time) [s].
   double link_hold_s = 1.0;
-  int max_links = 5000;            ///< exchanges remembered (oldest forgotten)
-  double rate_window_s = 2.0;      ///< bytes/s averaged over this wall-time window [s]
-  double truth_tolerance_s = 0.02; ///< truth within this of an estimate is its truth (NEES) [s]
-  int max_agents = 64;             ///< UAVs tracked at most (ids beyond are counted, ignored)
+  int max_links = 5000;             ///< exchanges remembered (oldest forgotten)
+  double rate_window_s = 2.0;       ///< bytes/s averaged over this wall-time window [s]
+  double truth_tolerance_s = 0.02;  ///< truth within this of an estimate is its truth (NEES) [s]
+  int max_agents = 64;              ///< UAVs tracked at most (ids beyond are counted, ignored)
 
   /// view.yaml (config/view.yaml): the keys above.
   Status load(const ConfigNode& node);
@@ -45,11 +45,11 @@ struct TeamViewOptions {
 /// An estimate of one UAV (its POSE, or the ground station's GS_STATE).
 struct ViewEstimate {
   int agent_id = 0;
-  double t = 0.0;                                      ///< [s]
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();         ///< NED [m]
-  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();         ///< position covariance [m²]
-  double yaw = 0.0;                                    ///< heading [rad] (arrow on the page)
-  int landmarks_active = -1;                           ///< −1: unknown (GS_STATE)
+  double t = 0.0;                               ///< [s]
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();  ///< NED [m]
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();  ///< position covariance [m²]
+  double yaw = 0.0;                             ///< heading [rad] (arrow on the page)
+  int landmarks_active = -1;                    ///< −1: unknown (GS_STATE)
   int landmarks_archived = -1;
   /// Figures a finished run recorded (run_view.h); live, they come from the arrivals.
   std::optional<double> latency_ms, bytes_per_s;
@@ -121,7 +121,7 @@ class TeamView {
     int64_t samples_epoch = 0;  ///< +1 when old samples were thinned (clients restart)
     std::vector<std::pair<double, Eigen::Vector3d>> truth;
     std::deque<std::pair<double, Eigen::Vector3d>> recent_truth;
-    std::optional<Sample> last;   ///< the latest estimate, kept or not
+    std::optional<Sample> last;  ///< the latest estimate, kept or not
     double last_kept_t = -1e300;
     int landmarks_active = 0, landmarks_archived = 0;
     std::vector<ViewLandmark> map;
