@@ -8,6 +8,7 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -147,6 +148,55 @@ TEST(ViewProcess, ThreeUavLockstepTeamInHeadlessChromium) {
   const std::string png = test::base64Decode(browser.screenshotBase64());
   EXPECT_GT(png.size(), 10000u);
   std::ofstream(std::string(CVSLAM_BINARY_DIR) + "/view_team3_test.png", std::ios::binary) << png;
+}
+
+TEST(ViewProcess, CentralisedTeamShowsTheGroundStation) {
+  test::TempFolder tmp;
+  const std::string url = test::agentUrl(27855);
+  const int http = 18158;
+  const auto view = liveView(tmp, url, http);
+  ASSERT_TRUE(waitForView(http)) << view->err();
+  test::WebDriver browser(18159, tmp / "chromedriver");
+  ASSERT_TRUE(browser.ok()) << browser.error();
+  ASSERT_TRUE(browser.open("http://127.0.0.1:" + std::to_string(http) + "/"));
+  const std::string scenario = test::coopPair();
+  test::Child gs({CVSLAM_GS_EXE, "--agents", "1,2", "--scenario", scenario, "--lcm-url", url,
+                  "--out", tmp / "run", "--idle-exit", "3"},
+                 tmp / "gs");
+  std::vector<std::unique_ptr<test::Child>> agents;
+  for (int id : {1, 2})
+    agents.push_back(std::make_unique<test::Child>(
+        test::agentArgs(id, scenario, url, tmp / "run", "cc"), tmp / ("a" + std::to_string(id))));
+  test::Child replay(
+      {CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--lockstep",
+       "--participants", "1,2,0", "--lockstep-timeout", "30", "--lcm-url", url, "--quiet"},
+      tmp / "replay");
+  std::set<std::string> drawn;
+  while (!replay.exited()) {
+    const Json r = browser.report();
+    if (r.is_object() && r.contains("linkList"))
+      for (const std::string& l : split(r["linkList"].get<std::string>(), ';')) drawn.insert(l);
+    std::this_thread::sleep_for(200ms);
+  }
+  EXPECT_EQ(replay.wait(1s), 0) << replay.err();
+  for (auto& a : agents) EXPECT_EQ(a->wait(30s), 0) << a->err();
+  EXPECT_EQ(gs.wait(30s), 0) << gs.err();
+  const Json r = browser.report();
+  EXPECT_EQ(r["tracks"], "2");
+  EXPECT_NE(r["jointMapPoints"], "0") << r.dump();
+  // Observation batches drawn as links from each UAV to the ground station (id 0).
+  for (const char* uav : {"1>0@", "2>0@"}) {
+    EXPECT_TRUE(std::any_of(drawn.begin(), drawn.end(), [&](const std::string& l) {
+      return l.rfind(uav, 0) == 0;
+    })) << uav;
+  }
+  // The ground station's estimate of each UAV is in the state the page gets.
+  auto state = parseJson(httpGet(http, "/state.json"));
+  ASSERT_TRUE(state.ok());
+  for (const char* id : {"1", "2"}) {
+    EXPECT_EQ((*state)["agents"][id]["mode"], "cc");
+    EXPECT_TRUE((*state)["agents"][id].contains("gs")) << id;
+  }
 }
 
 TEST(ViewProcess, MalformedMessagesAreCountedAndIgnored) {
