@@ -48,6 +48,8 @@ options:
                           agents name landmarks by their true ids) | local_ids (images: each
                           agent's own ids, matched across agents by feature index + descriptor)
   --lcm-url URL           LCM provider (default udpm://239.255.76.67:7667?ttl=0)
+  --auth-key FILE         team key: sign cooperation messages and accept only those signed
+                          with it (HMAC-SHA256, replay window; docs/transport.md)
   --out DIR               run folder: writes DIR/ground_station/ (none if not given)
   --seed N                scenario: overrides its seed
   --duration S            scenario: only the first S seconds
@@ -69,7 +71,7 @@ int fail(const std::string& message) {
 struct Args {
   std::vector<int> agents;
   std::vector<std::string> calibrations;  // ID:DIR
-  std::string scenario, config, filter, association, url, out;
+  std::string scenario, config, filter, association, url, out, auth_key;
   long long seed = -1;
   double duration = -1.0, idle_exit = 0.0;
   bool verbose = false;
@@ -92,6 +94,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   app.add_option("--filter", a->filter)->check(CLI::IsMember({"ekf", "nhinf"}));
   app.add_option("--association", a->association)->check(CLI::IsMember({"true_ids", "local_ids"}));
   app.add_option("--lcm-url", a->url);
+  app.add_option("--auth-key", a->auth_key);
   app.add_option("--out", a->out);
   app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
   app.add_option("--duration", a->duration)->check(cvslam::cli::kPositive);
@@ -181,6 +184,11 @@ int main(int argc, char** argv) {
   node.verbose = args.verbose;
   node.filter_name = info.filter;
   if (!args.url.empty()) node.url = args.url;
+  if (!args.auth_key.empty()) {
+    auto key = cvslam::transport::TeamKey::readFile(args.auth_key);
+    if (!key.ok()) return fail(key.status().message());
+    node.auth_key = std::make_shared<const cvslam::transport::TeamKey>(std::move(*key));
+  }
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   auto gs = cvslam::transport::GroundStationNode::create(node, filter, std::move(*agents), info);

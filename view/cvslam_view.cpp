@@ -42,6 +42,7 @@ options:
   --host ADDR         address to bind (default 127.0.0.1: this host only; 0.0.0.0: every
                       interface — anyone who reaches the host sees the team)
   --lcm-url URL       LCM provider (default udpm://239.255.76.67:7667?ttl=0)
+  --auth-key FILE     the team key: accept only cooperation messages signed with it
   --config FILE       view options (default: config/view.yaml of the source tree)
   --max-agent-id N    directed channels are subscribed for UAV ids 1..N (default 16)
   --no-latency        do not subscribe to the sensor frames (no latency strip, less CPU)
@@ -61,7 +62,7 @@ int fail(const std::string& message) {
 }
 
 struct Args {
-  std::string run, host = "127.0.0.1", url, config;
+  std::string run, host = "127.0.0.1", url, config, auth_key;
   int port = 8088, max_agent_id = 16;
   double duration = 0.0;
   bool no_latency = false, quiet = false;
@@ -77,6 +78,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
       }));
   app.add_option("--host", a->host);
   app.add_option("--lcm-url", a->url);
+  app.add_option("--auth-key", a->auth_key);
   app.add_option("--config", a->config);
   app.add_option("--max-agent-id", a->max_agent_id)
       ->check(cvslam::cli::numberValidator("N", "an integer in [1, 1000]", [](double x) {
@@ -125,6 +127,11 @@ int main(int argc, char** argv) {
     if (!args.url.empty()) o.url = args.url;
     if (Status s = cvslam::transport::checkLcmUrl(o.url); !s.ok()) return fail(s.message());
     o.max_agent_id = args.max_agent_id;
+    if (!args.auth_key.empty()) {
+      auto key = cvslam::transport::TeamKey::readFile(args.auth_key);
+      if (!key.ok()) return fail(key.status().message());
+      o.auth_key = std::make_shared<const cvslam::transport::TeamKey>(std::move(*key));
+    }
     o.latency = !args.no_latency;
     o.view = model;
     auto created = cvslam::transport::ViewNode::create(o);

@@ -104,6 +104,7 @@ Expected<std::unique_ptr<AgentNode>> AgentNode::create(const AgentNodeOptions& o
   node->coop_ = std::move(coop);
   BusOptions bus_options;
   bus_options.url = options.url;
+  bus_options.auth_key = options.auth_key;
   bus_options.receive.accept_agent = [](int32_t id) { return id >= -1 && id <= kMaxAgentId; };
   auto bus = LcmBus::create(bus_options);
   if (!bus.ok()) return bus.status();
@@ -547,11 +548,14 @@ std::string AgentNode::report() const {
   auto pct = [&](double q) {
     return l.empty() ? 0.0 : l[std::min(l.size() - 1, static_cast<std::size_t>(q * l.size()))];
   };
-  int64_t dropped = 0, invalid = 0, gaps = 0;
+  int64_t dropped = 0, invalid = 0, gaps = 0, unsigned_msgs = 0, forged = 0, replayed = 0;
   for (const ChannelCounters& c : bus_->counters()) {
     dropped += c.dropped;
     invalid += c.invalid;
     gaps += c.seq_gaps;
+    unsigned_msgs += c.unsigned_msgs;
+    forged += c.forged;
+    replayed += c.replayed;
   }
   for (const auto& [ch, n] : dropped_) dropped += n;
   for (const auto& [ch, n] : rejected_) invalid += n;
@@ -565,6 +569,13 @@ std::string AgentNode::report() const {
                 static_cast<long long>(late_), static_cast<long long>(before_start_),
                 static_cast<long long>(errors_));
   std::string r = buf;
+  if (o_.auth_key) {
+    std::snprintf(buf, sizeof(buf),
+                  "; authentication refused: unsigned %lld, forged %lld, replayed %lld",
+                  static_cast<long long>(unsigned_msgs), static_cast<long long>(forged),
+                  static_cast<long long>(replayed));
+    r += buf;
+  }
   if (coop_) r += "\n  " + coop_->report();
   return r;
 }

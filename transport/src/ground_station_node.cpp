@@ -70,6 +70,7 @@ Expected<std::unique_ptr<GroundStationNode>> GroundStationNode::create(
       new GroundStationNode(options, filter, std::move(agents)));
   BusOptions bus_options;
   bus_options.url = options.url;
+  bus_options.auth_key = options.auth_key;
   auto bus = LcmBus::create(bus_options);
   if (!bus.ok()) return bus.status();
   node->bus_ = std::move(*bus);

@@ -13,8 +13,8 @@ namespace {
 // member-function template: under -fsanitize=undefined the 1.3.1 C++ wrapper hands its
 // callback a bad subscription pointer (reproduced with LCM alone), and the C API lets us
 // own the handler object's lifetime explicitly.
-void onLcmMessage(const lcm_recv_buf_t* rbuf, const char*, void* user_data) {
-  static_cast<SubscriptionBase*>(user_data)->handleBytes(rbuf->data, rbuf->data_size);
+void onLcmMessage(const lcm_recv_buf_t* rbuf, const char* channel, void* user_data) {
+  static_cast<SubscriptionBase*>(user_data)->handleBytes(rbuf->data, rbuf->data_size, channel);
 }
 
 }  // namespace
@@ -29,7 +29,12 @@ std::function<bool(int32_t)> acceptOnly(std::set<int32_t> agent_ids) {
   return [ids = std::move(agent_ids)](int32_t id) { return ids.count(id) > 0; };
 }
 
-LcmBus::LcmBus(BusOptions options) : options_(std::move(options)) {}
+LcmBus::LcmBus(BusOptions options) : options_(std::move(options)) {
+  if (options_.auth_key) {
+    options_.receive.auth_key = options_.auth_key;
+    signer_ = std::make_unique<MessageSigner>(*options_.auth_key);
+  }
+}
 
 Expected<std::unique_ptr<LcmBus>> LcmBus::create(BusOptions options) {
   std::unique_ptr<LcmBus> bus(new LcmBus(std::move(options)));
@@ -64,6 +69,12 @@ Status LcmBus::add(std::unique_ptr<SubscriptionBase> subscription) {
 }
 
 Status LcmBus::publishRaw(const std::string& channel, const void* data, std::size_t size) {
+  std::vector<uint8_t> signed_bytes;
+  if (signer_ && isSignedChannel(channel)) {
+    signed_bytes = signer_->sign(channel, data, size);
+    data = signed_bytes.data();
+    size = signed_bytes.size();
+  }
   if (size > options_.receive.max_message_bytes) {
     return Status::Error("publish " + channel + ": " + std::to_string(size) +
                          " bytes exceed the message size limit");
@@ -145,6 +156,9 @@ ChannelCounters LcmBus::counters(const std::string& channel) const {
     sum.invalid += c.invalid;
     sum.seq_gaps += c.seq_gaps;
     sum.seq_resets += c.seq_resets;
+    sum.unsigned_msgs += c.unsigned_msgs;
+    sum.forged += c.forged;
+    sum.replayed += c.replayed;
   }
   return sum;
 }

@@ -1,8 +1,43 @@
 #include "cvslam/lcm/subscription.h"
 
+#include "cvslam/lcm/header_peek.h"
+
 namespace cvslam::transport {
 
-void SubscriptionBase::handleBytes(const void* data, std::size_t size) {
+bool SubscriptionBase::authenticate(const uint8_t* data, std::size_t& size, const char* channel) {
+  const std::string name = channel != nullptr ? channel : channel_;
+  if (!policy_.auth_key || !isSignedChannel(name)) return true;
+  std::size_t payload = 0;
+  uint64_t counter = 0;
+  AuthVerdict verdict = verifyTrailer(*policy_.auth_key, name, data, size, &payload, &counter);
+  if (verdict == AuthVerdict::kAccepted) {
+    // The payload is authentic: its header names the sender whose window applies.
+    const auto header = peekHeader(data, payload);
+    const int32_t sender = header ? header->agent_id : 0;
+    if (!windows_[{name, sender}].accept(counter)) verdict = AuthVerdict::kReplayed;
+  }
+  switch (verdict) {
+    case AuthVerdict::kAccepted:
+      size = payload;
+      return true;
+    case AuthVerdict::kUnsigned:
+      ++unsigned_;
+      break;
+    case AuthVerdict::kForged:
+      ++forged_;
+      break;
+    case AuthVerdict::kReplayed:
+      ++replayed_;
+      break;
+  }
+  ++invalid_;
+  if (policy_.on_error)
+    policy_.on_error(channel_, Status::Error(std::string(authVerdictName(verdict)) + " message"));
+  return false;
+}
+
+void SubscriptionBase::handleBytes(const void* data, std::size_t size, const char* channel) {
+  if (!authenticate(static_cast<const uint8_t*>(data), size, channel)) return;
   int32_t agent_id = 0;
   int64_t seq = -1;
   Status error;
@@ -41,6 +76,9 @@ ChannelCounters SubscriptionBase::counters() const {
   c.invalid = invalid_.load();
   c.seq_gaps = seq_gaps_.load();
   c.seq_resets = seq_resets_.load();
+  c.unsigned_msgs = unsigned_.load();
+  c.forged = forged_.load();
+  c.replayed = replayed_.load();
   return c;
 }
 

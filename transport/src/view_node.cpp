@@ -60,6 +60,7 @@ Expected<std::unique_ptr<ViewNode>> ViewNode::create(const ViewNodeOptions& opti
   std::unique_ptr<ViewNode> node(new ViewNode(options));
   BusOptions bus;
   bus.url = options.url;
+  bus.auth_key = options.auth_key;
   ViewNode* self = node.get();
   bus.receive.on_error = [self](const std::string& channel, const Status&) {
     self->locked([&] { self->view_.countMalformed(channel); });

@@ -35,6 +35,7 @@ struct AgentNodeOptions {
   int id = 1;                   ///< this UAV's id (≥ 1)
   std::string mode = "single";  ///< single | dc | cc (summary's mode field)
   std::string url = kDefaultLcmUrl;
+  std::shared_ptr<const TeamKey> auth_key;  ///< set: cooperation messages signed (message_auth.h)
   std::string out_dir;              ///< run record folder; empty: none
   std::string filter_name = "ekf";  ///< agent_state_t.filter
   double status_period_s = 0.2;     ///< STATUS heartbeat period (wall) [s]

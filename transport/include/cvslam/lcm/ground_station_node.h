@@ -37,6 +37,7 @@ namespace cvslam::transport {
 struct GroundStationNodeOptions {
   std::vector<int> agents;  ///< UAV ids served (--agents)
   std::string url = kDefaultLcmUrl;
+  std::shared_ptr<const TeamKey> auth_key;  ///< set: cooperation messages signed (message_auth.h)
   std::string out_dir;                ///< run folder; empty: no record
   std::string filter_name = "ekf";    ///< gs_state_t.filter
   double status_period_s = 0.2;       ///< heartbeat on UAV0/STATUS (wall) [s]

@@ -48,6 +48,9 @@ struct BusOptions {
   /// message silently when it is full, so keep it large enough for bursts; those losses
   /// show up only as seq_gaps.
   int lcm_queue_capacity = 1000;
+  /// Set: messages on the signed channels are signed when published and must verify when
+  /// received (message_auth.h); unsigned, forged and replayed ones are dropped and counted.
+  std::shared_ptr<const TeamKey> auth_key;
 };
 
 /// Ok when `url` names a provider LCM knows (udpm, tcpq, memq, file): checked before LCM,
@@ -97,7 +100,8 @@ class LcmBus {
     return publishRaw(channel, bytes->data(), bytes->size());
   }
 
-  /// Publishes bytes as they are (log replay, fault injection in tests).
+  /// Publishes bytes as they are (log replay, fault injection in tests); signed like publish()
+  /// when the bus has a key and the channel is signed.
   Status publishRaw(const std::string& channel, const void* data, std::size_t size);
 
   /// Starts the receive thread. Idempotent.
@@ -125,6 +129,7 @@ class LcmBus {
 
   BusOptions options_;
   std::unique_ptr<::lcm::LCM> lcm_;
+  std::unique_ptr<MessageSigner> signer_;
   mutable std::mutex subscriptions_mutex_;
   std::vector<std::unique_ptr<SubscriptionBase>> subscriptions_;
   std::mutex seq_mutex_;

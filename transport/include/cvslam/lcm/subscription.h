@@ -16,6 +16,7 @@
 #include "cvslam/core/status.h"
 #include "cvslam/lcm/bounded_queue.h"
 #include "cvslam/lcm/codec.h"
+#include "cvslam/lcm/message_auth.h"
 
 namespace cvslam::transport {
 
@@ -29,6 +30,10 @@ struct ChannelCounters {
   int64_t invalid = 0;     ///< decode or validation failure, or agent not accepted
   int64_t seq_gaps = 0;    ///< messages missing according to header.seq, summed over senders
   int64_t seq_resets = 0;  ///< header.seq went backwards (sender restarted or reordering)
+  // Authentication (message_auth.h; also counted as invalid): refused signed-channel messages.
+  int64_t unsigned_msgs = 0;  ///< no trailer
+  int64_t forged = 0;         ///< the tag does not verify (wrong key, tampered, other channel)
+  int64_t replayed = 0;       ///< counter already seen or older than the replay window
 };
 
 /// What a subscription needs from its bus; owned by the bus, outlives the subscriptions.
@@ -36,6 +41,8 @@ struct ReceivePolicy {
   std::size_t max_message_bytes = kDefaultMaxMessageBytes;
   std::function<bool(int32_t agent_id)> accept_agent;  ///< empty: accept every sender
   std::function<void(const std::string& channel, const Status& error)> on_error;
+  /// Set: messages on signed channels must carry a valid trailer (message_auth.h).
+  std::shared_ptr<const TeamKey> auth_key;
 };
 
 class SubscriptionBase {
@@ -46,8 +53,9 @@ class SubscriptionBase {
   SubscriptionBase(const SubscriptionBase&) = delete;
   SubscriptionBase& operator=(const SubscriptionBase&) = delete;
 
-  /// Feeds one encoded buffer as it arrived (receive thread only, or tests).
-  void handleBytes(const void* data, std::size_t size);
+  /// Feeds one encoded buffer as it arrived on `channel` (the subscription's own name when
+  /// null) — receive thread only, or tests.
+  void handleBytes(const void* data, std::size_t size, const char* channel = nullptr);
 
   ChannelCounters counters() const;
   const std::string& channel() const { return channel_; }
@@ -65,8 +73,13 @@ class SubscriptionBase {
   const std::string channel_;
   const std::string type_;
   const ReceivePolicy& policy_;
+  /// Strips and checks the trailer of a signed channel's message; false: refused (counted).
+  bool authenticate(const uint8_t* data, std::size_t& size, const char* channel);
+
   std::atomic<int64_t> received_{0}, dropped_{0}, invalid_{0}, seq_gaps_{0}, seq_resets_{0};
+  std::atomic<int64_t> unsigned_{0}, forged_{0}, replayed_{0};
   std::map<int32_t, int64_t> last_seq_;  ///< per sender; receive thread only
+  std::map<std::pair<std::string, int32_t>, ReplayWindow> windows_;  ///< per channel and sender
 };
 
 template <typename Msg>

@@ -25,6 +25,7 @@ namespace cvslam::transport {
 
 struct ViewNodeOptions {
   std::string url = kDefaultLcmUrl;
+  std::shared_ptr<const TeamKey> auth_key;  ///< set: cooperation messages must verify
   /// Directed channels (UAV<j>/SHARED_REQ, /SHARED, /GS_STATE) are subscribed for j = 1..this;
   /// LCM subscriptions are names, and a directed message's receiver is only in its name.
   int max_agent_id = 16;
