@@ -1,6 +1,7 @@
 // cvslam_replay — publishes EuRoC folders, or a scenario simulated (and rendered) live, over
-// LCM on UAV<id>/IMU, UAV<id>/STEREO (or UAV<id>/FEATURES), UAV<id>/GT (docs/architecture.md, docs/run_format.md).
-// Real time, scaled, as fast as possible, or in lockstep with the subscribers' STATUS.
+// LCM on UAV<id>/IMU, UAV<id>/STEREO (or UAV<id>/FEATURES), UAV<id>/GT (docs/architecture.md,
+// docs/run_format.md). Real time, scaled, as fast as possible, or in lockstep with the subscribers'
+// STATUS.
 //
 //   cvslam_replay --scenario config/scenarios/team3_aerial.yaml --rate 1
 //   cvslam_replay --dataset 1:data/team3/uav1 --dataset 2:data/team3/uav2 --lockstep
@@ -20,6 +21,7 @@
 
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/lcm_bus.h"
+#include "cvslam/lcm/lcm_log_sensor_stream.h"
 #include "cvslam/lcm/sensor_publisher.h"
 #include "cvslam/sensors/euroc_sensor_stream.h"
 #include "cvslam/sensors/lockstep_tracker.h"
@@ -69,6 +71,14 @@ cvslam::Expected<cvslam::MergedSensorSource> makeSource(const cvslam::replay::Ar
     if (!team.ok()) return team.status();
     // The simulator and world stay alive through the streams' shared pointers.
     streams = std::move(team->streams);
+  } else if (!a.log.empty()) {
+    auto ids = cvslam::transport::LcmLogSensorStream::agentsIn(a.log);
+    if (!ids.ok()) return ids.status();
+    for (int id : *ids) {
+      auto s = cvslam::transport::LcmLogSensorStream::open(a.log, id);
+      if (!s.ok()) return s.status();
+      streams.push_back(std::move(*s));
+    }
   } else {
     for (const auto& d : a.datasets) {
       auto s = cvslam::EurocSensorStream::open(d.id, d.path, a.start);

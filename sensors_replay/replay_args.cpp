@@ -10,7 +10,7 @@
 namespace cvslam::replay {
 
 const char* const kUsage =
-    R"(usage: cvslam_replay (--scenario FILE | --dataset ID:PATH ...) [options]
+    R"(usage: cvslam_replay (--scenario FILE | --dataset ID:PATH ... | --log FILE) [options]
 
 Publishes sensor data over LCM: per UAV, UAV<id>/IMU (imu_t), UAV<id>/GT (pose_t),
 UAV<id>/STEREO (stereo_image_t; mono8, PNG with --compress) or, for feature-only
@@ -21,6 +21,9 @@ Several datasets play on one clock: each starts at its first timestamp.
 source (one of):
   --scenario FILE       simulate the scenario live (rendered images by default)
   --dataset ID:PATH     EuRoC ASL folder (holding mav0/) played as UAV ID; repeat
+  --log FILE            an LCM log of a team run (lcm-logger): its sensor channels (UAV<id>/
+                        IMU, GT, FEATURES, STEREO) played again, e.g. in lockstep into fresh
+                        agents; everything else in the log is skipped
 pace (one of):
   --rate R              R × real time (default 1); 0 = as fast as possible
   --fast                same as --rate 0
@@ -63,8 +66,9 @@ Status parseDataset(const std::string& v, DatasetArg& d) {
 
 /// What CLI11 cannot say per option: the source, distinct UAV ids, scenario-only options.
 Status checkArgs(const std::vector<std::string>& datasets, Args& a) {
-  if (a.scenario.empty() == datasets.empty())
-    return Status::Error("give either --scenario or --dataset (see --help)");
+  const int sources =
+      (a.scenario.empty() ? 0 : 1) + (datasets.empty() ? 0 : 1) + (a.log.empty() ? 0 : 1);
+  if (sources != 1) return Status::Error("give one of --scenario, --dataset or --log (see --help)");
   std::set<int> ids;
   for (const std::string& text : datasets) {
     DatasetArg d;
@@ -73,7 +77,7 @@ Status checkArgs(const std::vector<std::string>& datasets, Args& a) {
       return Status::Error("--dataset: UAV id " + std::to_string(d.id) + " given twice");
     a.datasets.push_back(d);
   }
-  if (!a.datasets.empty() && (a.sensing != "images" || !a.world.empty() || a.seed >= 0))
+  if (a.scenario.empty() && (a.sensing != "images" || !a.world.empty() || a.seed >= 0))
     return Status::Error("--sensing, --world and --seed apply to --scenario only");
   return Status::Ok();
 }
@@ -85,6 +89,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   CLI::App app("publishes sensor data over LCM", "cvslam_replay");
   auto* scenario = app.add_option("--scenario", a.scenario);
   app.add_option("--dataset", datasets)->excludes(scenario)->allow_extra_args(false);
+  app.add_option("--log", a.log);
   auto* rate = app.add_option("--rate", a.rate)->check(cli::kNonNegative);
   auto* fast = app.add_flag("--fast");
   app.add_flag("--lockstep", a.lockstep)->excludes(rate)->excludes(fast);

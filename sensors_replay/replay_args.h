@@ -17,6 +17,7 @@ struct DatasetArg {
 struct Args {
   std::string scenario;
   std::vector<DatasetArg> datasets;
+  std::string log;    ///< an LCM log (lcm-logger) whose sensor channels are played
   double rate = 1.0;  ///< play speed; 0 = as fast as possible
   bool lockstep = false;
   std::vector<int> participants;   ///< lockstep participants; empty = the replayed agents
