@@ -71,6 +71,8 @@ options:
   --both-ways             dc: overrides coop.both_ways to true (the default)
   --one-way               dc: overrides coop.both_ways to false (thesis §6.6.5)
   --lcm-url URL           LCM provider (default udpm://239.255.76.67:7667?ttl=0)
+  --coop-lcm-url URL      cooperation on this provider (e.g. a LAN, ttl=1) while the sensor
+                          streams stay on --lcm-url (the vehicle's own; DC mode)
   --auth-key FILE         team key: sign cooperation messages and accept only those signed
                           with it (HMAC-SHA256, replay window; docs/transport.md)
   --out DIR               run record folder (none if not given)
@@ -94,7 +96,7 @@ int fail(const std::string& message) {
 struct Args {
   int id = 0;
   cvslam::AgentConfigArgs config;  // --config and the overrides shared with cvslam_run
-  std::string scenario, calibration, mode = "single", url, out, start, auth_key;
+  std::string scenario, calibration, mode = "single", url, out, start, auth_key, coop_url;
   long long seed = -1;
   std::string gs_wait;  // --gs-wait, as given
   double duration = -1.0, idle_exit = 0.0;
@@ -119,6 +121,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   app.add_option("--gs-wait", a->gs_wait)->check(cvslam::cli::kNonNegative);
   app.add_option("--lcm-url", a->url);
   app.add_option("--auth-key", a->auth_key);
+  app.add_option("--coop-lcm-url", a->coop_url);
   app.add_option("--out", a->out);
   app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
   app.add_option("--duration", a->duration)->check(cvslam::cli::kPositive);
@@ -212,6 +215,7 @@ int main(int argc, char** argv) {
   node.verbose = args.verbose;
   node.filter_name = config->filterName();
   if (!args.url.empty()) node.url = args.url;
+  node.coop_url = args.coop_url;
   if (!args.auth_key.empty()) {
     auto key = cvslam::transport::TeamKey::readFile(args.auth_key);
     if (!key.ok()) return fail(key.status().message());

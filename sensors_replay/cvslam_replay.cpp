@@ -86,6 +86,15 @@ cvslam::Expected<cvslam::MergedSensorSource> makeSource(const cvslam::replay::Ar
       streams.push_back(std::move(*s));
     }
   }
+  if (!a.agents.empty()) {
+    std::vector<std::unique_ptr<cvslam::AgentSensorStream>> kept;
+    for (auto& s : streams)
+      if (std::find(a.agents.begin(), a.agents.end(), s->agentId()) != a.agents.end())
+        kept.push_back(std::move(s));
+    if (kept.size() != a.agents.size())
+      return cvslam::Status::Error("--agents names a UAV the source does not have");
+    streams = std::move(kept);
+  }
   return cvslam::MergedSensorSource(std::move(streams), window);
 }
 
@@ -171,6 +180,13 @@ int main(int argc, char** argv) {
   bool first = true;
   double max_lag_s = 0.0;  // worst delay behind the --rate schedule
   auto last_print = Clock::now();
+  if (args.start_at > 0.0) {  // one clock for replays started apart (several hosts)
+    const auto begin = std::chrono::system_clock::time_point(
+        std::chrono::duration_cast<std::chrono::system_clock::duration>(
+            std::chrono::duration<double>(args.start_at)));
+    while (!g_stop && std::chrono::system_clock::now() < begin)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
   cvslam::SensorEvent e;
   while (!g_stop && source->next(e)) {
     if (lockstep.tracker) {

@@ -35,6 +35,9 @@ pace (one of):
   --lockstep-timeout S  give up (exit 2) after S s without acknowledgement (default 60)
 options:
   --lcm-url URL         LCM provider (default udpm://239.255.76.67:7667?ttl=0)
+  --agents LIST         play only these UAVs, e.g. 2 (one replay per vehicle, docs/transport.md)
+  --start-at T          begin at wall time T (Unix seconds, e.g. $(date +%s) + 2), so that
+                        replays on several hosts play on one clock
   --start S             skip the first S s of play time
   --duration S          play only S s (from --start)
   --compress            stereo images as PNG
@@ -90,6 +93,8 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   auto* scenario = app.add_option("--scenario", a.scenario);
   app.add_option("--dataset", datasets)->excludes(scenario)->allow_extra_args(false);
   app.add_option("--log", a.log);
+  app.add_option("--agents", a.agents)->delimiter(',')->allow_extra_args(false);
+  app.add_option("--start-at", a.start_at)->check(cli::kPositive);
   auto* rate = app.add_option("--rate", a.rate)->check(cli::kNonNegative);
   auto* fast = app.add_flag("--fast");
   app.add_flag("--lockstep", a.lockstep)->excludes(rate)->excludes(fast);

@@ -87,6 +87,7 @@ AgentNode::AgentNode(const AgentNodeOptions& options, AgentCalibration calibrati
 
 AgentNode::~AgentNode() {
   if (bus_) bus_->stop();
+  if (coop_bus_) coop_bus_->stop();
 }
 
 double AgentNode::now() const {
@@ -109,6 +110,13 @@ Expected<std::unique_ptr<AgentNode>> AgentNode::create(const AgentNodeOptions& o
   auto bus = LcmBus::create(bus_options);
   if (!bus.ok()) return bus.status();
   node->bus_ = std::move(*bus);
+  if (!options.coop_url.empty()) {
+    if (Status s = checkLcmUrl(options.coop_url); !s.ok()) return s;
+    bus_options.url = options.coop_url;
+    auto coop_bus = LcmBus::create(bus_options);
+    if (!coop_bus.ok()) return coop_bus.status();
+    node->coop_bus_ = std::move(*coop_bus);
+  }
   if (Status s = node->subscribe(); !s.ok()) return s;
   return node;
 }
@@ -186,7 +194,7 @@ Status AgentNode::subscribe() {
     push(std::move(e), stereo_ch, o_.frame_queue);
   });
   if (!s.ok()) return s;
-  if (coop_) return coop_->subscribe(*bus_);
+  if (coop_) return coop_->subscribe(coopBus());
   return Status::Ok();
 }
 
@@ -199,7 +207,7 @@ Status AgentNode::startPipeline(const AgentFilterSetup& setup) {
   if (!o_.out_dir.empty()) {
     if (Status s = recorder_.open(o_.out_dir, o_.id, false); !s.ok()) return s;
   }
-  if (coop_) return coop_->onStart(*agent_, *bus_, o_.filter_name);
+  if (coop_) return coop_->onStart(*agent_, coopBus(), o_.filter_name);
   return Status::Ok();
 }
 
@@ -312,7 +320,7 @@ Status AgentNode::afterFrame(double arrival_s) {
   // Cooperation first (as cvslam_run: the fused estimate is the frame's result), its outbox
   // published before the pose and before the STATUS that lets the replay go on.
   if (coop_) {
-    if (Status s = coop_->afterFrame(*agent_, *bus_,
+    if (Status s = coop_->afterFrame(*agent_, coopBus(),
                                      [this](cvslam::agent_summary_t& m) { fillCounters(m); });
         !s.ok()) {
       return s;
@@ -354,7 +362,7 @@ Status AgentNode::afterFrame(double arrival_s) {
 
 void AgentNode::fillCounters(cvslam::agent_summary_t& msg) {
   std::map<std::string, ChannelCounters> by_channel;
-  for (const ChannelCounters& c : bus_->counters()) {
+  for (const ChannelCounters& c : allCounters()) {
     ChannelCounters& sum = by_channel[c.channel];
     sum.received += c.received;
     sum.dropped += c.dropped + c.seq_gaps;  // LCM's own queue losses show as gaps
@@ -407,7 +415,7 @@ Status AgentNode::publishSummary() {
   m.vehicle_cov_trace =
       agent_ ? agent_->slam().vehicleCovariance().topLeftCorner<3, 3>().trace() : 0.0;
   fillCounters(m);
-  return bus_->publish(channels::teamSummary(), m);
+  return coopBus().publish(channels::teamSummary(), m);
 }
 
 double AgentNode::lastArrival() const {
@@ -435,7 +443,9 @@ Status AgentNode::publishStatus() {
 Status AgentNode::flushRecord(bool final) {
   if (!recorder_.isOpen()) return Status::Ok();
   AgentRunWriter& w = recorder_.writer();
-  const std::map<std::string, int64_t> bytes = bus_->bytesPublishedByChannel();
+  std::map<std::string, int64_t> bytes = bus_->bytesPublishedByChannel();
+  if (coop_bus_)
+    for (const auto& [channel, n] : coop_bus_->bytesPublishedByChannel()) bytes[channel] += n;
   std::map<std::string, int64_t> by_stream;
   for (const auto& [channel, n] : bytes) {
     if (auto id = parseChannel(channel)) by_stream[streamName(id->stream)] += n;
@@ -460,6 +470,8 @@ Status AgentNode::flushRecord(bool final) {
 
 Status AgentNode::run(const std::atomic<bool>& stop) {
   if (Status s = bus_->start(); !s.ok()) return s;
+  if (coop_bus_)
+    if (Status s = coop_bus_->start(); !s.ok()) return s;
   start_s_ = now();
   double last_status = -1e300, last_flush = now();
   std::vector<Inbound> batch;
@@ -486,6 +498,7 @@ Status AgentNode::run(const std::atomic<bool>& stop) {
     }
     if (!fatal_.ok()) {
       bus_->stop();
+      if (coop_bus_) coop_bus_->stop();
       return fatal_;
     }
     const double t = now();
@@ -515,6 +528,7 @@ Status AgentNode::run(const std::atomic<bool>& stop) {
   }
   // What is left, in order (shutdown or end of data).
   bus_->stop();
+  if (coop_bus_) coop_bus_->stop();
   {
     std::lock_guard<std::mutex> lock(inbox_mutex_);
     batch.swap(inbox_);
@@ -541,6 +555,13 @@ void AgentNode::handle(SensorEvent& event, double arrival_s) {
   }
 }
 
+std::vector<ChannelCounters> AgentNode::allCounters() const {
+  std::vector<ChannelCounters> all = bus_->counters();
+  if (coop_bus_)
+    for (ChannelCounters& c : coop_bus_->counters()) all.push_back(std::move(c));
+  return all;
+}
+
 std::string AgentNode::report() const {
   char buf[512];
   std::vector<double> l = latencies_ms_;
@@ -549,7 +570,7 @@ std::string AgentNode::report() const {
     return l.empty() ? 0.0 : l[std::min(l.size() - 1, static_cast<std::size_t>(q * l.size()))];
   };
   int64_t dropped = 0, invalid = 0, gaps = 0, unsigned_msgs = 0, forged = 0, replayed = 0;
-  for (const ChannelCounters& c : bus_->counters()) {
+  for (const ChannelCounters& c : allCounters()) {
     dropped += c.dropped;
     invalid += c.invalid;
     gaps += c.seq_gaps;

@@ -36,6 +36,10 @@ struct AgentNodeOptions {
   std::string mode = "single";  ///< single | dc | cc (summary's mode field)
   std::string url = kDefaultLcmUrl;
   std::shared_ptr<const TeamKey> auth_key;  ///< set: cooperation messages signed (message_auth.h)
+  /// Set: cooperation (TEAM/SUMMARY, INDEX, SHARED_REQ, SHARED, OBS, GS_STATE, GS/MAP) on this
+  /// provider, e.g. a LAN (ttl=1), while the sensor streams stay on `url` (the vehicle's own
+  /// loopback; scripts/netns_team.sh). Empty: everything on `url`.
+  std::string coop_url;
   std::string out_dir;              ///< run record folder; empty: none
   std::string filter_name = "ekf";  ///< agent_state_t.filter
   double status_period_s = 0.2;     ///< STATUS heartbeat period (wall) [s]
@@ -155,6 +159,10 @@ class AgentNode {
   std::optional<VisualSlamPipeline> images_;
   std::unique_ptr<CooperationLink> coop_;
   std::unique_ptr<LcmBus> bus_;
+  std::unique_ptr<LcmBus> coop_bus_;  ///< only with AgentNodeOptions::coop_url
+  LcmBus& coopBus() { return coop_bus_ ? *coop_bus_ : *bus_; }
+  /// Counters of both buses.
+  std::vector<ChannelCounters> allCounters() const;
   std::unique_ptr<AgentPipeline> agent_;
   AgentRunRecorder recorder_;
   SensorEventOrderer orderer_;
