@@ -64,6 +64,8 @@ int main(int argc, char** argv) {
   if (!monitor.ok()) return fail(monitor.status().message());
   cvslam::Status s = (*monitor)->start();
   if (!s.ok()) return fail(s.message());
+  // Subscribed: say so, so that scripts and tests can start publishing on this event.
+  std::fprintf(stderr, "cvslam_lcm_stats: listening on %s for %g s\n", url.c_str(), duration);
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration);
   while (!g_stop && std::chrono::steady_clock::now() < end)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));

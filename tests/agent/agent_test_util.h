@@ -1,6 +1,7 @@
 #pragma once
 // Helpers for the agent process tests: ports, a short two-UAV scenario, evaluation of a run
 // folder with cvslam_eval, and a listener for the agents' TEAM/SUMMARY heartbeats.
+#include <condition_variable>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -12,6 +13,7 @@
 #include "cvslam/io/json_file.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/lcm_bus.h"
+#include "cvslam/lcm/message_types.h"
 #include "euroc_test_folder.h"
 #include "replay/process_util.h"
 #include "replay/small_scenario.h"
@@ -145,6 +147,43 @@ class SummaryListener {
   std::mutex mutex_;
   std::map<int, std::set<int64_t>> boot_ids_;
   std::map<int, cvslam::agent_summary_t> last_;
+};
+
+/// The latest STATUS message of every process (UAV0 is the ground station), and a wait for a
+/// condition on them.
+class StatusListener {
+ public:
+  explicit StatusListener(const std::string& url) {
+    transport::BusOptions o;
+    o.url = url;
+    auto bus = transport::LcmBus::create(o);
+    if (!bus.ok()) return;
+    bus_ = std::move(*bus);
+    bus_->subscribe<cvslam::status_t>(transport::allAgentsPattern(transport::Stream::kStatus),
+                                      [this](const cvslam::status_t& m) {
+                                        std::lock_guard<std::mutex> lock(mutex_);
+                                        last_[m.header.agent_id] = m.message;
+                                        changed_.notify_all();
+                                      });
+    bus_->start();
+  }
+  bool ok() const { return bus_ != nullptr; }
+  std::string last(int id) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return last_[id];
+  }
+  /// Waits until `id`'s latest STATUS message contains `text`; false on timeout.
+  bool waitFor(int id, const std::string& text, std::chrono::seconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return changed_.wait_for(lock, timeout,
+                             [&] { return last_[id].find(text) != std::string::npos; });
+  }
+
+ private:
+  std::unique_ptr<transport::LcmBus> bus_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::map<int, std::string> last_;
 };
 
 }  // namespace cvslam::test

@@ -31,46 +31,9 @@ std::vector<std::string> groundStation(const std::string& scenario, const std::s
           url,           "--out",    out,   "--idle-exit", "3",      "--verbose"};
 }
 
-/// The latest STATUS message of every process (UAV0 is the ground station), and a wait for a
-/// condition on them.
-class StatusListener {
- public:
-  explicit StatusListener(const std::string& url) {
-    transport::BusOptions o;
-    o.url = url;
-    auto bus = transport::LcmBus::create(o);
-    if (!bus.ok()) return;
-    bus_ = std::move(*bus);
-    bus_->subscribe<cvslam::status_t>(transport::allAgentsPattern(transport::Stream::kStatus),
-                                      [this](const cvslam::status_t& m) {
-                                        std::lock_guard<std::mutex> lock(mutex_);
-                                        last_[m.header.agent_id] = m.message;
-                                        changed_.notify_all();
-                                      });
-    bus_->start();
-  }
-  bool ok() const { return bus_ != nullptr; }
-  std::string last(int id) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return last_[id];
-  }
-  /// Waits until `id`'s latest STATUS message contains `text`; false on timeout.
-  bool waitFor(int id, const std::string& text, std::chrono::seconds timeout) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    return changed_.wait_for(lock, timeout,
-                             [&] { return last_[id].find(text) != std::string::npos; });
-  }
-
- private:
-  std::unique_ptr<transport::LcmBus> bus_;
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::map<int, std::string> last_;
-};
-
 /// Once the two agents and the ground station announced themselves on STATUS: the replay of
 /// `scenario` at twice real time (the kill tests).
-std::unique_ptr<test::Child> replayWhenAllListen(StatusListener& status,
+std::unique_ptr<test::Child> replayWhenAllListen(test::StatusListener& status,
                                                  const std::string& scenario,
                                                  const std::string& url, const std::string& log) {
   for (int id : {1, 2})
@@ -138,7 +101,7 @@ TEST(GroundStationProcess, AgentsGoOnWithoutTheGroundStationWhichTakesOverAfterI
             0)
       << err;
   const std::string url = test::agentUrl(27831);
-  StatusListener status(url);
+  test::StatusListener status(url);
   ASSERT_TRUE(status.ok());
   auto gs = std::make_unique<test::Child>(groundStation(scenario, url, tmp / "gs1"), tmp / "gs1");
   test::Child a1(test::agentArgs(1, scenario, url, tmp / "lcm", "cc"), tmp / "a1");
@@ -207,7 +170,7 @@ TEST(GroundStationProcess, AKilledAgentIsDroppedAndRejoinsWhenRestarted) {
   test::TempFolder tmp;
   const std::string scenario = test::writeSmallScenario(tmp / "s.yaml", 24.0, true);
   const std::string url = test::agentUrl(27832);
-  StatusListener status(url);
+  test::StatusListener status(url);
   ASSERT_TRUE(status.ok());
   test::Child gs(groundStation(scenario, url, tmp / "lcm"), tmp / "gs");
   test::Child a1(test::agentArgs(1, scenario, url, tmp / "lcm", "cc"), tmp / "a1");

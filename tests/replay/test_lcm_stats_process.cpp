@@ -24,7 +24,11 @@ TEST(LcmStatsProcess, CountsRatesAndGaps) {
   o.url = url;
   auto bus = transport::LcmBus::create(o);
   ASSERT_TRUE(bus.ok());
-  std::this_thread::sleep_for(std::chrono::milliseconds(800));  // stats subscribed
+  // Publish once the tool says it listens (an event, not a sleep).
+  for (int i = 0; i < 100 && stats.err().find("listening on") == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_NE(stats.err().find("listening on"), std::string::npos) << stats.err();
+  const auto first_sent = std::chrono::steady_clock::now();
   // 30 IMU messages numbered 0..19 and 25..34: 5 missing.
   for (int64_t seq = 0; seq < 35; ++seq) {
     if (seq >= 20 && seq < 25) continue;
@@ -37,6 +41,8 @@ TEST(LcmStatsProcess, CountsRatesAndGaps) {
     ASSERT_TRUE((*bus)->publishRaw("UAV1/IMU", bytes->data(), bytes->size()).ok());
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
+  const double sent_span =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - first_sent).count();
   const std::vector<uint8_t> junk(40, 7);
   ASSERT_TRUE((*bus)->publishRaw("SOMETHING_ELSE", junk.data(), junk.size()).ok());
   EXPECT_EQ(stats.wait(std::chrono::seconds(10)), 1) << stats.err();  // 1: gaps seen
@@ -49,8 +55,12 @@ TEST(LcmStatsProcess, CountsRatesAndGaps) {
   EXPECT_EQ(imu.at("messages").get<double>(), 30);
   EXPECT_EQ(imu.at("seq_gaps").get<double>(), 5);
   EXPECT_EQ(imu.at("type").get<std::string>(), "imu_t");
-  EXPECT_GT(imu.at("rate_hz").get<double>(), 20.0);  // ~ one per 10 ms plus publish time
-  EXPECT_LT(imu.at("rate_hz").get<double>(), 110.0);
+  // The rate is the messages over the span they arrived in, and that span is the one they were
+  // sent in (they left at least 10 ms apart, so they cannot arrive in one burst).
+  const double active = imu.at("active_s").get<double>();
+  EXPECT_NEAR(imu.at("rate_hz").get<double>() * active, 29.0, 1e-9);
+  EXPECT_LE(active, sent_span + 0.1);
+  EXPECT_GE(active, 29 * 0.010);
   ASSERT_TRUE(channels.contains("SOMETHING_ELSE"));
   EXPECT_EQ(channels.at("SOMETHING_ELSE").at("no_header").get<double>(), 1);
   EXPECT_EQ(json->at("seq_gaps_total").get<double>(), 5);

@@ -59,6 +59,15 @@ Status DcLink::afterFrame(AgentPipeline& agent, LcmBus& bus,
       });
 }
 
+std::string DcLink::statusText() const {
+  std::string peers;
+  for (int id : core_.cooperation().peers())
+    peers += (peers.empty() ? "" : ",") + std::to_string(id);
+  const coop::DcCooperationStatistics& s = core_.cooperation().statistics();
+  return "peers " + (peers.empty() ? std::string("none") : peers) + "; timeouts " +
+         std::to_string(s.peer_timeouts) + "; restarts " + std::to_string(s.peer_restarts);
+}
+
 std::string DcLink::report() const {
   return core_.report(static_cast<double>(last_frame_us_ - first_frame_us_) * 1e-6);
 }

@@ -29,6 +29,9 @@ class DcLink final : public CooperationLink {
   Status afterFrame(AgentPipeline& agent, LcmBus& bus,
                     const std::function<void(cvslam::agent_summary_t&)>& fill_counters) override;
   std::string report() const override;
+  /// For STATUS: the peers known now and the peer events so far ("peers 2,3; timeouts 0;
+  /// restarts 0"), so tests and tools can wait on events instead of sleeping.
+  std::string statusText() const override;
 
   const coop::DcCooperation& cooperation() const { return core_.cooperation(); }
 
