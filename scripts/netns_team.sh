@@ -2,8 +2,8 @@
 # A team on separate "hosts" on this machine (docs/transport.md "Multi-host runs"): each UAV in
 # its own Linux network namespace with its own replay and agent; the sensor streams stay on the
 # namespace's loopback (the vehicle), the cooperation crosses a bridge as on a LAN (LCM ttl=1,
-# its own multicast group), and each UAV's link is shaped: loss always (tc netem, or nftables
-# where the kernel has no netem), delay and jitter with netem. Replays start on one wall clock.
+# its own multicast group), and each UAV's link is shaped: loss always (tc netem on departure,
+# or nftables on arrival where the kernel has no netem), delay and jitter with netem. Replays start on one wall clock.
 # Prints, per loss level, ATE per UAV, cooperation bytes/s and request timeouts (retries).
 #
 #   sudo scripts/netns_team.sh --scenario config/scenarios/team3_aerial.yaml --out runs/net \
@@ -84,9 +84,11 @@ setup() {  # loss%
          delay "${DELAY}ms" "${JITTER}ms" 2>/dev/null; then
       shaped=nftables
       command -v nft >/dev/null || die "no netem in this kernel and no nft (apt-get install nftables)"
+      # On arrival, not on departure: a packet dropped in the output hook fails the sender's
+      # sendto() (EPERM), which a radio loss never does.
       ip netns exec "$ns" nft add table inet cvlink
-      ip netns exec "$ns" nft "add chain inet cvlink out { type filter hook output priority 0; }"
-      [ "$loss" != 0 ] && ip netns exec "$ns" nft add rule inet cvlink out oifname eth0 \
+      ip netns exec "$ns" nft "add chain inet cvlink in { type filter hook input priority 0; }"
+      [ "$loss" != 0 ] && ip netns exec "$ns" nft add rule inet cvlink in iifname eth0 \
         numgen random mod 100 \< "$loss" drop
     fi
   done

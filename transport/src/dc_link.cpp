@@ -48,15 +48,22 @@ Status DcLink::afterFrame(AgentPipeline& agent, LcmBus& bus,
   last_frame_us_ = t_us;
   coop::CoopOutbox box;
   if (Status s = core_.afterFrame(t_us, agent.slam(), &box); !s.ok()) return s;
-  return forEachOutboxMessage(
+  // A message the network refuses (sendto fails) is lost like one dropped on the way: the
+  // rest of the frame's messages still go out; the first failure is reported.
+  Status first_failure;
+  Status s = forEachOutboxMessage(
       box, core_.id(), [&](const std::string& channel, Stream stream, int, auto& m) -> Status {
         if constexpr (std::is_same_v<std::decay_t<decltype(m)>, cvslam::agent_summary_t>) {
           fill_counters(m);
         }
-        if (Status s = bus.publish(channel, m); !s.ok()) return s;
+        if (Status p = bus.publish(channel, m); !p.ok()) {
+          if (first_failure.ok()) first_failure = p;
+          return Status::Ok();
+        }
         core_.countSent(streamName(stream), m.getEncodedSize());  // finalized by publish
         return Status::Ok();
       });
+  return s.ok() ? first_failure : s;
 }
 
 std::string DcLink::statusText() const {
