@@ -87,6 +87,24 @@ std::multiset<std::string> exchangesOf(const std::string& run, int from) {
   return out;
 }
 
+/// Every link the page reports drawing ("from>to@t"), added to `drawn`; the page's report.
+Json collectLinks(test::WebDriver& browser, std::set<std::string>& drawn) {
+  const Json r = browser.report();
+  if (r.is_object() && r.contains("linkList"))
+    for (const std::string& l : split(r["linkList"].get<std::string>(), ';')) drawn.insert(l);
+  return r;
+}
+
+/// The links the page drew while `running` ran, polled every 200 ms.
+std::set<std::string> linksDrawnWhileRunning(test::WebDriver& browser, test::Child& running) {
+  std::set<std::string> drawn;
+  while (!running.exited()) {
+    collectLinks(browser, drawn);
+    std::this_thread::sleep_for(200ms);
+  }
+  return drawn;
+}
+
 TEST(ViewProcess, ThreeUavLockstepTeamInHeadlessChromium) {
   test::TempFolder tmp;
   const std::string url = test::agentUrl(27850);
@@ -105,21 +123,11 @@ TEST(ViewProcess, ThreeUavLockstepTeamInHeadlessChromium) {
        "--lockstep-timeout", "20", "--duration", "20", "--lcm-url", url, "--quiet"},
       tmp / "replay");
   // While the team flies: every link the page draws, as it draws it.
-  std::set<std::string> drawn;
-  auto collect = [&] {
-    const Json r = browser.report();
-    if (r.is_object() && r.contains("linkList"))
-      for (const std::string& l : split(r["linkList"].get<std::string>(), ';')) drawn.insert(l);
-    return r;
-  };
-  while (!replay.exited()) {
-    collect();
-    std::this_thread::sleep_for(200ms);
-  }
+  std::set<std::string> drawn = linksDrawnWhileRunning(browser, replay);
   EXPECT_EQ(replay.wait(1s), 0) << replay.err();
   for (auto& a : agents) EXPECT_EQ(a->wait(60s), 0) << a->err();
   std::this_thread::sleep_for(1s);  // the last push reaches the page
-  const Json report = collect();
+  const Json report = collectLinks(browser, drawn);
   ASSERT_TRUE(report.is_object()) << report.dump();
   EXPECT_EQ(report["tracks"], "3");
   EXPECT_EQ(report["agents"], "1,2,3");
@@ -171,13 +179,7 @@ TEST(ViewProcess, CentralisedTeamShowsTheGroundStation) {
       {CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--lockstep",
        "--participants", "1,2,0", "--lockstep-timeout", "30", "--lcm-url", url, "--quiet"},
       tmp / "replay");
-  std::set<std::string> drawn;
-  while (!replay.exited()) {
-    const Json r = browser.report();
-    if (r.is_object() && r.contains("linkList"))
-      for (const std::string& l : split(r["linkList"].get<std::string>(), ';')) drawn.insert(l);
-    std::this_thread::sleep_for(200ms);
-  }
+  const std::set<std::string> drawn = linksDrawnWhileRunning(browser, replay);
   EXPECT_EQ(replay.wait(1s), 0) << replay.err();
   for (auto& a : agents) EXPECT_EQ(a->wait(30s), 0) << a->err();
   EXPECT_EQ(gs.wait(30s), 0) << gs.err();
