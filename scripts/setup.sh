@@ -14,7 +14,7 @@ PACKAGES=(
   nlohmann-json3-dev libcli11-dev libboost-math-dev clang-tidy
   python3-matplotlib python3-numpy
   iproute2 procps xvfb
-  libcpp-httplib-dev libssl-dev chromium chromium-driver
+  libcpp-httplib-dev libssl-dev chromium chromium-driver nftables
 )
 
 check_only=false
