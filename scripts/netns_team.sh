@@ -152,12 +152,14 @@ for loss in levels:
         bps = int(m.group(1)) if m else None
         if loss == levels[0] and ate is not None: base[a] = ate
         change = "" if ate is None or a not in base else "%+.1f %%" % (100 * (ate / base[a] - 1))
-        rows.append("| %s | %s | UAV%s | %s | %s | %s | %s | %s | %s |" % (
+        m = re.search(r"links \(received/expected\) (.*)", log)
+        heard = m.group(1).replace(", ", "; ") if m else "?"
+        rows.append("| %s | %s | UAV%s | %s | %s | %s | %s | %s | %s | %s |" % (
             loss, link, a, "%.3f" % ate if ate is not None else "failed", change,
             bps if bps is not None else "?", num("exchanges"), num("request timeouts"),
-            num("landmarks fused")))
-table = ["| loss %% | link | UAV | ATE [m] | vs %s %% | coop B/s | exchanges | request timeouts | fused |" % levels[0],
-         "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"] + rows
+            num("landmarks fused"), heard))
+table = ["| loss %% | link | UAV | ATE [m] | vs %s %% | coop B/s | exchanges | request timeouts | fused | heard from peers (received/expected) |" % levels[0],
+         "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"] + rows
 text = "\n".join(table)
 open(os.path.join(out, "loss_table.md"), "w").write(
     "Delay %s ms, jitter %s ms (netem only).\n\n" % (delay, jitter) + text + "\n")

@@ -1,6 +1,7 @@
 #include "cvslam/lcm/dc_link.h"
 
 #include <type_traits>
+#include <variant>
 
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/coop_convert.h"
@@ -13,6 +14,17 @@ DcLink::DcLink(int self_id, const coop::DcCooperationOptions& options, int64_t b
 
 void DcLink::receive(coop::CoopMessage m) {
   std::lock_guard<std::mutex> lock(mutex_);
+  using Link = coop::PeerLinkMonitor;
+  std::visit(
+      [this](const auto& msg) {
+        using T = std::decay_t<decltype(msg)>;
+        const Link::Stream stream = std::is_same_v<T, coop::CoopSummary>        ? Link::kSummary
+                                    : std::is_same_v<T, coop::FeatureIndexList> ? Link::kIndex
+                                    : std::is_same_v<T, coop::SharedRequest>    ? Link::kRequest
+                                                                                : Link::kLandmarks;
+        if (msg.header.agent_id != core_.id()) links_.add(msg.header, stream);
+      },
+      m);
   arrived_.push_back(std::move(m));
 }
 
@@ -71,12 +83,16 @@ std::string DcLink::statusText() const {
   for (int id : core_.cooperation().peers())
     peers += (peers.empty() ? "" : ",") + std::to_string(id);
   const coop::DcCooperationStatistics& s = core_.cooperation().statistics();
+  std::lock_guard<std::mutex> lock(mutex_);
   return "peers " + (peers.empty() ? std::string("none") : peers) + "; timeouts " +
-         std::to_string(s.peer_timeouts) + "; restarts " + std::to_string(s.peer_restarts);
+         std::to_string(s.peer_timeouts) + "; restarts " + std::to_string(s.peer_restarts) +
+         "; links " + links_.text(last_frame_us_);
 }
 
 std::string DcLink::report() const {
-  return core_.report(static_cast<double>(last_frame_us_ - first_frame_us_) * 1e-6);
+  std::lock_guard<std::mutex> lock(mutex_);
+  return core_.report(static_cast<double>(last_frame_us_ - first_frame_us_) * 1e-6) +
+         "; links (received/expected) " + links_.text(last_frame_us_);
 }
 
 }  // namespace cvslam::transport

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cvslam/coop/dc_link_core.h"
+#include "cvslam/coop/peer_link_monitor.h"
 #include "cvslam/lcm/agent_node.h"
 
 namespace cvslam::transport {
@@ -29,8 +30,10 @@ class DcLink final : public CooperationLink {
   Status afterFrame(AgentPipeline& agent, LcmBus& bus,
                     const std::function<void(cvslam::agent_summary_t&)>& fill_counters) override;
   std::string report() const override;
-  /// For STATUS: the peers known now and the peer events so far ("peers 2,3; timeouts 0;
-  /// restarts 0"), so tests and tools can wait on events instead of sleeping.
+  /// For STATUS: the peers known now, the peer events so far and each peer's link ("peers 2,3;
+  /// timeouts 0; restarts 0; links 2: 118/120 age 0.10 s, 3: …", received of expected by seq,
+  /// age of its newest news in data time), so tests and tools can wait on events instead of
+  /// sleeping and a lossy link shows.
   std::string statusText() const override;
 
   const coop::DcCooperation& cooperation() const { return core_.cooperation(); }
@@ -41,7 +44,8 @@ class DcLink final : public CooperationLink {
   coop::DcLinkCore core_;
   std::string out_dir_;
   bool log_open_ = false;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
+  coop::PeerLinkMonitor links_;             // under mutex_
   std::vector<coop::CoopMessage> arrived_;  // receive thread → main thread
   int64_t first_frame_us_ = -1, last_frame_us_ = -1;
 };
