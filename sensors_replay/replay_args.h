@@ -17,10 +17,10 @@ struct DatasetArg {
 struct Args {
   std::string scenario;
   std::vector<DatasetArg> datasets;
-  std::string log;    ///< an LCM log (lcm-logger) whose sensor channels are played
+  std::string log;          ///< an LCM log (lcm-logger) whose sensor channels are played
   std::vector<int> agents;  ///< play only these UAVs (empty: all)
   double start_at = 0.0;    ///< > 0: wait until this wall time (Unix seconds) to begin
-  double rate = 1.0;  ///< play speed; 0 = as fast as possible
+  double rate = 1.0;        ///< play speed; 0 = as fast as possible
   bool lockstep = false;
   std::vector<int> participants;   ///< lockstep participants; empty = the replayed agents
   double lockstep_timeout = 60.0;  ///< [s]

@@ -1,6 +1,6 @@
-// What authentication costs per message (transport/…/message_auth.h, docs/transport.md): HMAC-SHA256
-// signing and verification of cooperation messages of typical sizes — a summary (~250 B), a
-// landmark answer (~2 KB), an image-mode observation batch (~25 KB).
+// What authentication costs per message (transport/…/message_auth.h, docs/transport.md):
+// HMAC-SHA256 signing and verification of cooperation messages of typical sizes — a summary (~250
+// B), a landmark answer (~2 KB), an image-mode observation batch (~25 KB).
 #include <benchmark/benchmark.h>
 
 #include <vector>

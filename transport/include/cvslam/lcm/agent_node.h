@@ -45,10 +45,10 @@ struct AgentNodeOptions {
   double status_period_s = 0.2;     ///< STATUS heartbeat period (wall) [s]
   double summary_period_s = 1.0;    ///< single mode: SUMMARY period (dataset time) [s]
   double flush_period_s = 5.0;      ///< run record written every … (wall) [s]
-  double map_period_s = 1.0;        ///< UAV<id>/MAP (for displays) every … (dataset) [s]; 0: never
-  double idle_exit_s = 0.0;         ///< exit after this long without sensor data (0: never) [s]
-  double max_wait_s = 0.3;          ///< orderer: release a frame without IMU past it after [s]
-  std::size_t imu_queue = 20000;    ///< inbound buffers (messages); full → dropped, counted
+  double map_period_s = 1.0;      ///< UAV<id>/MAP (for displays) every … (dataset) [s]; 0: never
+  double idle_exit_s = 0.0;       ///< exit after this long without sensor data (0: never) [s]
+  double max_wait_s = 0.3;        ///< orderer: release a frame without IMU past it after [s]
+  std::size_t imu_queue = 20000;  ///< inbound buffers (messages); full → dropped, counted
   std::size_t frame_queue = 64;
   int64_t boot_id = 0;  ///< random per process start (summary)
   /// Initial 1σ when the filter starts at the first ground truth (EuRoC calibration), and of

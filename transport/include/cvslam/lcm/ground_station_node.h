@@ -38,12 +38,12 @@ struct GroundStationNodeOptions {
   std::vector<int> agents;  ///< UAV ids served (--agents)
   std::string url = kDefaultLcmUrl;
   std::shared_ptr<const TeamKey> auth_key;  ///< set: cooperation messages signed (message_auth.h)
-  std::string out_dir;                ///< run folder; empty: no record
-  std::string filter_name = "ekf";    ///< gs_state_t.filter
-  double status_period_s = 0.2;       ///< heartbeat on UAV0/STATUS (wall) [s]
-  double map_period_s = 1.0;          ///< GS/MAP period (dataset time) [s]
-  double agent_timeout_s = 1.0;       ///< a UAV silent this long is dropped (wall) [s]
-  double flush_period_s = 5.0;        ///< run record written every … (wall) [s]
+  std::string out_dir;                      ///< run folder; empty: no record
+  std::string filter_name = "ekf";          ///< gs_state_t.filter
+  double status_period_s = 0.2;             ///< heartbeat on UAV0/STATUS (wall) [s]
+  double map_period_s = 1.0;                ///< GS/MAP period (dataset time) [s]
+  double agent_timeout_s = 1.0;             ///< a UAV silent this long is dropped (wall) [s]
+  double flush_period_s = 5.0;              ///< run record written every … (wall) [s]
   double startup_wait_s = 2.0;        ///< announce on STATUS once every UAV was heard, or after
   double idle_exit_s = 0.0;           ///< exit after this long without agent messages (0: never)
   std::size_t inbox_capacity = 4096;  ///< messages waiting for the main thread; full → dropped
