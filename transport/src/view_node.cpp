@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "covariance_triangle.h"
+#include "cvslam/lcm/cc_convert.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/message_types.h"
 
@@ -13,19 +15,15 @@ double seconds(int64_t t_us) {
   return static_cast<double>(t_us) * 1e-6;
 }
 
-// The position block and heading of a vehicle state on the wire ([X Y Z U V W φ θ ψ ...],
-// row-major covariance; agent_state_t.lcm).
-template <typename Msg>
-view::ViewEstimate estimateOf(const Msg& m, int agent_id) {
+// The position block and heading of a vehicle estimate ([X Y Z U V W φ θ ψ ...] on the wire,
+// agent_state_t.lcm; decoded by cc_convert.h).
+view::ViewEstimate viewEstimate(const VehicleEstimate& v, int agent_id) {
   view::ViewEstimate e;
   e.agent_id = agent_id;
-  e.t = seconds(m.header.utime);
-  const int n = m.state_dim;
-  if (n < 9 || static_cast<int>(m.covariance.size()) != n * n) return e;
-  e.p = Eigen::Vector3d(m.state[0], m.state[1], m.state[2]);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) e.P(r, c) = m.covariance[static_cast<std::size_t>(r * n + c)];
-  e.yaw = m.state[8];
+  e.t = seconds(v.t_us);
+  e.p = v.x_v.head<3>();
+  e.P = v.P_v.topLeftCorner<3, 3>();
+  e.yaw = v.x_v(8);
   return e;
 }
 
@@ -43,9 +41,9 @@ std::vector<view::ViewLandmark> landmarksOf(const cvslam::map_t& m) {
   std::vector<view::ViewLandmark> out(m.index.size());
   for (std::size_t i = 0; i < out.size(); ++i) {
     const auto& p = m.position[i];
-    const auto& c = m.covariance[i];  // xx xy xz yy yz zz
     out[i].p = Eigen::Vector3d(p[0], p[1], p[2]).cast<float>();
-    out[i].std_m = static_cast<float>(std::sqrt(std::max(0.0, (c[0] + c[3] + c[5]) / 3.0)));
+    const double trace = fromUpperTriangle(m.covariance[i]).trace();
+    out[i].std_m = static_cast<float>(std::sqrt(std::max(0.0, trace / 3.0)));
     out[i].active = true;
   }
   return out;
@@ -88,7 +86,7 @@ Status ViewNode::subscribe() {
   // Messages of every agent, the sender in the header.
   Status s = bus.subscribe<cvslam::agent_state_t>(
       allAgentsPattern(Stream::kPose), [this](const cvslam::agent_state_t& m) {
-        view::ViewEstimate e = estimateOf(m, m.header.agent_id);
+        view::ViewEstimate e = viewEstimate(estimateOf(m), m.header.agent_id);
         e.landmarks_active = m.num_landmarks;
         e.landmarks_archived = m.num_archived;
         const double wall = now();
@@ -157,11 +155,11 @@ Status ViewNode::subscribe() {
             });
           });
     if (s.ok())
-      s = bus.subscribe<cvslam::gs_state_t>(channels::gsState(j),
-                                            [this, j](const cvslam::gs_state_t& m) {
-                                              const view::ViewEstimate e = estimateOf(m, j);
-                                              locked([&] { view_.addGroundStationEstimate(e); });
-                                            });
+      s = bus.subscribe<cvslam::gs_state_t>(
+          channels::gsState(j), [this, j](const cvslam::gs_state_t& m) {
+            const view::ViewEstimate e = viewEstimate(fromMessage(m), j);
+            locked([&] { view_.addGroundStationEstimate(e); });
+          });
     if (s.ok())
       s = bus.subscribe<cvslam::pose_t>(
           channels::groundTruth(j), [this, j](const cvslam::pose_t& m) {
