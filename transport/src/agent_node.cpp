@@ -13,8 +13,6 @@
 #include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/cc_convert.h"
 #include "cvslam/lcm/channels.h"
-#include "cvslam/lcm/features_convert.h"
-#include "cvslam/lcm/imu_convert.h"
 #include "cvslam/lcm/sensor_convert.h"
 
 namespace cvslam::transport {
@@ -103,53 +101,30 @@ Status AgentNode::subscribe() {
     ++rejected_[channel];
     return false;
   };
-  const std::string imu_ch = channels::imu(id);
-  Status s = bus_->subscribe<cvslam::imu_t>(imu_ch, [=](const cvslam::imu_t& m) {
-    if (!fromReplay(m.header.agent_id, imu_ch)) return;
-    SensorEvent e;
-    e.type = SensorEventType::kImu;
-    e.agent_id = id;
-    e.t_us = m.header.utime;
-    e.imu = fromMessage(m);
-    push(std::move(e), imu_ch, o_.imu_queue);
-  });
-  if (!s.ok()) return s;
-  const std::string gt_ch = channels::groundTruth(id);
-  s = bus_->subscribe<cvslam::pose_t>(gt_ch, [=](const cvslam::pose_t& m) {
-    if (!fromReplay(m.header.agent_id, gt_ch)) return;
-    SensorEvent e;
-    e.type = SensorEventType::kGroundTruth;
-    e.agent_id = id;
-    e.t_us = m.header.utime;
-    e.truth = fromPoseMessage(m);
-    push(std::move(e), gt_ch, o_.imu_queue);
-  });
-  if (!s.ok()) return s;
-  const std::string feat_ch = channels::features(id);
-  s = bus_->subscribe<cvslam::stereo_features_t>(feat_ch, [=](const cvslam::stereo_features_t& m) {
-    if (!fromReplay(m.header.agent_id, feat_ch)) return;
-    SensorEvent e;
-    e.type = SensorEventType::kFeatures;
-    e.agent_id = id;
-    e.t_us = m.header.utime;
-    e.features = fromMessage(m);
-    push(std::move(e), feat_ch, o_.frame_queue);
-  });
-  if (!s.ok()) return s;
-  const std::string stereo_ch = channels::stereo(id);
-  s = bus_->subscribe<cvslam::stereo_image_t>(stereo_ch, [=](const cvslam::stereo_image_t& m) {
-    if (!fromReplay(m.header.agent_id, stereo_ch)) return;
-    SensorEvent e;
-    e.type = SensorEventType::kStereoImage;
-    e.agent_id = id;
-    e.t_us = m.header.utime;
-    if (!fromStereoMessage(m, e.left, e.right).ok()) {
-      std::lock_guard<std::mutex> lock(inbox_mutex_);
-      ++rejected_[stereo_ch];
-      return;
-    }
-    push(std::move(e), stereo_ch, o_.frame_queue);
-  });
+  // One subscription per sensor stream: from the replay only, converted to a SensorEvent
+  // (sensor_convert.h), queued with the stream's capacity; an image pair that does not decode
+  // is rejected.
+  auto sensor = [&](const std::string& channel, std::size_t capacity, auto typed) -> Status {
+    using Msg = typename decltype(typed)::type;
+    return bus_->subscribe<Msg>(channel, [=](const Msg& m) {
+      if (!fromReplay(m.header.agent_id, channel)) return;
+      SensorEvent e;
+      if (!toSensorEvent(m, id, &e)) {
+        std::lock_guard<std::mutex> lock(inbox_mutex_);
+        ++rejected_[channel];
+        return;
+      }
+      push(std::move(e), channel, capacity);
+    });
+  };
+  Status s = sensor(channels::imu(id), o_.imu_queue, std::common_type<cvslam::imu_t>{});
+  if (s.ok())
+    s = sensor(channels::groundTruth(id), o_.imu_queue, std::common_type<cvslam::pose_t>{});
+  if (s.ok())
+    s = sensor(channels::features(id), o_.frame_queue,
+               std::common_type<cvslam::stereo_features_t>{});
+  if (s.ok())
+    s = sensor(channels::stereo(id), o_.frame_queue, std::common_type<cvslam::stereo_image_t>{});
   if (!s.ok()) return s;
   if (coop_) return coop_->subscribe(coopBus());
   return Status::Ok();

@@ -6,9 +6,7 @@
 
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/codec.h"
-#include "cvslam/lcm/features_convert.h"
 #include "cvslam/lcm/header_peek.h"
-#include "cvslam/lcm/imu_convert.h"
 #include "cvslam/lcm/sensor_convert.h"
 
 namespace cvslam::transport {
@@ -19,40 +17,23 @@ bool isSensorStream(Stream s) {
          s == Stream::kStereo;
 }
 
+template <typename Msg>
+bool decodeEvent(const void* data, std::size_t size, int agent_id, SensorEvent& e) {
+  auto m = decodeMessage<Msg>(data, size);
+  return m.ok() && toSensorEvent(*m, agent_id, &e);
+}
+
 // Decodes one logged sensor message into `e`; false if it does not decode or validate.
-bool toEvent(Stream stream, const void* data, std::size_t size, SensorEvent& e) {
+bool toEvent(Stream stream, const void* data, std::size_t size, int agent_id, SensorEvent& e) {
   switch (stream) {
-    case Stream::kImu: {
-      auto m = decodeMessage<cvslam::imu_t>(data, size);
-      if (!m.ok()) return false;
-      e.type = SensorEventType::kImu;
-      e.t_us = m->header.utime;
-      e.imu = fromMessage(*m);
-      return true;
-    }
-    case Stream::kGroundTruth: {
-      auto m = decodeMessage<cvslam::pose_t>(data, size);
-      if (!m.ok()) return false;
-      e.type = SensorEventType::kGroundTruth;
-      e.t_us = m->header.utime;
-      e.truth = fromPoseMessage(*m);
-      return true;
-    }
-    case Stream::kFeatures: {
-      auto m = decodeMessage<cvslam::stereo_features_t>(data, size);
-      if (!m.ok()) return false;
-      e.type = SensorEventType::kFeatures;
-      e.t_us = m->header.utime;
-      e.features = fromMessage(*m);
-      return true;
-    }
-    case Stream::kStereo: {
-      auto m = decodeMessage<cvslam::stereo_image_t>(data, size);
-      if (!m.ok()) return false;
-      e.type = SensorEventType::kStereoImage;
-      e.t_us = m->header.utime;
-      return fromStereoMessage(*m, e.left, e.right).ok();
-    }
+    case Stream::kImu:
+      return decodeEvent<cvslam::imu_t>(data, size, agent_id, e);
+    case Stream::kGroundTruth:
+      return decodeEvent<cvslam::pose_t>(data, size, agent_id, e);
+    case Stream::kFeatures:
+      return decodeEvent<cvslam::stereo_features_t>(data, size, agent_id, e);
+    case Stream::kStereo:
+      return decodeEvent<cvslam::stereo_image_t>(data, size, agent_id, e);
     default:
       return false;
   }
@@ -113,11 +94,10 @@ bool LcmLogSensorStream::next(SensorEvent& event) {
     const auto id = parseChannel(ev->channel);
     SensorEvent e;
     const bool mine = id && id->agent_id == agent_id_ && isSensorStream(id->stream);
-    const bool ok = mine && toEvent(id->stream, ev->data, ev->datalen, e);
+    const bool ok = mine && toEvent(id->stream, ev->data, ev->datalen, agent_id_, e);
     if (mine && !ok) ++invalid_;
     lcm_eventlog_free_event(ev);
     if (!ok) continue;
-    e.agent_id = agent_id_;
     e.play_us = e.t_us - first_us_;
     event = std::move(e);
     return true;

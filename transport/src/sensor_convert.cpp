@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "cvslam/geometry/euler.h"
+#include "cvslam/lcm/features_convert.h"
+#include "cvslam/lcm/imu_convert.h"
 
 namespace cvslam::transport {
 namespace {
@@ -104,6 +106,39 @@ Vector9d truthState(const VehiclePose& pose) {
   const Eigen::Vector3d v_B = rotationBodyToNav<double>(pose.euler).transpose() * pose.v_N;
   x << pose.p_BinN, v_B, pose.euler;
   return x;
+}
+
+namespace {
+template <typename Msg>
+void stamp(const Msg& msg, SensorEventType type, int agent_id, SensorEvent* e) {
+  *e = SensorEvent{};
+  e->type = type;
+  e->agent_id = agent_id;
+  e->t_us = msg.header.utime;
+}
+}  // namespace
+
+bool toSensorEvent(const cvslam::imu_t& msg, int agent_id, SensorEvent* e) {
+  stamp(msg, SensorEventType::kImu, agent_id, e);
+  e->imu = fromMessage(msg);
+  return true;
+}
+
+bool toSensorEvent(const cvslam::pose_t& msg, int agent_id, SensorEvent* e) {
+  stamp(msg, SensorEventType::kGroundTruth, agent_id, e);
+  e->truth = fromPoseMessage(msg);
+  return true;
+}
+
+bool toSensorEvent(const cvslam::stereo_features_t& msg, int agent_id, SensorEvent* e) {
+  stamp(msg, SensorEventType::kFeatures, agent_id, e);
+  e->features = fromMessage(msg);
+  return true;
+}
+
+bool toSensorEvent(const cvslam::stereo_image_t& msg, int agent_id, SensorEvent* e) {
+  stamp(msg, SensorEventType::kStereoImage, agent_id, e);
+  return fromStereoMessage(msg, e->left, e->right).ok();
 }
 
 }  // namespace cvslam::transport

@@ -31,4 +31,12 @@ Expected<cvslam::stereo_image_t> toStereoMessage(const cv::Mat& left, const cv::
 /// Decodes a stereo_image_t (either encoding) into two CV_8UC1 images.
 Status fromStereoMessage(const cvslam::stereo_image_t& msg, cv::Mat& left, cv::Mat& right);
 
+/// The sensor event a received message carries for UAV `agent_id` (t_us = header.utime,
+/// play_us 0): what the agent's subscriptions and a logged run (lcm_log_sensor_stream.h) feed
+/// on. False only for a stereo pair whose images do not decode.
+bool toSensorEvent(const cvslam::imu_t& msg, int agent_id, SensorEvent* event);
+bool toSensorEvent(const cvslam::pose_t& msg, int agent_id, SensorEvent* event);
+bool toSensorEvent(const cvslam::stereo_features_t& msg, int agent_id, SensorEvent* event);
+bool toSensorEvent(const cvslam::stereo_image_t& msg, int agent_id, SensorEvent* event);
+
 }  // namespace cvslam::transport
