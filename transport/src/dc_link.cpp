@@ -14,17 +14,8 @@ DcLink::DcLink(int self_id, const coop::DcCooperationOptions& options, int64_t b
 
 void DcLink::receive(coop::CoopMessage m) {
   std::lock_guard<std::mutex> lock(mutex_);
-  using Link = coop::PeerLinkMonitor;
-  std::visit(
-      [this](const auto& msg) {
-        using T = std::decay_t<decltype(msg)>;
-        const Link::Stream stream = std::is_same_v<T, coop::CoopSummary>        ? Link::kSummary
-                                    : std::is_same_v<T, coop::FeatureIndexList> ? Link::kIndex
-                                    : std::is_same_v<T, coop::SharedRequest>    ? Link::kRequest
-                                                                                : Link::kLandmarks;
-        if (msg.header.agent_id != core_.id()) links_.add(msg.header, stream);
-      },
-      m);
+  const int sender = std::visit([](const auto& msg) { return msg.header.agent_id; }, m);
+  if (sender != core_.id()) links_.add(m);
   arrived_.push_back(std::move(m));
 }
 

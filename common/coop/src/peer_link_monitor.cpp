@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <type_traits>
+#include <variant>
 
 namespace cvslam::coop {
 
@@ -19,6 +21,16 @@ void PeerLinkMonitor::add(const CoopHeader& header, Stream stream) {
   }
   ++s.link.received;
   s.link.newest_t_us = std::max(s.link.newest_t_us, header.t_us);
+}
+
+void PeerLinkMonitor::add(const CoopMessage& message) {
+  static_assert(
+      std::is_same_v<std::variant_alternative_t<kSummary, CoopMessage>, CoopSummary> &&
+          std::is_same_v<std::variant_alternative_t<kIndex, CoopMessage>, FeatureIndexList> &&
+          std::is_same_v<std::variant_alternative_t<kRequest, CoopMessage>, SharedRequest> &&
+          std::is_same_v<std::variant_alternative_t<kLandmarks, CoopMessage>, SharedLandmarks>,
+      "Stream follows the order of CoopMessage's alternatives");
+  std::visit([&](const auto& m) { add(m.header, static_cast<Stream>(message.index())); }, message);
 }
 
 std::map<int, PeerLinkMonitor::Link> PeerLinkMonitor::links() const {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cvslam/coop/coop_messages.h"
+#include "cvslam/coop/dc_link_core.h"
 
 namespace cvslam::coop {
 
@@ -25,6 +26,8 @@ class PeerLinkMonitor {
   };
 
   void add(const CoopHeader& header, Stream stream);
+  /// A received cooperation message (its stream is its alternative of CoopMessage).
+  void add(const CoopMessage& message);
   /// Per peer, summed over its streams.
   std::map<int, Link> links() const;
   /// "2: 118/120 age 0.10 s; 3: …" with ages against `now_us` (the agent's data time).
