@@ -15,6 +15,7 @@ PACKAGES=(
   python3-matplotlib python3-numpy
   iproute2 procps xvfb
   libcpp-httplib-dev libssl-dev chromium chromium-driver nftables
+  libnetfilter-queue-dev iptables
 )
 
 check_only=false
