@@ -59,6 +59,9 @@ options:
   --both-ways             dc: overrides coop.both_ways to true (the default)
   --one-way               dc: overrides coop.both_ways to false (thesis §6.6.5: only the
                           UAV that receives the indices fuses)
+  --coop-loss PCT         dc: each message to each peer is lost with this probability
+                          [%] (a lossy radio; default 0)
+  --coop-loss-seed N      dc: seed of the loss draws (default 1): one seed, one pattern
   --sensing KIND          features: feature-level simulation with true landmark ids;
                           images: stereo pairs rendered at the true pose (the scenario's
                           `render:` world, default aerial) through the real front end and
@@ -86,6 +89,7 @@ struct Args {
   std::string gs_config;
   long long seed = -1;
   double duration = -1.0;
+  cvslam::DcLinkLoss coop_loss;
   bool quiet = false;
 };
 
@@ -110,11 +114,15 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
   app.add_option("--duration", a->duration)->check(cvslam::cli::kPositive);
   app.add_option("--agents", a->agents);
+  auto* loss = app.add_option("--coop-loss", a->coop_loss.percent)->check(CLI::Range(0.0, 100.0));
+  auto* loss_seed = app.add_option("--coop-loss-seed", a->coop_loss.seed);
   app.add_flag("--quiet", a->quiet);
   a->config.addTo(app);
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return exit_code;
   if (a->mode != "dc" && a->config.anyCoop())
     return fail("--ci, --both-ways and --one-way need --mode dc");
+  if (a->mode != "dc" && (loss->count() > 0 || loss_seed->count() > 0))
+    return fail("--coop-loss and --coop-loss-seed need --mode dc");
   if (a->mode != "cc" && !a->gs_config.empty()) return fail("--gs-config needs --mode cc");
   if (a->sensing != "images" && (!a->world.empty() || !a->config.detector.empty()))
     return fail("--world and --detector need --sensing images");
@@ -248,7 +256,7 @@ Status openOutputs(const Args& args, const cvslam::SimulatedTeamRun& run,
     if (Status s = config.effective.write(used); !s.ok()) return s;
   }
   if (args.mode != "dc") return Status::Ok();
-  *dc = std::make_unique<cvslam::DcTeamLink>(config.coop, ids);
+  *dc = std::make_unique<cvslam::DcTeamLink>(config.coop, ids, args.coop_loss);
   return (*dc)->open(args.out);
 }
 

@@ -11,8 +11,9 @@ namespace {
 constexpr int64_t kBootIdBase = 1000;  // deterministic boot ids for in-process runs
 }  // namespace
 
-DcTeamLink::DcTeamLink(const coop::DcCooperationOptions& options,
-                       const std::vector<int>& agent_ids) {
+DcTeamLink::DcTeamLink(const coop::DcCooperationOptions& options, const std::vector<int>& agent_ids,
+                       const DcLinkLoss& loss)
+    : loss_(loss), loss_rng_(loss.seed) {
   for (int id : agent_ids)
     agents_[id] = std::make_unique<coop::DcLinkCore>(id, options, kBootIdBase + id);
 }
@@ -49,6 +50,12 @@ Status DcTeamLink::afterFrame(int id, int64_t t_us, VisualInertialSlam& slam,
         }
         for (auto& [peer, core] : agents_) {
           if (peer == id || (to >= 0 && peer != to)) continue;
+          ++deliveries_;
+          if (loss_.percent > 0.0 &&
+              std::uniform_real_distribution<double>(0.0, 100.0)(loss_rng_) < loss_.percent) {
+            ++lost_;
+            continue;
+          }
           core->receive(transport::toCoopMessage(*back, peer));
         }
         return Status::Ok();
@@ -58,6 +65,9 @@ Status DcTeamLink::afterFrame(int id, int64_t t_us, VisualInertialSlam& slam,
 void DcTeamLink::printSummary(std::FILE* out, double duration_s) const {
   for (const auto& [id, core] : agents_)
     std::fprintf(out, "  %s\n", core->report(duration_s).c_str());
+  if (loss_.percent > 0.0)
+    std::fprintf(out, "  link loss %.1f %%: %lld of %lld deliveries lost\n", loss_.percent,
+                 static_cast<long long>(lost_), static_cast<long long>(deliveries_));
   if (decode_failures_ > 0)
     std::fprintf(out, "  %lld messages failed to decode\n",
                  static_cast<long long>(decode_failures_));

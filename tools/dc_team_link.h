@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -19,10 +20,19 @@
 
 namespace cvslam {
 
+/// A lossy radio between the simulated UAVs (cvslam_run --coop-loss): each delivery of a
+/// message to each receiver is lost independently with this probability. The draws follow
+/// the deterministic delivery order, so one seed is one loss pattern.
+struct DcLinkLoss {
+  double percent = 0.0;
+  uint64_t seed = 1;
+};
+
 class DcTeamLink {
  public:
   /// boot ids are fixed (1000 + id) so that runs repeat exactly.
-  DcTeamLink(const coop::DcCooperationOptions& options, const std::vector<int>& agent_ids);
+  DcTeamLink(const coop::DcCooperationOptions& options, const std::vector<int>& agent_ids,
+             const DcLinkLoss& loss = {});
 
   /// Opens DIR/agent_<id>/coop.csv for every agent.
   Status open(const std::string& run_dir);
@@ -39,6 +49,9 @@ class DcTeamLink {
  private:
   std::map<int, std::unique_ptr<coop::DcLinkCore>> agents_;
   int64_t decode_failures_ = 0;
+  DcLinkLoss loss_;
+  std::mt19937_64 loss_rng_;
+  int64_t deliveries_ = 0, lost_ = 0;
 };
 
 }  // namespace cvslam

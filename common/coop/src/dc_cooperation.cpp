@@ -150,6 +150,7 @@ void DcCooperation::handleSummary(const CoopSummary& m, int64_t now_us) {
     PeerState fresh;
     fresh.boot_id = m.boot_id;
     fresh.last_heard_us = m.header.t_us;
+    fresh.timeout = RequestTimeout({o_.min_request_timeout_s, o_.request_timeout_s});
     peers_[j] = fresh;
     if (restart) ++stats_.peer_restarts;
     CoopEvent e;
@@ -230,7 +231,10 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
   for (const SharedLandmark& l : m.landmarks)
     answers_request =
         answers_request && std::binary_search(p.requested.begin(), p.requested.end(), l.index);
-  if (answers_request) p.request_pending = false;
+  if (answers_request) {
+    p.request_pending = false;
+    p.timeout.onAnswer(seconds(now_us - p.request_sent_us));
+  }
 
   const std::vector<StateLandmark> local = slam.stateLandmarks();
   CoopEvent e;
@@ -381,8 +385,9 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
       continue;
     }
     PeerState& p = it->second;
-    if (p.request_pending && seconds(now - p.request_sent_us) > o_.request_timeout_s) {
+    if (p.request_pending && seconds(now - p.request_sent_us) > p.timeout.seconds()) {
       p.request_pending = false;
+      p.timeout.onTimeout();
       ++stats_.request_timeouts;
       events_.push_back({now, CoopEventKind::kRequestTimeout, it->first,
                          static_cast<int>(p.requested.size()), 0, 0, 0, 1.0});

@@ -35,6 +35,7 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.get("summary_period_s", summary_period_s);
   node.get("exchange_period_s", exchange_period_s);
   node.get("peer_timeout_s", peer_timeout_s);
+  node.get("min_request_timeout_s", min_request_timeout_s);
   node.get("request_timeout_s", request_timeout_s);
   node.get("max_message_age_s", max_message_age_s);
   std::string method = ciMethodName(ci_method);
@@ -64,6 +65,8 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.check(exchange_period_s >= 0.0, "exchange_period_s", "must be ≥ 0 (0: every frame)");
   node.check(peer_timeout_s > 0.0 && request_timeout_s > 0.0 && max_message_age_s > 0.0,
              "peer_timeout_s", "peer_timeout_s, request_timeout_s, max_message_age_s must be > 0");
+  node.check(min_request_timeout_s > 0.0 && min_request_timeout_s <= request_timeout_s,
+             "min_request_timeout_s", "must be > 0 and ≤ request_timeout_s");
   node.check(max_landmarks_per_message >= 1, "max_landmarks_per_message", "must be ≥ 1");
   node.check(max_indices_per_message >= 1, "max_indices_per_message", "must be ≥ 1");
   node.check(gate_probability > 0.0 && gate_probability < 1.0, "gate_probability",

@@ -30,6 +30,7 @@
 #include "cvslam/camera/stereo_observation.h"
 #include "cvslam/coop/coop_messages.h"
 #include "cvslam/coop/feature_ellipsoid.h"
+#include "cvslam/coop/request_timeout.h"
 #include "cvslam/core/status.h"
 #include "cvslam/filter/covariance_intersection.h"
 
@@ -59,7 +60,11 @@ struct DcCooperationOptions {
   double summary_period_s = 0.5;   ///< summary/heartbeat period [s]
   double exchange_period_s = 0.0;  ///< at most one index broadcast per period [s]; 0: every frame
   double peer_timeout_s = 5.0;     ///< a silent peer is forgotten after this [s]
-  double request_timeout_s = 2.0;  ///< an unanswered request is abandoned after this [s]
+  /// An unanswered request is abandoned (and the next index asks again) after a timeout that
+  /// follows the measured round trip (request_timeout.h), between these bounds [s]: the
+  /// first request waits min_request_timeout_s; back-off stops at request_timeout_s.
+  double min_request_timeout_s = 0.5;
+  double request_timeout_s = 2.0;
   double max_message_age_s = 2.0;  ///< older messages (dataset time) are dropped as stale [s]
   CiMethod ci_method = CiMethod::kAdaptive;  ///< adaptive | fast | optimal_trace |
                                              ///< optimal_determinant | optimal_vehicle
@@ -172,6 +177,7 @@ class DcCooperation {
     bool request_pending = false;
     int64_t request_sent_us = 0;
     std::vector<uint32_t> requested;  ///< indices of the pending request (ascending)
+    RequestTimeout timeout;           ///< how long to wait for its answer
   };
   using Inbound = std::variant<CoopSummary, FeatureIndexList, SharedRequest, SharedLandmarks>;
 
