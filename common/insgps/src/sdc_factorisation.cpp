@@ -2,57 +2,34 @@
 
 #include <cmath>
 
+#include "cvslam/geometry/euler.h"
 #include "cvslam/ins/ins_propagator.h"
-#include "cvslam/insgps/gps_measurement.h"
 
 namespace cvslam::insgps {
 
-namespace {
-
-template <typename Out>
-Eigen::Matrix<double, Out::RowsAtCompileTime, kStateSize> staircase(
-    const std::function<Out(const StateVector&)>& g, const StateVector& x,
-    const std::array<int, kStateSize>& order, const SdcOptions& o) {
-  Eigen::Matrix<double, Out::RowsAtCompileTime, kStateSize> A;
-  StateVector partial = StateVector::Zero();
-  Out g_prev = g(partial);
+Eigen::Matrix3d staircaseSdc(const AttitudeFunction& c, const Eigen::Vector3d& e,
+                             const std::array<int, 3>& order, const SdcOptions& o) {
+  Eigen::Matrix3d C;
+  Eigen::Vector3d partial = Eigen::Vector3d::Zero();
+  Eigen::Vector3d c_prev = c(partial);
   for (int j : order) {
-    const double xj = x(j);
-    if (std::abs(xj) < o.small_coordinate) {
-      StateVector plus = partial, minus = partial;
+    const double ej = e(j);
+    if (std::abs(ej) < o.small_coordinate) {
+      Eigen::Vector3d plus = partial, minus = partial;
       plus(j) += o.derivative_step;
       minus(j) -= o.derivative_step;
-      A.col(j) = (g(plus) - g(minus)) / (2.0 * o.derivative_step);
-      partial(j) = xj;
-      // Keep the telescoping exact: the next quotient starts from g at the true partial path.
-      g_prev = g(partial);
+      C.col(j) = (c(plus) - c(minus)) / (2.0 * o.derivative_step);
+      partial(j) = ej;
+      // The telescoping continues from c on the true path (error O(e_j²) for this column).
+      c_prev = c(partial);
       continue;
     }
-    partial(j) = xj;
-    const Out g_next = g(partial);
-    A.col(j) = (g_next - g_prev) / xj;
-    g_prev = g_next;
+    partial(j) = ej;
+    const Eigen::Vector3d c_next = c(partial);
+    C.col(j) = (c_next - c_prev) / ej;
+    c_prev = c_next;
   }
-  return A;
-}
-
-}  // namespace
-
-StateMatrix staircaseSdc(const StateFunction& g, const StateVector& x,
-                         const std::array<int, kStateSize>& order, const SdcOptions& o) {
-  return staircase<StateVector>(g, x, order, o);
-}
-
-MeasJacobian staircaseSdc(const MeasFunction& g, const StateVector& x,
-                          const std::array<int, kStateSize>& order, const SdcOptions& o) {
-  return staircase<MeasVector>(g, x, order, o);
-}
-
-std::array<int, kStateSize> forwardOrder() {
-  return {0, 1, 2, 3, 4, 5, 6, 7, 8};
-}
-std::array<int, kStateSize> reverseOrder() {
-  return {8, 7, 6, 5, 4, 3, 2, 1, 0};
+  return C;
 }
 
 StateVector insDynamics(const StateVector& x, const ImuSample& s, double gravity) {
@@ -62,16 +39,36 @@ StateVector insDynamics(const StateVector& x, const ImuSample& s, double gravity
 
 InsSdc insSdc(const StateVector& x, const ImuSample& s, double gravity, double alpha,
               const SdcOptions& o) {
-  InsSdc out;
-  out.b = insDynamics(StateVector::Zero(), s, gravity);
-  const StateFunction g = [&](const StateVector& z) {
-    return StateVector(insDynamics(z, s, gravity) - out.b);
+  using vehicle::kAttitude;
+  using vehicle::kPosition;
+  using vehicle::kVelocity;
+  const Eigen::Vector3d e = x.segment<3>(kAttitude);
+  const Eigen::Vector3d g_N(0.0, 0.0, gravity);
+  const Eigen::Vector3d omega = s.gyro_B;
+  const AttitudeFunction c_g = [&](const Eigen::Vector3d& a) {
+    return Eigen::Vector3d(rotationNavToBody(a) * g_N - g_N);
   };
-  const MeasFunction h = [](const StateVector& z) { return gpsPredicted(z); };
-  out.A = alpha * staircaseSdc(g, x, forwardOrder(), o) +
-          (1.0 - alpha) * staircaseSdc(g, x, reverseOrder(), o);
-  out.H = alpha * staircaseSdc(h, x, forwardOrder(), o) +
-          (1.0 - alpha) * staircaseSdc(h, x, reverseOrder(), o);
+  const AttitudeFunction c_E = [&](const Eigen::Vector3d& a) {
+    return Eigen::Vector3d(eulerRates(a, omega) - omega);
+  };
+  auto mixed = [&](const AttitudeFunction& c) {
+    return Eigen::Matrix3d(alpha * staircaseSdc(c, e, kForwardOrder, o) +
+                           (1.0 - alpha) * staircaseSdc(c, e, kReverseOrder, o));
+  };
+  InsSdc out;
+  const Eigen::Matrix3d R_BtoN = rotationBodyToNav(e);
+  out.A.setZero();
+  out.A.block<3, 3>(kPosition, kVelocity) = R_BtoN;
+  out.A.block<3, 3>(kVelocity, kVelocity) << 0.0, omega.z(), -omega.y(), -omega.z(), 0.0,
+      omega.x(), omega.y(), -omega.x(), 0.0;
+  out.A.block<3, 3>(kVelocity, kAttitude) = mixed(c_g);
+  out.A.block<3, 3>(kAttitude, kAttitude) = mixed(c_E);
+  out.b.setZero();
+  out.b.segment<3>(kVelocity) = s.accel_B + g_N;
+  out.b.segment<3>(kAttitude) = omega;
+  out.H.setZero();
+  out.H.block<3, 3>(0, kPosition).setIdentity();
+  out.H.block<3, 3>(3, kVelocity) = R_BtoN;
   return out;
 }
 

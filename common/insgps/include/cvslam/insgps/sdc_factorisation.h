@@ -5,15 +5,24 @@
 // The INS dynamics are affine in the IMU input u, ẋ = f(x, u), and f(0, u) ≠ 0 (gravity,
 // specific force, body rates), so the SDC form used here is
 //   ẋ = A(x, u) x + b(u),   b(u) = f(0, u),   A(x, u) x = f(x, u) − f(0, u),
-// with b a known input (the "B u" of eq. 3.1). The thesis builds its A by hand from eqs.
-// 2.9–2.10; we build it generically by the "staircase" of difference quotients along the
-// coordinate path 0 → x taken in a chosen order o:
-//   x⁽ʲ⁾ = x with only its first j coordinates (in order o) kept, the others 0;
-//   column o_j of A = (g(x⁽ʲ⁾) − g(x⁽ʲ⁻¹⁾)) / x_{o_j}
-// so that Σ_j A e_{o_j} x_{o_j} = g(x) − g(0) = g(x) exactly (a telescoping sum). When
-// |x_{o_j}| is tiny the quotient is replaced by its limit, the partial derivative at x⁽ʲ⁻¹⁾
-// (central difference). Different orders give different valid SDC forms: the thesis's F₁ and
-// F₂ (§3.7.1), mixed as F(x, α) = α F₁ + (1 − α) F₂, itself an SDC form (eq. above 3.64).
+// with b a known input (the "B u" of eq. 3.1). As the thesis notes (§3.5.2), eqs. 2.5–2.7
+// fall "naturally" into this form:
+//   ṗ   = R_BtoN(e) v_B                       → A_pv = R_BtoN(e)
+//   v̇_B = −[ω]× v_B + (R_NtoB(e) − I) g + (f + g)   → A_vv = −[ω]×, A_ve = C_g(e)
+//   ė   = (E(e) − I) ω + ω                     → A_ee = C_E(e)
+//   h(x) = [p ; R_BtoN(e) v_B]                 → H = [I 0 0 ; 0 R_BtoN(e) 0]
+// where C_g, C_E are SDC matrices of the attitude-only functions c(e) = (R_NtoB(e) − I) g and
+// (E(e) − I) ω, both zero at e = 0. These are built by the "staircase" of difference
+// quotients along the coordinate path 0 → e taken in an order o:
+//   e⁽ʲ⁾ = e with only its first j coordinates (in order o) kept, the others 0;
+//   column o_j = (c(e⁽ʲ⁾) − c(e⁽ʲ⁻¹⁾)) / e_{o_j}
+// so that Σ_j C e_{o_j} e_{o_j} = c(e) − c(0) = c(e) exactly (a telescoping sum). When
+// |e_{o_j}| is tiny the quotient is replaced by its limit, the partial derivative at e⁽ʲ⁻¹⁾
+// (central difference). The orders φθψ and ψθφ give the thesis's two SDC forms F₁ and F₂
+// (§3.7.1), mixed as F(x, α) = α F₁ + (1 − α) F₂, itself an SDC form.
+// Consequence of the natural form: yaw enters neither C_g (gravity is vertical) nor C_E nor
+// H, so the frozen pair (A, H) cannot see it; the SDRE filter does not correct yaw
+// (docs/ins_gps.md).
 
 #include <Eigen/Core>
 #include <array>
@@ -31,22 +40,17 @@ struct SdcOptions {
   double derivative_step = 1e-6;
 };
 
-using StateFunction = std::function<StateVector(const StateVector&)>;
-using MeasFunction = std::function<MeasVector(const StateVector&)>;
+using AttitudeFunction = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>;
 
-/// Staircase SDC matrix of g (g(0) = 0 assumed; not checked) at x along coordinate order.
-StateMatrix staircaseSdc(const StateFunction& g, const StateVector& x,
-                         const std::array<int, kStateSize>& order, const SdcOptions& o = {});
-MeasJacobian staircaseSdc(const MeasFunction& g, const StateVector& x,
-                          const std::array<int, kStateSize>& order, const SdcOptions& o = {});
+/// Staircase SDC matrix C(e) of c (c(0) = 0 assumed) along the coordinate order of e.
+Eigen::Matrix3d staircaseSdc(const AttitudeFunction& c, const Eigen::Vector3d& e,
+                             const std::array<int, 3>& order, const SdcOptions& o = {});
 
-/// The two orders of F₁ (x₀ … x₈: position, velocity, attitude) and F₂ (reversed).
-std::array<int, kStateSize> forwardOrder();
-std::array<int, kStateSize> reverseOrder();
+/// The orders of F₁ (φ θ ψ) and F₂ (ψ θ φ).
+constexpr std::array<int, 3> kForwardOrder = {0, 1, 2};
+constexpr std::array<int, 3> kReverseOrder = {2, 1, 0};
 
-/// The INS SDC pair at x for the IMU input s (thesis §3.5.2):
-///   A = α A_fwd + (1 − α) A_rev of f(x, s) − f(0, s), b = f(0, s),
-///   H = α H_fwd + (1 − α) H_rev of h(x) (h(0) = 0 already).
+/// The INS SDC pair at x for the IMU input s (above; α mixes the attitude blocks).
 struct InsSdc {
   StateMatrix A;
   StateVector b;
