@@ -192,10 +192,9 @@ std::string markdownTables(const std::vector<FilterTrack>& tracks,
   os << "\n| filter | µs per IMU step | relative to EKF | ms per 100 steps (Table 3.3 unit) |\n"
      << "|---|---|---|---|\n";
   for (std::size_t i = 0; i < tracks.size(); ++i) {
-    os << "| " << tracks[i].name << std::setprecision(1) << " | " << stats[i].us_per_step
-       << " | " << std::setprecision(2)
-       << (ekf_us > 0.0 ? stats[i].us_per_step / ekf_us : 0.0) << " | " << std::setprecision(4)
-       << 100.0 * stats[i].us_per_step * 1e-3 << " |\n";
+    os << "| " << tracks[i].name << std::setprecision(1) << " | " << stats[i].us_per_step << " | "
+       << std::setprecision(2) << (ekf_us > 0.0 ? stats[i].us_per_step / ekf_us : 0.0) << " | "
+       << std::setprecision(4) << 100.0 * stats[i].us_per_step * 1e-3 << " |\n";
   }
   return os.str();
 }

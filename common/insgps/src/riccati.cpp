@@ -18,11 +18,12 @@ Expected<RiccatiResult> solveFilterDare(const StateMatrix& Phi, const MeasJacobi
     const StateMatrix X_next = X + A.transpose() * X * WinvA;
     const StateMatrix G_next = G + A * W.solve(G) * A.transpose();
     A = A * WinvA;
-    const double change = (X_next - X).norm();
+    // Max-abs norms: Frobenius norms overflow to inf on a diverging X and would compare equal.
+    const double change = (X_next - X).cwiseAbs().maxCoeff();
     X = 0.5 * (X_next + X_next.transpose());
     G = 0.5 * (G_next + G_next.transpose());
     if (!X.allFinite()) return Status::Error("riccati: doubling diverged (not detectable?)");
-    if (change <= o.tolerance * X.norm()) return RiccatiResult{X, k};
+    if (change <= o.tolerance * X.cwiseAbs().maxCoeff()) return RiccatiResult{X, k};
   }
   return Status::Error("riccati: no convergence in " + std::to_string(o.max_iterations) +
                        " doubling steps");

@@ -59,8 +59,8 @@ InsSdc insSdc(const StateVector& x, const ImuSample& s, double gravity, double a
   const Eigen::Matrix3d R_BtoN = rotationBodyToNav(e);
   out.A.setZero();
   out.A.block<3, 3>(kPosition, kVelocity) = R_BtoN;
-  out.A.block<3, 3>(kVelocity, kVelocity) << 0.0, omega.z(), -omega.y(), -omega.z(), 0.0,
-      omega.x(), omega.y(), -omega.x(), 0.0;
+  out.A.block<3, 3>(kVelocity, kVelocity) << 0.0, omega.z(), -omega.y(), -omega.z(), 0.0, omega.x(),
+      omega.y(), -omega.x(), 0.0;
   out.A.block<3, 3>(kVelocity, kAttitude) = mixed(c_g);
   out.A.block<3, 3>(kAttitude, kAttitude) = mixed(c_E);
   out.b.setZero();

@@ -13,6 +13,8 @@ namespace cvslam::insgps {
 Status SdreOptions::load(const ConfigNode& node) {
   node.get("alpha", alpha);
   node.get("riccati_discount", riccati_discount);
+  node.get("process_noise_scale", process_noise_scale);
+  node.check(process_noise_scale >= 1.0, "process_noise_scale", "must be >= 1");
   node.get("riccati_max_iterations", riccati.max_iterations);
   node.get("riccati_tolerance", riccati.tolerance);
   node.get("sdc_small_coordinate", sdc.small_coordinate);
@@ -74,7 +76,8 @@ Status SdreFilter::update(const GpsFix& fix) {
   const StateMatrix A_T = sdc.A * T_;
   const StateMatrix Phi = o_.riccati_discount * A_T.exp();
   const MeasMatrix R = gpsCovariance(fix);
-  const Expected<RiccatiResult> dare = solveFilterDare(Phi, sdc.H, R, Q_acc_, o_.riccati);
+  const Expected<RiccatiResult> dare =
+      solveFilterDare(Phi, sdc.H, R, o_.process_noise_scale * Q_acc_, o_.riccati);
   if (!dare.ok()) return dare.status();
   const StateMatrix& P = dare.value().P;
   riccati_iterations_ = dare.value().iterations;

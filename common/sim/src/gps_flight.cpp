@@ -30,7 +30,8 @@ Expected<GpsFlight> simulateGpsFlight(const GpsFlightOptions& o) {
   GpsFlight out;
   const auto n = static_cast<int64_t>(std::floor(o.duration_s * o.imu.rate_hz));
   for (int64_t k = 0; k <= n; ++k) {
-    const auto t_us = static_cast<int64_t>(std::llround(1e6 * static_cast<double>(k) / o.imu.rate_hz));
+    const auto t_us =
+        static_cast<int64_t>(std::llround(1e6 * static_cast<double>(k) / o.imu.rate_hz));
     out.imu.push_back(imu.sample(t_us));
     const TrajectoryState s = trajectory->state(1e-6 * static_cast<double>(t_us));
     Eigen::Matrix<double, 9, 1> x;

@@ -35,9 +35,9 @@ struct InsGpsOptions {
   NhinfOptions nhinf;
   std::vector<std::string> filters = {"kf", "ekf", "ukf", "sdre", "nhinf"};
   /// 1σ of the initial estimate's error (drawn once per run, the same for every filter).
-  double initial_position_sigma = 2.0;     ///< [m]
-  double initial_velocity_sigma = 0.3;     ///< [m/s]
-  double initial_attitude_sigma_deg = 2.0; ///< [deg]
+  double initial_position_sigma = 2.0;      ///< [m]
+  double initial_velocity_sigma = 0.3;      ///< [m/s]
+  double initial_attitude_sigma_deg = 2.0;  ///< [deg]
 
   Status load(const ConfigNode& node);
 };
@@ -64,9 +64,9 @@ struct FilterTrack {
   std::vector<StateVector> sigma;     ///< √diag P at t_us
   std::vector<double> nees;           ///< NEES of the posterior at each applied fix
   std::vector<int64_t> nees_t_us;
-  double compute_us = 0.0;            ///< total time in propagate() and update() [µs]
-  int steps = 0;                      ///< IMU steps
-  int fixes = 0;                      ///< fixes applied
+  double compute_us = 0.0;  ///< total time in propagate() and update() [µs]
+  int steps = 0;            ///< IMU steps
+  int fixes = 0;            ///< fixes applied
 };
 
 /// Runs `filter` from (x0, P0) at imu[0] over the whole flight; fixes are applied at the IMU
@@ -76,13 +76,13 @@ Expected<FilterTrack> runFilter(GpsAidedFilter& filter, const FlightData& data,
 
 /// Per-axis error statistics of a track after `from_s` (to skip the initial transient).
 struct ErrorStats {
-  Eigen::Vector3d position_std;       ///< N E D [m]
-  Eigen::Vector3d velocity_std;       ///< N E D [m/s] (R_BtoN v_B of estimate and truth)
-  Eigen::Vector3d attitude_std_deg;   ///< φ θ ψ [deg]
-  double position_rms = 0.0;          ///< RMS of ‖p̂ − p‖ [m]
-  double position_max = 0.0;          ///< max ‖p̂ − p‖ [m]
-  double mean_nees = 0.0;             ///< mean NEES over the fixes after from_s
-  double us_per_step = 0.0;           ///< computation per IMU step [µs]
+  Eigen::Vector3d position_std;      ///< N E D [m]
+  Eigen::Vector3d velocity_std;      ///< N E D [m/s] (R_BtoN v_B of estimate and truth)
+  Eigen::Vector3d attitude_std_deg;  ///< φ θ ψ [deg]
+  double position_rms = 0.0;         ///< RMS of ‖p̂ − p‖ [m]
+  double position_max = 0.0;         ///< max ‖p̂ − p‖ [m]
+  double mean_nees = 0.0;            ///< mean NEES over the fixes after from_s
+  double us_per_step = 0.0;          ///< computation per IMU step [µs]
 };
 ErrorStats errorStats(const FilterTrack& track, const FlightData& data, double from_s);
 

@@ -34,6 +34,11 @@ struct SdreOptions {
   double alpha = 0.5;
   /// ρ ∈ (0, 1]: discount of the frozen transition Φ per fix (see above).
   double riccati_discount = 0.999;
+  /// Multiplies Q in the Riccati equation (a design weight of eq. 3.28, ≥ 1): the steady-state
+  /// gain of the frozen pair ignores that A(x̂) changes from fix to fix, which a larger Q
+  /// stands for. 1: the IMU noise alone; 100 (default) measured best on
+  /// config/ins_gps/sharp_manoeuvres.yaml (docs/results/thesis_ch3.md).
+  double process_noise_scale = 100.0;
   RiccatiOptions riccati;
   SdcOptions sdc;
 
