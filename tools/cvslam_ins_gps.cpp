@@ -104,6 +104,7 @@ int main(int argc, char** argv) {
   if (!out_dir.empty()) {
     std::ofstream(out_dir + "/tables.md") << tables;
     if (plot) {
+      std::cout.flush();
       const std::string cmd =
           "/usr/bin/python3 " CVSLAM_SCRIPTS_DIR "/plot_ins_gps.py '" + out_dir + "'";
       if (std::system(cmd.c_str()) != 0) return fail("plotting failed: " + cmd);

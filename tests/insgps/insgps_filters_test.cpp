@@ -58,7 +58,7 @@ struct FilterBound {
 // 3× what they reach (0.3–0.4 m; the GPS alone gives σ ≈ 1.5–3 m per axis), so a broken
 // correction or Jacobian fails them. SDRE: its P is the steady state of the frozen SDC pair,
 // not the covariance of its actual error (and it cannot correct yaw, sdc_factorisation.h),
-// so its NEES is only required within 10× the χ² bound (it reaches ~3–6×), and its position
+// so its NEES is only required within 10× the χ² bound (it reaches ~7×), and its position
 // RMS (~1 m) within 3 m.
 const FilterBound kBounds[] = {{"kf", 1.5, 1.0},
                                {"ekf", 1.2, 1.0},
