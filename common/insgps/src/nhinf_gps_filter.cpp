@@ -25,8 +25,8 @@ Status NhinfOptions::load(const ConfigNode& node) {
 
 StateMatrix hinfPosteriorBlockForm(const StateMatrix& P, const MeasJacobian& H, const MeasMatrix& R,
                                    double theta) {
-  // [C; H] with C = I, Λ = [C P Cᵀ − γ² I, C P Hᵀ; H P Cᵀ, H P Hᵀ + R] (eq. 3.50 with the signs
-  // of the off-diagonal blocks made consistent), P⁺ = P − P [Cᵀ Hᵀ] Λ⁻¹ [C; H] P (eq. 3.49).
+  // [C; H] with C = I, Λ = [C P Cᵀ − γ² I, C P Hᵀ; H P Cᵀ, H P Hᵀ + R], P⁺ = P − P [Cᵀ Hᵀ] Λ⁻¹
+  // [C; H] P: eqs. 3.49–3.50 with C replaced by −C, which changes nothing (the sign cancels).
   constexpr int kN = kStateSize + kMeasSize;
   Eigen::Matrix<double, kN, kStateSize> CH;
   CH << StateMatrix::Identity(), H;

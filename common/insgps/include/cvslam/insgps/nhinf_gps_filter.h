@@ -11,8 +11,8 @@
 // remainders are extra disturbance).
 // Correction (eqs. 3.39–3.40 with L = S = I, θ = 1/γ², in information form):
 //   P⁺ = (P⁻¹ − θ I + Hᵀ R⁻¹ H)⁻¹,   K = P⁺ Hᵀ R⁻¹,   x̂ ← x̂ + K (y − h(x̂))
-// which equals the block form of eqs. 3.49–3.50 with C = I (the thesis's [−Cᵀ Hᵀ] row should
-// read [Cᵀ Hᵀ] against the −C in the column; test). The existence condition (3.40),
+// which equals the block form of eqs. 3.49–3.50 with C = I (test; the thesis's −C signs
+// cancel, as do the [Cᵀ Hᵀ] ones used in hinfPosteriorBlockForm). The existence condition (3.40),
 // P⁻¹ − θ I + Hᵀ R⁻¹ H > 0, is checked at each fix; when it fails θ is lowered to
 // `theta_backoff` × its limit for that fix (the thesis's "search over γ"), and counted.
 
