@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,10 @@ const FilterBound kBounds[] = {{"kf", 1.5, 1.0},
                                {"ukf", 1.2, 1.0},
                                {"nhinf", 1.2, 1.0},
                                {"sdre", 3.0, 10.0}};
+
+void PrintTo(const FilterBound& b, std::ostream* os) {
+  *os << b.name;
+}
 
 class InsGpsFilters : public ::testing::TestWithParam<FilterBound> {};
 
@@ -136,6 +141,61 @@ TEST(InsGpsOutage, ErrorGrowsDuringTheOutageAndRecoversAfter) {
           << name;
     }
   }
+}
+
+TEST(InsGpsFilters, YawNearPiIsAveragedAcrossTheWrap) {
+  // Yaw starts at π − 0.01 and turns at 0.5 rad/s, crossing ±π: the UKF's sigma points straddle
+  // the wrap; its mean and covariance must match the EKF's (a naive average would give ~0).
+  InsGpsOptions o;
+  GpsAidedEkf ekf(o.ins, o.ekf);
+  GpsAidedUkf ukf(o.ins, o.ukf);
+  StateVector x0;
+  x0 << 0.0, 0.0, -30.0, 5.0, 0.0, 0.0, 0.0, 0.0, M_PI - 0.01;
+  StateMatrix P0 = StateMatrix::Identity();
+  P0.diagonal().segment<3>(6).setConstant(std::pow(0.05, 2));
+  ekf.initialize(x0, P0, 0);
+  ukf.initialize(x0, P0, 0);
+  ImuSample s0;
+  s0.gyro_B = Eigen::Vector3d(0.0, 0.0, 0.5);
+  s0.accel_B = Eigen::Vector3d(0.0, 2.5, -9.81);  // centripetal: v × ω
+  for (int k = 1; k <= 200; ++k) {
+    ImuSample s1 = s0;
+    s1.t_us = 5000 * k;
+    ASSERT_TRUE(ekf.propagate(s0, s1).ok());
+    ASSERT_TRUE(ukf.propagate(s0, s1).ok());
+    s0 = s1;
+  }
+  EXPECT_LT(ukf.state()(8), -M_PI + 0.6);  // crossed the wrap
+  const StateVector d = stateDifference(ukf.state(), ekf.state());
+  EXPECT_LT(std::abs(d(8)), 0.005);
+  // The rest differs by the UKF's second-order terms (E[cos δ] < 1 of the 0.05 rad attitude σ).
+  EXPECT_LT(d.norm(), 0.1);
+  EXPECT_NEAR(std::sqrt(ukf.covariance()(8, 8)), std::sqrt(ekf.covariance()(8, 8)), 0.005);
+}
+
+TEST(InsGpsRun, TablesNameEveryFilterAndMeasureTime) {
+  const FlightData data = test::simulate(test::sharpFlightYaml(1));
+  InsGpsOptions o;
+  StateVector x0;
+  StateMatrix P0;
+  initialEstimate(data.truth.front(), o, 1, &x0, &P0);
+  std::vector<FilterTrack> tracks;
+  std::vector<ErrorStats> stats;
+  for (const std::string& name : o.filters) {
+    auto f = makeFilter(name, o);
+    ASSERT_TRUE(f.ok());
+    auto track = runFilter(*f.value(), data, x0, P0);
+    ASSERT_TRUE(track.ok());
+    EXPECT_EQ(track->estimate.size(), data.imu.size());
+    EXPECT_EQ(track->fixes, static_cast<int>(data.gps.size()));
+    stats.push_back(errorStats(*track, data, 0.0));
+    EXPECT_GT(stats.back().us_per_step, 0.0);
+    tracks.push_back(std::move(track.value()));
+  }
+  const std::string tables = markdownTables(tracks, stats);
+  for (const std::string& name : o.filters)
+    EXPECT_NE(tables.find("| " + name + " |"), std::string::npos) << tables;
+  EXPECT_FALSE(makeFilter("pf", o).ok());
 }
 
 TEST(InsGpsOptions, LoadsFromYamlAndRejectsBadValues) {

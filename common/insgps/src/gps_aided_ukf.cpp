@@ -22,7 +22,8 @@ template <int N>
 Eigen::Matrix<double, N, N> squareRoot(const Eigen::Matrix<double, N, N>& P) {
   Eigen::LLT<Eigen::Matrix<double, N, N>> llt(P);
   if (llt.info() == Eigen::Success) return llt.matrixL();
-  const double jitter = 1e-12 * std::max(1.0, P.diagonal().maxCoeff());
+  constexpr double kRelativeJitter = 1e-12;  // numerical guard only, far below any variance
+  const double jitter = kRelativeJitter * std::max(1.0, P.diagonal().maxCoeff());
   Eigen::LLT<Eigen::Matrix<double, N, N>> llt2(P +
                                                jitter * Eigen::Matrix<double, N, N>::Identity());
   return llt2.matrixL();
