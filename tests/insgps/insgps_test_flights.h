@@ -12,10 +12,9 @@
 
 namespace cvslam::insgps::test {
 
-/// A 40 s figure of eight with 35° tilts (a shorter config/ins_gps/sharp_manoeuvres.yaml).
-inline std::string sharpFlightYaml(uint64_t seed) {
-  return "seed: " + std::to_string(seed) + R"(
-duration_s: 40.0
+/// A figure of eight with 35° tilts (config/ins_gps/sharp_manoeuvres.yaml, 40 s by default).
+inline std::string sharpFlightYaml(uint64_t seed, double duration_s = 40.0) {
+  return "seed: " + std::to_string(seed) + "\nduration_s: " + std::to_string(duration_s) + R"(
 trajectory: {kind: figure8, centre: [0.0, 0.0], half_length: 60.0, half_width: 50.0,
              altitude: 30.0, period: 30.0, tilt: quadrotor, max_tilt_deg: 35.0}
 imu: {rate_hz: 200.0, noise: true, gyro_random_walk: 0.0, accel_random_walk: 0.0}
