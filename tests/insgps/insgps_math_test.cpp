@@ -123,6 +123,9 @@ TEST(InsGpsMath, RiccatiSolutionSatisfiesItsEquation) {
     auto sol = solveFilterDare(Phi, sdc.H, R, Q);
     ASSERT_TRUE(sol.ok()) << sol.status().message();
     const StateMatrix& P = sol->P;
+    // Quadratic convergence: 2^k steps of the Riccati recursion after k doublings; the 0.999
+    // mode needs ~2^13 of them.
+    EXPECT_LE(sol->iterations, 25);
     EXPECT_LT(filterDareResidual(P, Phi, sdc.H, R, Q).norm(), 1e-8 * (1.0 + P.norm()));
     EXPECT_GT(Eigen::SelfAdjointEigenSolver<StateMatrix>(P).eigenvalues()(0), -1e-10);
     // Stabilising: the closed loop Φ (I − K H) has its eigenvalues inside the unit circle.
