@@ -1,7 +1,5 @@
 #include "cvslam/insgps/gps_aided_ekf.h"
 
-#include <Eigen/Cholesky>
-
 #include "cvslam/insgps/gps_measurement.h"
 #include "cvslam/io/config_node.h"
 
@@ -12,30 +10,6 @@ Status EkfOptions::load(const ConfigNode& node) {
   node.get("innovation_gate", innovation_gate);
   node.check(innovation_gate >= 0.0, "innovation_gate", "must be >= 0 (0: no gate)");
   return node.status();
-}
-
-InsPropagatorOptions insgpsPropagatorOptions(InsPropagatorOptions ins) {
-  ins.attitude = vehicle::Attitude::kEuler;
-  ins.estimate_imu_bias = false;
-  return ins;
-}
-
-bool kalmanCorrect(const MeasVector& r, const MeasJacobian& H, const MeasMatrix& R,
-                   bool joseph_form, double gate, StateVector* dx, StateMatrix* P) {
-  const MeasMatrix S = H * (*P) * H.transpose() + R;
-  const Eigen::LDLT<MeasMatrix> S_ldlt(S);
-  if (gate > 0.0 && r.dot(S_ldlt.solve(r)) > gate) return false;
-  // K = P Hᵀ S⁻¹, from S Kᵀ = H P (S and P symmetric).
-  const Eigen::Matrix<double, kStateSize, kMeasSize> K = S_ldlt.solve(H * (*P)).transpose();
-  *dx = K * r;
-  if (joseph_form) {
-    const StateMatrix I_KH = StateMatrix::Identity() - K * H;
-    *P = I_KH * (*P) * I_KH.transpose() + K * R * K.transpose();
-  } else {
-    *P -= K * H * (*P);
-  }
-  *P = 0.5 * (*P + P->transpose()).eval();
-  return true;
 }
 
 GpsAidedEkf::GpsAidedEkf(const InsPropagatorOptions& ins, const EkfOptions& options)

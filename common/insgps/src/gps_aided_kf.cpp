@@ -1,7 +1,7 @@
 #include "cvslam/insgps/gps_aided_kf.h"
 
-#include "cvslam/insgps/gps_aided_ekf.h"
 #include "cvslam/insgps/gps_measurement.h"
+#include "cvslam/insgps/kalman_correction.h"
 #include "cvslam/io/config_node.h"
 
 namespace cvslam::insgps {

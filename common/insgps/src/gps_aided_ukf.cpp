@@ -4,8 +4,8 @@
 #include <array>
 #include <cmath>
 
-#include "cvslam/insgps/gps_aided_ekf.h"
 #include "cvslam/insgps/gps_measurement.h"
+#include "cvslam/insgps/kalman_correction.h"
 #include "cvslam/io/config_node.h"
 
 namespace cvslam::insgps {

@@ -4,8 +4,8 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "cvslam/geometry/euler.h"
-#include "cvslam/insgps/gps_aided_ekf.h"
 #include "cvslam/insgps/gps_measurement.h"
+#include "cvslam/insgps/kalman_correction.h"
 #include "cvslam/io/config_node.h"
 
 namespace cvslam::insgps {

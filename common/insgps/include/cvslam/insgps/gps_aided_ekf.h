@@ -9,6 +9,7 @@
 
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/insgps/gps_aided_filter.h"
+#include "cvslam/insgps/kalman_correction.h"
 
 namespace cvslam {
 class ConfigNode;
@@ -25,15 +26,6 @@ struct EkfOptions {
 
   Status load(const ConfigNode& node);
 };
-
-/// The propagator options the INS/GPS filters run with: `ins` with the Euler attitude and no
-/// bias states (the thesis's 9-state model), whatever `ins` said.
-InsPropagatorOptions insgpsPropagatorOptions(InsPropagatorOptions ins);
-
-/// Shared Kalman correction (eqs. 3.21–3.23) of x, P by innovation r = y − h(x) with
-/// Jacobian H. Returns false (and changes nothing) when the gate rejects it.
-bool kalmanCorrect(const MeasVector& r, const MeasJacobian& H, const MeasMatrix& R,
-                   bool joseph_form, double gate, StateVector* dx, StateMatrix* P);
 
 class GpsAidedEkf : public GpsAidedFilter {
  public:
