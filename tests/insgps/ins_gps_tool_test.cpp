@@ -12,7 +12,6 @@
 
 #include <sys/wait.h>
 
-
 namespace {
 
 namespace fs = std::filesystem;
