@@ -134,6 +134,25 @@ Expected<FilterTrack> runFilter(GpsAidedFilter& filter, const FlightData& data,
   return track;
 }
 
+ErrorStats meanStats(const std::vector<ErrorStats>& runs) {
+  ErrorStats m;
+  m.position_std.setZero();
+  m.velocity_std.setZero();
+  m.attitude_std_deg.setZero();
+  if (runs.empty()) return m;
+  const double w = 1.0 / static_cast<double>(runs.size());
+  for (const ErrorStats& r : runs) {
+    m.position_std += w * r.position_std;
+    m.velocity_std += w * r.velocity_std;
+    m.attitude_std_deg += w * r.attitude_std_deg;
+    m.position_rms += w * r.position_rms;
+    m.position_max += w * r.position_max;
+    m.mean_nees += w * r.mean_nees;
+    m.us_per_step += w * r.us_per_step;
+  }
+  return m;
+}
+
 std::vector<double> positionErrors(const FilterTrack& track, const FlightData& data) {
   std::vector<double> out;
   for (std::size_t k = 0; k < track.estimate.size(); ++k)

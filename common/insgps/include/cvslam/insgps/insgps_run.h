@@ -86,6 +86,10 @@ struct ErrorStats {
 };
 ErrorStats errorStats(const FilterTrack& track, const FlightData& data, double from_s);
 
+/// Component-wise mean of several runs' statistics (the thesis's tables are "after many
+/// tests"); empty input gives zeros.
+ErrorStats meanStats(const std::vector<ErrorStats>& runs);
+
 /// ‖p̂ − p‖ at each sample of the track.
 std::vector<double> positionErrors(const FilterTrack& track, const FlightData& data);
 
