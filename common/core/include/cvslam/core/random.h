@@ -20,6 +20,7 @@ enum class RngStream : uint64_t {
   kImu = 2,
   kCamera = 3,
   kInitialState = 4,
+  kGps = 5,
 };
 
 /// splitmix64 step: a good 64-bit mixer (Steele, Lea, Flood 2014).
