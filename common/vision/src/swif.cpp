@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "cvslam/io/config_node.h"
 #include "cvslam/vision/keypoint_grid.h"
@@ -27,7 +28,55 @@ inline void addCircular(float* hist, int n, float b, float w) {
   hist[i1] += w * a;
 }
 
+// Vertex of the parabola through (−1, m), (0, c), (1, p), in [−0.5, 0.5] (sub-pixel position).
+inline float parabolaOffset(float m, float c, float p) {
+  const float den = m - 2.0f * c + p;
+  return den < 0.0f ? std::clamp(0.5f * (m - p) / den, -0.5f, 0.5f) : 0.0f;
+}
+
 }  // namespace
+
+void Swif::computeResponse(const WaveletLevel& w, SwifResponse type, double tensor_sigma,
+                           cv::Mat* response, std::vector<cv::Mat>* work) {
+  const cv::Size size = w.horizontal.size();
+  response->create(size, CV_32F);
+  if (type == SwifResponse::kDirections) {
+    // §4.4.4 items 1 and 4 read literally: detail in all three directions at the point.
+    for (int y = 0; y < size.height; ++y) {
+      const float* h = w.horizontal.ptr<float>(y);
+      const float* v = w.vertical.ptr<float>(y);
+      const float* d = w.diagonal.ptr<float>(y);
+      float* r = response->ptr<float>(y);
+      for (int x = 0; x < size.width; ++x) r[x] = std::cbrt(std::fabs(h[x] * v[x] * d[x]));
+    }
+    return;
+  }
+  // Tensor: (V, H) is the wavelet "gradient" (x and y detail); its second-moment matrix summed
+  // over a Gaussian window has a large smaller eigenvalue only where the detail varies in every
+  // direction (a corner, not an edge), and unlike the separable H·V·D product it does not change
+  // when the image turns (Harris–DWT, [75] in §4.4.5, on the wavelet pyramid).
+  work->resize(3);
+  cv::Mat& xx = (*work)[0];
+  cv::Mat& xy = (*work)[1];
+  cv::Mat& yy = (*work)[2];
+  cv::multiply(w.vertical, w.vertical, xx);
+  cv::multiply(w.vertical, w.horizontal, xy);
+  cv::multiply(w.horizontal, w.horizontal, yy);
+  for (cv::Mat* m : {&xx, &xy, &yy})
+    cv::GaussianBlur(*m, *m, cv::Size(), tensor_sigma, tensor_sigma, cv::BORDER_REFLECT_101);
+  for (int y = 0; y < size.height; ++y) {
+    const float* a = xx.ptr<float>(y);
+    const float* b = xy.ptr<float>(y);
+    const float* c = yy.ptr<float>(y);
+    float* r = response->ptr<float>(y);
+    for (int x = 0; x < size.width; ++x) {
+      const float half_diff = 0.5f * (a[x] - c[x]);
+      const float lambda_min =
+          0.5f * (a[x] + c[x]) - std::sqrt(half_diff * half_diff + b[x] * b[x]);
+      r[x] = std::sqrt(std::max(lambda_min, 0.0f));  // in coefficient units, as Th
+    }
+  }
+}
 
 Status SwifOptions::load(const ConfigNode& node) {
   node.get("levels", levels);
@@ -40,15 +89,24 @@ Status SwifOptions::load(const ConfigNode& node) {
   node.get("orientation_bins", orientation_bins);
   node.get("orientation_sigma", orientation_sigma);
   node.get("descriptor_clip", descriptor_clip);
+  node.getEnum("response", response,
+               {{"tensor", SwifResponse::kTensor}, {"directions", SwifResponse::kDirections}});
+  node.get("tensor_sigma", tensor_sigma);
+  node.getEnum("descriptor", descriptor,
+               {{"grid", SwifDescriptorLayout::kGrid}, {"histogram", SwifDescriptorLayout::kHistogram}});
+  node.getEnum("scale_axis", scale_axis,
+               {{"levels", SwifScaleAxis::kLevels}, {"orders", SwifScaleAxis::kOrders}});
+  node.check(tensor_sigma > 0, "tensor_sigma", "must be > 0");
   node.check(levels >= 1 && levels <= kMaxLevels, "levels", "must be in 1…8");
-  bool orders_ok = orders.size() >= 3;
+  const std::size_t min_orders = scale_axis == SwifScaleAxis::kOrders ? 3 : 1;
+  bool orders_ok = orders.size() >= min_orders;
   for (std::size_t i = 0; i < orders.size(); ++i) {
     orders_ok = orders_ok && orders[i] >= 1 && orders[i] <= kMaxDaubechiesOrder;
     if (i > 0) orders_ok = orders_ok && orders[i] > orders[i - 1];
   }
   node.check(orders_ok, "orders",
-             "must list at least 3 increasing Daubechies orders in 1…10 (extrema need a scale "
-             "above and below)");
+             "must list increasing Daubechies orders in 1…10, at least 3 with scale_axis "
+             "orders (extrema need an order above and below)");
   node.check(threshold > 0, "threshold", "must be > 0");
   node.check(max_features > 0, "max_features", "must be > 0");
   node.check(grid_cols >= 0 && grid_rows >= 0 && (grid_cols == 0) == (grid_rows == 0), "grid_cols",
@@ -70,6 +128,7 @@ Status Swif::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints) {
   // Levels whose approximation is smaller than the description window are not built.
   int levels = 0;
   pyramid_.resize(static_cast<std::size_t>(o_.levels));
+  level_response_.resize(static_cast<std::size_t>(o_.levels));
   for (int l = 0; l < o_.levels; ++l) {
     const cv::Mat& a = approximation_[static_cast<std::size_t>(l)];
     if (std::min(a.rows, a.cols) < o_.window) break;
@@ -81,22 +140,30 @@ Status Swif::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints) {
       const bool next = s == 0 && l + 1 < o_.levels;
       waveletLevel(a, o_.orders[static_cast<std::size_t>(s)], next, &sc.wavelet);
       if (next) approximation_[static_cast<std::size_t>(l + 1)] = sc.wavelet.next;
-      sc.response.create(a.size(), CV_32F);
-      for (int y = 0; y < a.rows; ++y) {
-        const float* h = sc.wavelet.horizontal.ptr<float>(y);
-        const float* v = sc.wavelet.vertical.ptr<float>(y);
-        const float* d = sc.wavelet.diagonal.ptr<float>(y);
-        float* r = sc.response.ptr<float>(y);
-        for (int x = 0; x < a.cols; ++x) r[x] = std::cbrt(std::fabs(h[x] * v[x] * d[x]));
-      }
+      computeResponse(sc.wavelet, o_.response, o_.tensor_sigma, &sc.response, &work_);
+      // Level l's details carry the DC gain 2^l of the orthonormal approximation A_l; dividing
+      // it out puts Th and the ranking of all levels in grey levels of the input.
+      sc.response *= 1.0 / static_cast<double>(1 << l);
       cv::phase(sc.wavelet.horizontal, sc.wavelet.vertical, sc.angle);
       cv::magnitude(sc.wavelet.horizontal, sc.wavelet.vertical, sc.magnitude);
     }
+    // "Multi wavelet" response of the level (eq. 4.27 repeated for each k): the mean over k.
+    cv::Mat& mean = level_response_[static_cast<std::size_t>(l)];
+    mean.create(a.size(), CV_32F);
+    mean.setTo(0.0);
+    for (const Scale& sc : scales) mean += sc.response;
+    mean *= 1.0 / n_orders;
     ++levels;
   }
   pyramid_.resize(static_cast<std::size_t>(levels));
+  level_response_.resize(static_cast<std::size_t>(levels));
   all_.clear();
-  for (int l = 0; l < levels; ++l) findMaxima(l, &all_);
+  for (int l = 0; l < levels; ++l) {
+    if (o_.scale_axis == SwifScaleAxis::kOrders)
+      findMaximaOverOrders(l, &all_);
+    else
+      findMaximaOverLevels(l, &all_);
+  }
   if (o_.grid_cols > 0) {
     *keypoints = retainUniform(all_, gray.size(), o_.max_features, o_.grid_cols, o_.grid_rows);
   } else {
@@ -110,7 +177,7 @@ Status Swif::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints) {
   return Status::Ok();
 }
 
-void Swif::findMaxima(int level, std::vector<cv::KeyPoint>* out) const {
+void Swif::findMaximaOverOrders(int level, std::vector<cv::KeyPoint>* out) const {
   const auto& scales = pyramid_[static_cast<std::size_t>(level)];
   const float th = static_cast<float>(o_.threshold);
   const float f = static_cast<float>(1 << level);  // level pixels → input pixels
@@ -143,17 +210,62 @@ void Swif::findMaxima(int level, std::vector<cv::KeyPoint>* out) const {
         }
         if (!is_max) continue;
         // Sub-pixel position: vertex of the parabola through the 3 samples along x and y.
-        auto offset = [](float m, float c, float p) {
-          const float den = m - 2.0f * c + p;
-          return den < 0.0f ? std::clamp(0.5f * (m - p) / den, -0.5f, 0.5f) : 0.0f;
-        };
-        const float ox = offset(row[x - 1], v, row[x + 1]);
-        const float oy = offset(row[x - step], v, row[x + step]);
+        const float ox = parabolaOffset(row[x - 1], v, row[x + 1]);
+        const float oy = parabolaOffset(row[x - step], v, row[x + step]);
         cv::KeyPoint kp(
             cv::Point2f((static_cast<float>(x) + ox) * f, (static_cast<float>(y) + oy) * f),
             static_cast<float>(o_.window) * f, -1.0f, v, level, static_cast<int>(s));
         out->push_back(kp);
       }
+    }
+  }
+}
+
+namespace {
+
+// Is v larger than every sample of the 3 × 3 block of `m` around (x, y) (clamped to the image)?
+bool aboveBlock(const cv::Mat& m, int x, int y, float v) {
+  for (int yy = std::max(0, y - 1); yy <= std::min(m.rows - 1, y + 1); ++yy) {
+    const float* row = m.ptr<float>(yy);
+    for (int xx = std::max(0, x - 1); xx <= std::min(m.cols - 1, x + 1); ++xx)
+      if (row[xx] >= v) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void Swif::findMaximaOverLevels(int level, std::vector<cv::KeyPoint>* out) const {
+  const cv::Mat& r = level_response_[static_cast<std::size_t>(level)];
+  const cv::Mat* finer = level > 0 ? &level_response_[static_cast<std::size_t>(level - 1)] : nullptr;
+  const cv::Mat* coarser = level + 1 < static_cast<int>(level_response_.size())
+                               ? &level_response_[static_cast<std::size_t>(level + 1)]
+                               : nullptr;
+  const float th = static_cast<float>(o_.threshold);
+  const float f = static_cast<float>(1 << level);
+  const int step = static_cast<int>(r.step1());
+  for (int y = kBorder; y < r.rows - kBorder; ++y) {
+    const float* row = r.ptr<float>(y);
+    for (int x = kBorder; x < r.cols - kBorder; ++x) {
+      const float v = row[x];
+      if (v < th) continue;
+      bool is_max = true;
+      for (int dy = -1; dy <= 1 && is_max; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if ((dx != 0 || dy != 0) && row[dy * step + x + dx] >= v) {
+            is_max = false;
+            break;
+          }
+      // The 9 + 9 neighbours in the levels below and above (§4.4.3.2 ii), at the same input
+      // position: a level's detail pixel is 2 pixels of the finer level, half of the coarser.
+      if (!is_max || (finer && !aboveBlock(*finer, 2 * x, 2 * y, v)) ||
+          (coarser && !aboveBlock(*coarser, x / 2, y / 2, v)))
+        continue;
+      const float ox = parabolaOffset(row[x - 1], v, row[x + 1]);
+      const float oy = parabolaOffset(row[x - step], v, row[x + step]);
+      out->emplace_back(cv::Point2f((static_cast<float>(x) + ox) * f,
+                                    (static_cast<float>(y) + oy) * f),
+                        static_cast<float>(o_.window) * f, -1.0f, v, level, 0);
     }
   }
 }
@@ -177,13 +289,10 @@ float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
   // that the orientation window reaches the edge of the description window at 1.33σ.
   const float sigma_o =
       static_cast<float>(o_.orientation_sigma) * 0.5f * static_cast<float>(radius);
-  // §4.4.7.2: the descriptor's Gaussian spans the window (σ = its radius), as SIFT's.
-  const float sigma_d = static_cast<float>(radius);
   const int nb = o_.orientation_bins;
   std::array<float, kMaxOrientationBins + 1> hist{};
-  std::array<float, kSwifDescriptorBytes> desc{};
+  std::array<float, kSwifDescriptorBytes> desc{};  // unused entries stay 0
   const float to_bin = static_cast<float>(nb / kTwoPi);
-  const float to_desc = static_cast<float>(kSwifDescriptorBytes / kTwoPi);
   const int y0 = std::max(0, cy - radius), y1 = std::min(sc.angle.rows - 1, cy + radius);
   const int x0 = std::max(0, cx - radius), x1 = std::min(sc.angle.cols - 1, cx + radius);
   const float r2max = static_cast<float>(radius * radius);
@@ -222,20 +331,66 @@ float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
   const float frac = den < 0.0f ? 0.5f * (hm - hp) / den : 0.0f;
   const float theta = static_cast<float>(
       std::fmod((static_cast<float>(peak) + frac + static_cast<float>(nb)) / to_bin, kTwoPi));
-  // Pass 2 (§4.4.7.1 d, §4.4.7.2): orientations relative to Θ_f, weighted by N and the
-  // descriptor's Gaussian, into the 41 circular bins.
-  for (int y = y0; y <= y1; ++y) {
-    const float* ang = sc.angle.ptr<float>(y);
-    const float* mag = sc.magnitude.ptr<float>(y);
-    const float ddy = static_cast<float>(y - cy);
-    for (int x = x0; x <= x1; ++x) {
-      const float ddx = static_cast<float>(x - cx);
-      const float r2 = ddx * ddx + ddy * ddy;
-      if (r2 > r2max) continue;
-      float rel = ang[x] - theta;
-      if (rel < 0.0f) rel += static_cast<float>(kTwoPi);
-      addCircular(desc.data(), kSwifDescriptorBytes, rel * to_desc,
-                  mag[x] * std::exp(-r2 / (2 * sigma_d * sigma_d)));
+  // Pass 2 (§4.4.7.1 d, §4.4.7.2): orientations relative to Θ_f, weighted by the norm N and
+  // the descriptor's Gaussian (σ = the window radius, as SIFT's).
+  const float sigma_d = static_cast<float>(radius);
+  const float inv_2sd2 = 1.0f / (2.0f * sigma_d * sigma_d);
+  if (o_.descriptor == SwifDescriptorLayout::kHistogram) {
+    // The thesis's descriptor: one histogram of kSwifHistogramBins circular bins.
+    const float to_desc = static_cast<float>(kSwifHistogramBins / kTwoPi);
+    for (int y = y0; y <= y1; ++y) {
+      const float* ang = sc.angle.ptr<float>(y);
+      const float* mag = sc.magnitude.ptr<float>(y);
+      const float ddy = static_cast<float>(y - cy);
+      for (int x = x0; x <= x1; ++x) {
+        const float ddx = static_cast<float>(x - cx);
+        const float r2 = ddx * ddx + ddy * ddy;
+        if (r2 > r2max) continue;
+        float rel = ang[x] - theta;
+        if (rel < 0.0f) rel += static_cast<float>(kTwoPi);
+        addCircular(desc.data(), kSwifHistogramBins, rel * to_desc, mag[x] * std::exp(-r2 * inv_2sd2));
+      }
+    }
+  } else {
+    // Grid: the window turned by Θ_f and cut into kSwifCells × kSwifCells cells of
+    // kSwifGridBins relative orientations each, samples split bilinearly between cells (as
+    // SIFT), so that the descriptor also says where in the window the detail lies.
+    const float c = std::cos(theta), s = std::sin(theta);
+    const float cell = 2.0f * static_cast<float>(radius) / kSwifCells;
+    const float to_grid = static_cast<float>(kSwifGridBins / kTwoPi);
+    // The turned square reaches √2 r from the centre.
+    const int reach = static_cast<int>(std::ceil(static_cast<float>(radius) * static_cast<float>(M_SQRT2)));
+    const int gy0 = std::max(0, cy - reach), gy1 = std::min(sc.angle.rows - 1, cy + reach);
+    const int gx0 = std::max(0, cx - reach), gx1 = std::min(sc.angle.cols - 1, cx + reach);
+    for (int y = gy0; y <= gy1; ++y) {
+      const float* ang = sc.angle.ptr<float>(y);
+      const float* mag = sc.magnitude.ptr<float>(y);
+      const float ddy = static_cast<float>(y - cy);
+      for (int x = gx0; x <= gx1; ++x) {
+        const float ddx = static_cast<float>(x - cx);
+        // Descriptor frame: image offsets turned by −Θ_f.
+        const float u = c * ddx + s * ddy, v = -s * ddx + c * ddy;
+        const float cu = (u + static_cast<float>(radius)) / cell - 0.5f;
+        const float cv = (v + static_cast<float>(radius)) / cell - 0.5f;
+        if (cu <= -1.0f || cu >= kSwifCells || cv <= -1.0f || cv >= kSwifCells) continue;
+        float rel = ang[x] - theta;
+        if (rel < 0.0f) rel += static_cast<float>(kTwoPi);
+        const float w = mag[x] * std::exp(-(u * u + v * v) * inv_2sd2);
+        const int iu = static_cast<int>(std::floor(cu)), iv = static_cast<int>(std::floor(cv));
+        const float au = cu - static_cast<float>(iu), av = cv - static_cast<float>(iv);
+        for (int dv = 0; dv <= 1; ++dv) {
+          const int row = iv + dv;
+          if (row < 0 || row >= kSwifCells) continue;
+          const float wv = dv ? av : 1.0f - av;
+          for (int du = 0; du <= 1; ++du) {
+            const int col = iu + du;
+            if (col < 0 || col >= kSwifCells) continue;
+            const float wu = du ? au : 1.0f - au;
+            addCircular(desc.data() + (row * kSwifCells + col) * kSwifGridBins, kSwifGridBins,
+                        rel * to_grid, w * wu * wv);
+          }
+        }
+      }
     }
   }
   // L2-normalise (contrast invariance, §4.4.7.2), clip, renormalise, quantise to bytes.

@@ -6,8 +6,9 @@
 //    float descriptor is exactly these integers, so nothing is lost). The byte form makes the
 //    L∞, L2 and angle distances of §4.2.6 integer loops the compiler vectorises.
 //  - ORB: 32 bytes, 256 binary tests, compared by Hamming distance.
-//  - SWIF: 41 bytes, the rotation-normalised orientation histogram of thesis §4.4.7 (swif.h),
-//    unit-normalised and quantised like SIFT's, so the same L2 / L∞ / angle criteria apply.
+//  - SWIF: 64 bytes, orientation histograms of the wavelet details relative to the dominant
+//    orientation (thesis §4.4.7, swif.h), unit-normalised and quantised like SIFT's, so the
+//    same L2 / L∞ / angle criteria apply.
 
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -18,7 +19,7 @@ namespace cvslam::vision {
 enum class DescriptorType : uint8_t {
   kSift = 0,  ///< 128 bytes, histogram values 0..255
   kOrb = 1,   ///< 32 bytes, binary
-  kSwif = 2,  ///< 41 bytes, histogram values 0..255 (swif.h)
+  kSwif = 2,  ///< 64 bytes, histogram values 0..255 (swif.h)
 };
 
 /// Bytes per descriptor row.
@@ -29,7 +30,7 @@ inline int descriptorBytes(DescriptorType type) {
     case DescriptorType::kOrb:
       return 32;
     case DescriptorType::kSwif:
-      return 41;  // kSwifDescriptorBytes (swif.h; Table 4.3)
+      return 64;  // kSwifDescriptorBytes (swif.h)
   }
   return 0;
 }

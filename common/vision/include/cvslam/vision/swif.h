@@ -29,6 +29,25 @@ class ConfigNode;
 
 namespace cvslam::vision {
 
+/// The detail response whose maxima are features (docs/front_end.md "SWIF").
+enum class SwifResponse {
+  kTensor,      ///< √λ_min of the Gaussian-summed second-moment matrix of (V, H): turns with the
+                ///< image (default)
+  kDirections,  ///< (|H| |V| |D|)^(1/3): the thesis's "in all three directions" read literally
+};
+
+/// Where the "scale above and below" of the extremum test (§4.4.3.2 ii) is taken.
+enum class SwifScaleAxis {
+  kLevels,  ///< adjacent wavelet levels, on the mean response over the orders (default)
+  kOrders,  ///< adjacent Daubechies orders of the same level (the thesis read literally)
+};
+
+/// What the descriptor holds (§4.4.7.2; docs/front_end.md "SWIF").
+enum class SwifDescriptorLayout {
+  kGrid,       ///< 4 × 4 cells × 4 orientations relative to Θ_f (default)
+  kHistogram,  ///< the thesis's 41-bin histogram of orientations relative to Θ_f
+};
+
 struct SwifOptions {
   int levels = 3;  ///< wavelet levels (octaves); "three octaves" (§4.4.7.3 iii)
   /// Daubechies orders compared in scale at each level (eq. 4.27; db2 … db10 in Figure 4.45).
@@ -46,11 +65,23 @@ struct SwifOptions {
   double descriptor_clip = 0.5;    ///< normalised entries clipped here, then renormalised
                                    ///< (one strong edge must not own the descriptor)
 
+  SwifResponse response = SwifResponse::kTensor;  ///< tensor | directions
+  SwifScaleAxis scale_axis = SwifScaleAxis::kLevels;  ///< levels | orders
+  double tensor_sigma = 1.0;
+  SwifDescriptorLayout descriptor = SwifDescriptorLayout::kGrid;  ///< grid | histogram  ///< Gaussian window of the tensor [detail pixels of the level]
+
   Status load(const ConfigNode& node);
 };
 
-/// Entries of a SWIF descriptor (Table 4.3: "descriptor size = 41").
-constexpr int kSwifDescriptorBytes = 41;
+/// The thesis's descriptor: one histogram of 1 + 360°/9° = 41 orientations (Table 4.3).
+constexpr int kSwifHistogramBins = 41;
+/// The grid descriptor: 4 × 4 cells of 4 relative orientations.
+constexpr int kSwifCells = 4;
+constexpr int kSwifGridBins = 4;
+/// Bytes of a SWIF descriptor, either layout (the histogram leaves the last 23 at 0, which no
+/// distance of descriptor_distance.h notices).
+constexpr int kSwifDescriptorBytes = kSwifCells * kSwifCells * kSwifGridBins;
+static_assert(kSwifDescriptorBytes >= kSwifHistogramBins);
 
 class Swif {
  public:
@@ -72,13 +103,18 @@ class Swif {
     cv::Mat angle;      ///< atan2(V, H) [rad, 0…2π)
     cv::Mat magnitude;  ///< √(H² + V²)
   };
-  void findMaxima(int level, std::vector<cv::KeyPoint>* out) const;
+  static void computeResponse(const WaveletLevel& w, SwifResponse type, double tensor_sigma,
+                              cv::Mat* response, std::vector<cv::Mat>* work);
+  void findMaximaOverOrders(int level, std::vector<cv::KeyPoint>* out) const;
+  void findMaximaOverLevels(int level, std::vector<cv::KeyPoint>* out) const;
   float describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const;
 
   SwifOptions o_;
   std::vector<std::vector<Scale>> pyramid_;  ///< [level][order index]
+  std::vector<cv::Mat> level_response_;       ///< [level] mean response over the orders
   std::vector<cv::Mat> approximation_;       ///< A_0 (the image) … A_{levels−1}
   std::vector<cv::KeyPoint> all_;
+  std::vector<cv::Mat> work_;  ///< tensor products (reused)
 };
 
 }  // namespace cvslam::vision
