@@ -36,8 +36,11 @@ constexpr const char* kUsage =
     R"(cvslam_detector_eval — compares feature detectors/descriptors (SWIF, thesis §4.4)
 
 Usage: cvslam_detector_eval [options]
-  --detectors LIST       comma-separated: swif, adaptive_sift, fast_sift, sift, orb
-                         (default swif,adaptive_sift,orb)
+  --detectors LIST       comma-separated: swif, swif_thesis, adaptive_sift, fast_sift,
+                         sift, orb (default swif,adaptive_sift,orb). swif_thesis is SWIF
+                         with every step read literally from the thesis (response
+                         directions, scale_axis orders, orders 2,4,6,8, descriptor
+                         histogram; docs/front_end.md "SWIF")
   --config FILE          front-end YAML; detector options from front_end.detector (the
                          type is overridden per detector)
   --euroc DIR            EuRoC ASL folder (the one holding cam0/, cam1/) for the real-frame
@@ -121,6 +124,19 @@ std::vector<std::string> stamps(const std::string& csv) {
   return out;
 }
 
+vision::DetectorOptions optionsFor(const std::string& name, vision::DetectorType type,
+                                   const vision::DetectorOptions& base) {
+  vision::DetectorOptions o = base;
+  o.type = type;
+  if (name == "swif_thesis") {
+    o.swif.response = vision::SwifResponse::kDirections;
+    o.swif.scale_axis = vision::SwifScaleAxis::kOrders;
+    o.swif.orders = {2, 4, 6, 8};
+    o.swif.descriptor = vision::SwifDescriptorLayout::kHistogram;
+  }
+  return o;
+}
+
 vision::CameraCalibration toVision(const EurocCameraCalibration& c) {
   vision::CameraCalibration v;
   v.width = c.width;
@@ -162,6 +178,7 @@ int main(int argc, char** argv) {
   }
   const std::map<std::string, vision::DetectorType> kTypes = {
       {"swif", vision::DetectorType::kSwif},
+      {"swif_thesis", vision::DetectorType::kSwif},
       {"adaptive_sift", vision::DetectorType::kAdaptiveSift},
       {"fast_sift", vision::DetectorType::kFastSift},
       {"sift", vision::DetectorType::kSift},
@@ -220,8 +237,7 @@ int main(int argc, char** argv) {
             << ", mutual, L2 (ORB: Hamming)\n";
   printHeader("Rendered ground image (640×480 views of a 1024² nadir rendering, known homography)");
   for (const auto& name : names) {
-    vision::DetectorOptions o = base;
-    o.type = kTypes.at(name);
+    const vision::DetectorOptions o = optionsFor(name, kTypes.at(name), base);
     auto det = vision::makeFeatureDetector(o);
     if (!det.ok()) return fail(det.status().message());
     std::map<std::string, Accumulator> by_family;
@@ -264,8 +280,7 @@ int main(int argc, char** argv) {
                 std::to_string(n) + " rectified stereo pairs (good = |Δv| ≤ eps, 0 < d ≤ " +
                 fixed(kStereoMaxDisparity, 0) + ")");
     for (const auto& name : names) {
-      vision::DetectorOptions o = base;
-      o.type = kTypes.at(name);
+      const vision::DetectorOptions o = optionsFor(name, kTypes.at(name), base);
       auto det = vision::makeFeatureDetector(o);
       if (!det.ok()) return fail(det.status().message());
       Accumulator temporal, stereo;

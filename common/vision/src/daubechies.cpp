@@ -1,5 +1,6 @@
 #include "cvslam/vision/daubechies.h"
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 namespace cvslam::vision {
@@ -57,19 +58,20 @@ const std::vector<std::vector<double>> kLowPass = {
 // Index of the energy centroid Σ n h[n]² of a filter, rounded: the sample the filter "sits on".
 // Daubechies filters are not linear-phase; anchoring at the centroid instead of the middle keeps
 // the details of db2 and db10 on the same pixel (they are compared in scale, §4.4.3.2 ii).
-int centroid(const cv::Mat& kernel) {
+double centroid(const cv::Mat& kernel) {
   double m0 = 0.0, m1 = 0.0;
   for (int i = 0; i < kernel.rows; ++i) {
     const double w = kernel.at<float>(i) * kernel.at<float>(i);
     m0 += w;
     m1 += w * i;
   }
-  return static_cast<int>(m1 / m0 + 0.5);
+  return m1 / m0;
 }
 
 struct Bank {
   cv::Mat low, high;  // CV_32F column vectors
   int low_anchor = 0, high_anchor = 0;
+  double low_delay = 0.0, high_delay = 0.0;  // centroid − anchor
 };
 
 const Bank& bank(int order) {
@@ -85,8 +87,11 @@ const Bank& bank(int order) {
         const double sign = (i % 2 == 0) ? 1.0 : -1.0;
         b[k].high.at<float>(i) = static_cast<float>(sign * h[static_cast<std::size_t>(n - 1 - i)]);
       }
-      b[k].low_anchor = centroid(b[k].low);
-      b[k].high_anchor = centroid(b[k].high);
+      const double cl = centroid(b[k].low), ch = centroid(b[k].high);
+      b[k].low_anchor = static_cast<int>(std::lround(cl));
+      b[k].high_anchor = static_cast<int>(std::lround(ch));
+      b[k].low_delay = cl - b[k].low_anchor;
+      b[k].high_delay = ch - b[k].high_anchor;
     }
     return b;
   }();
@@ -105,6 +110,15 @@ const std::vector<double>& daubechiesLowPass(int order) {
   static const std::vector<double> kEmpty;
   if (order < 1 || order > kMaxDaubechiesOrder) return kEmpty;
   return kLowPass[static_cast<std::size_t>(order - 1)];
+}
+
+double approximationDelay(int order) {
+  return bank(order).low_delay;
+}
+
+double detailDelay(int order) {
+  const Bank& b = bank(order);
+  return 0.5 * (b.low_delay + b.high_delay);
 }
 
 void waveletLevel(const cv::Mat& a, int order, bool want_next, WaveletLevel* out) {

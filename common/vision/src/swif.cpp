@@ -92,8 +92,9 @@ Status SwifOptions::load(const ConfigNode& node) {
   node.getEnum("response", response,
                {{"tensor", SwifResponse::kTensor}, {"directions", SwifResponse::kDirections}});
   node.get("tensor_sigma", tensor_sigma);
-  node.getEnum("descriptor", descriptor,
-               {{"grid", SwifDescriptorLayout::kGrid}, {"histogram", SwifDescriptorLayout::kHistogram}});
+  node.getEnum(
+      "descriptor", descriptor,
+      {{"grid", SwifDescriptorLayout::kGrid}, {"histogram", SwifDescriptorLayout::kHistogram}});
   node.getEnum("scale_axis", scale_axis,
                {{"levels", SwifScaleAxis::kLevels}, {"orders", SwifScaleAxis::kOrders}});
   node.check(tensor_sigma > 0, "tensor_sigma", "must be > 0");
@@ -129,6 +130,7 @@ Status Swif::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints) {
   int levels = 0;
   pyramid_.resize(static_cast<std::size_t>(o_.levels));
   level_response_.resize(static_cast<std::size_t>(o_.levels));
+  level_offset_.assign(static_cast<std::size_t>(o_.levels), 0.0);
   for (int l = 0; l < o_.levels; ++l) {
     const cv::Mat& a = approximation_[static_cast<std::size_t>(l)];
     if (std::min(a.rows, a.cols) < o_.window) break;
@@ -139,12 +141,20 @@ Status Swif::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints) {
       // The next approximation from the first (shortest) wavelet: eq. 4.27 repeated on A.
       const bool next = s == 0 && l + 1 < o_.levels;
       waveletLevel(a, o_.orders[static_cast<std::size_t>(s)], next, &sc.wavelet);
-      if (next) approximation_[static_cast<std::size_t>(l + 1)] = sc.wavelet.next;
+      if (next) {
+        approximation_[static_cast<std::size_t>(l + 1)] = sc.wavelet.next;
+        // Sample i of A_{l+1} is sample 2i + delay of A_l (daubechies.h).
+        level_offset_[static_cast<std::size_t>(l + 1)] =
+            level_offset_[static_cast<std::size_t>(l)] +
+            static_cast<double>(1 << l) * approximationDelay(o_.orders.front());
+      }
       computeResponse(sc.wavelet, o_.response, o_.tensor_sigma, &sc.response, &work_);
       // Level l's details carry the DC gain 2^l of the orthonormal approximation A_l; dividing
       // it out puts Th and the ranking of all levels in grey levels of the input.
       sc.response *= 1.0 / static_cast<double>(1 << l);
-      cv::phase(sc.wavelet.horizontal, sc.wavelet.vertical, sc.angle);
+      // Gradient angle from the x axis: V is the detail across x, H across y. (The thesis's
+      // arctan(V_k/H_k) measures from the y axis, which turns the wrong way with the image.)
+      cv::phase(sc.wavelet.vertical, sc.wavelet.horizontal, sc.angle);
       cv::magnitude(sc.wavelet.horizontal, sc.wavelet.vertical, sc.magnitude);
     }
     // "Multi wavelet" response of the level (eq. 4.27 repeated for each k): the mean over k.
@@ -212,9 +222,9 @@ void Swif::findMaximaOverOrders(int level, std::vector<cv::KeyPoint>* out) const
         // Sub-pixel position: vertex of the parabola through the 3 samples along x and y.
         const float ox = parabolaOffset(row[x - 1], v, row[x + 1]);
         const float oy = parabolaOffset(row[x - step], v, row[x + step]);
-        cv::KeyPoint kp(
-            cv::Point2f((static_cast<float>(x) + ox) * f, (static_cast<float>(y) + oy) * f),
-            static_cast<float>(o_.window) * f, -1.0f, v, level, static_cast<int>(s));
+        cv::KeyPoint kp(toInput(level, static_cast<int>(s), static_cast<float>(x) + ox,
+                                static_cast<float>(y) + oy),
+                        static_cast<float>(o_.window) * f, -1.0f, v, level, static_cast<int>(s));
         out->push_back(kp);
       }
     }
@@ -237,7 +247,8 @@ bool aboveBlock(const cv::Mat& m, int x, int y, float v) {
 
 void Swif::findMaximaOverLevels(int level, std::vector<cv::KeyPoint>* out) const {
   const cv::Mat& r = level_response_[static_cast<std::size_t>(level)];
-  const cv::Mat* finer = level > 0 ? &level_response_[static_cast<std::size_t>(level - 1)] : nullptr;
+  const cv::Mat* finer =
+      level > 0 ? &level_response_[static_cast<std::size_t>(level - 1)] : nullptr;
   const cv::Mat* coarser = level + 1 < static_cast<int>(level_response_.size())
                                ? &level_response_[static_cast<std::size_t>(level + 1)]
                                : nullptr;
@@ -263,11 +274,30 @@ void Swif::findMaximaOverLevels(int level, std::vector<cv::KeyPoint>* out) const
         continue;
       const float ox = parabolaOffset(row[x - 1], v, row[x + 1]);
       const float oy = parabolaOffset(row[x - step], v, row[x + step]);
-      out->emplace_back(cv::Point2f((static_cast<float>(x) + ox) * f,
-                                    (static_cast<float>(y) + oy) * f),
+      out->emplace_back(toInput(level, -1, static_cast<float>(x) + ox, static_cast<float>(y) + oy),
                         static_cast<float>(o_.window) * f, -1.0f, v, level, 0);
     }
   }
+}
+
+double Swif::delay(int order_index) const {
+  if (order_index >= 0) return detailDelay(o_.orders[static_cast<std::size_t>(order_index)]);
+  double sum = 0.0;  // the level response is the mean over the orders
+  for (int k : o_.orders) sum += detailDelay(k);
+  return sum / static_cast<double>(o_.orders.size());
+}
+
+cv::Point2f Swif::toInput(int level, int order_index, float x, float y) const {
+  const double f = static_cast<double>(1 << level);
+  const double d = delay(order_index), off = level_offset_[static_cast<std::size_t>(level)];
+  return {static_cast<float>(f * (x + d) + off), static_cast<float>(f * (y + d) + off)};
+}
+
+cv::Point2f Swif::toLevel(const cv::KeyPoint& kp) const {
+  const double f = static_cast<double>(1 << kp.octave);
+  const int order_index = o_.scale_axis == SwifScaleAxis::kOrders ? kp.class_id : -1;
+  const double d = delay(order_index), off = level_offset_[static_cast<std::size_t>(kp.octave)];
+  return {static_cast<float>((kp.pt.x - off) / f - d), static_cast<float>((kp.pt.y - off) / f - d)};
 }
 
 void Swif::describe(std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) {
@@ -281,9 +311,9 @@ void Swif::describe(std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) 
 float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
   const Scale& sc =
       pyramid_[static_cast<std::size_t>(kp.octave)][static_cast<std::size_t>(kp.class_id)];
-  const float f = static_cast<float>(1 << kp.octave);
-  const int cx = static_cast<int>(std::lround(kp.pt.x / f));
-  const int cy = static_cast<int>(std::lround(kp.pt.y / f));
+  const cv::Point2f centre = toLevel(kp);
+  const int cx = static_cast<int>(std::lround(centre.x));
+  const int cy = static_cast<int>(std::lround(centre.y));
   const int radius = o_.window / 2;
   // §4.4.7.1 c: σ = 1.5 × the feature's scale; the scale is taken as half the window radius, so
   // that the orientation window reaches the edge of the description window at 1.33σ.
@@ -348,7 +378,8 @@ float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
         if (r2 > r2max) continue;
         float rel = ang[x] - theta;
         if (rel < 0.0f) rel += static_cast<float>(kTwoPi);
-        addCircular(desc.data(), kSwifHistogramBins, rel * to_desc, mag[x] * std::exp(-r2 * inv_2sd2));
+        addCircular(desc.data(), kSwifHistogramBins, rel * to_desc,
+                    mag[x] * std::exp(-r2 * inv_2sd2));
       }
     }
   } else {
@@ -359,7 +390,8 @@ float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
     const float cell = 2.0f * static_cast<float>(radius) / kSwifCells;
     const float to_grid = static_cast<float>(kSwifGridBins / kTwoPi);
     // The turned square reaches √2 r from the centre.
-    const int reach = static_cast<int>(std::ceil(static_cast<float>(radius) * static_cast<float>(M_SQRT2)));
+    const int reach =
+        static_cast<int>(std::ceil(static_cast<float>(radius) * static_cast<float>(M_SQRT2)));
     const int gy0 = std::max(0, cy - reach), gy1 = std::min(sc.angle.rows - 1, cy + reach);
     const int gx0 = std::max(0, cx - reach), gx1 = std::min(sc.angle.cols - 1, cx + reach);
     for (int y = gy0; y <= gy1; ++y) {

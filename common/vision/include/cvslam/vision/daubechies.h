@@ -26,6 +26,13 @@ struct WaveletLevel {
                        ///< left empty, want_next = false)
 };
 
+/// Where the filters of db_`order` put their output, relative to the pixel they are written to
+/// [pixels of that level]: the energy centroid minus the (integer) anchor. A decimated sample i
+/// of the next approximation sits at 2i + approximationDelay; a detail pixel at x + detailDelay
+/// (the mean of the low- and high-pass delays: the response mixes H and V).
+double approximationDelay(int order);
+double detailDelay(int order);
+
 /// One DWT level with db_`order` of `approximation` (CV_32F). The detail images keep the
 /// resolution of `approximation` (not decimated, see docs/front_end.md "SWIF": SWIF's departure
 /// for a shift-robust, 2× finer localisation); the approximation is decimated as in the DWT.

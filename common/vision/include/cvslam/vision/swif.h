@@ -3,19 +3,22 @@
 // item 3; docs/front_end.md "SWIF").
 //
 // Detector (§4.4.2–4.4.4): a wavelet pyramid of `levels` octaves; at each level the current
-// approximation is decomposed with several Daubechies wavelets db_k (eq. 4.27, `orders`), and a
-// feature is a local maximum of the detail response over its 8 neighbours at the same order and
-// its 9 + 9 neighbours at the orders above and below (the SIFT-like 26-neighbour test of
-// §4.4.3.2 ii), whose response exceeds Th (§4.4.6). The response is the geometric mean of
-// |H|, |V| and |D|: zero unless the point has detail in all three directions (§4.4.4 items 1
-// and 4: "detected following the three directions", so no edge responses).
+// approximation A_l is decomposed with the Daubechies wavelets db_k of `orders` (eq. 4.27) and
+// a feature is a maximum of the detail response over its 8 neighbours and the 9 + 9 neighbours
+// of the scales above and below (the SIFT-like test of §4.4.3.2 ii) whose response exceeds Th
+// (§4.4.6). The response must vanish unless the point has detail in every direction
+// (§4.4.4 items 1 and 4: no edge responses).
 //
-// Descriptor (§4.4.7): orientation Θ_f = the peak of the histogram of atan2(V_k, H_k) weighted
-// by √(H_k² + V_k²) and a Gaussian (σ = 1.5 × the feature's scale) over the feature's window
-// (§4.4.7.1 a–c); the descriptor is the histogram of the orientations relative to Θ_f
-// (§4.4.7.1 d), weighted by the norms and a Gaussian centred on the feature, L2-normalised
-// (§4.4.7.2): kSwifDescriptorBytes = 41 entries (Table 4.3), stored as bytes like SIFT's
-// so that the matcher's L2 / L∞ / angle criteria (descriptor_matcher.h) apply unchanged.
+// Descriptor (§4.4.7): orientation Θ_f = the peak of the histogram of the detail orientation
+// weighted by the norm √(H_k² + V_k²) and a Gaussian (σ = 1.5 × the feature's scale) over the
+// feature's window (§4.4.7.1 a–c); the descriptor holds the orientations relative to Θ_f
+// (§4.4.7.1 d) weighted by the norms and a Gaussian centred on the feature, L2-normalised
+// (§4.4.7.2), stored as bytes like SIFT's so that the matcher's L2 / L∞ / angle criteria
+// (descriptor_matcher.h) apply unchanged.
+//
+// Each step has the thesis's literal reading as an option (response: directions, scale_axis:
+// orders, descriptor: histogram, orders [2, 4, 6, 8]); the defaults are the readings that work
+// on our images, measured in docs/results/swif.md and explained in docs/front_end.md "SWIF".
 
 #include <vector>
 
@@ -50,25 +53,32 @@ enum class SwifDescriptorLayout {
 
 struct SwifOptions {
   int levels = 3;  ///< wavelet levels (octaves); "three octaves" (§4.4.7.3 iii)
-  /// Daubechies orders compared in scale at each level (eq. 4.27; db2 … db10 in Figure 4.45).
-  /// At least 3, increasing, in 1…10; extrema are sought at the inner ones.
-  std::vector<int> orders = {2, 4, 6, 8};
-  double threshold = 20.0;  ///< Th on the response [orthonormal DWT units of 0…255 grey]; §4.4.6
-  int max_features = 600;   ///< best features kept (by response, spread over the grid)
-  int grid_cols = 8;        ///< keypoint grid (keypoint_grid.h); 0 × 0 = off
+  /// Daubechies orders of each level (eq. 4.27; db2 and db10 in Figure 4.45), increasing, in
+  /// 1…10. scale_axis levels: their responses are averaged (default db1, Haar: its details are
+  /// first differences, the only ones whose (V, H) turns like a gradient with the image);
+  /// scale_axis orders: at least 3, extrema sought at the inner ones.
+  std::vector<int> orders = {1};
+  /// Th on the response, in grey levels of the input (each level's 2^l DWT gain divided out);
+  /// the thesis's Th = 15…25 (§4.4.6) is in raw MATLAB dwt2 units of its response.
+  double threshold = 3.0;
+  int max_features = 600;  ///< best features kept (by response, spread over the grid)
+  int grid_cols = 8;       ///< keypoint grid (keypoint_grid.h); 0 × 0 = off
   int grid_rows = 6;
-  /// Description window ms × ms in the feature level's detail pixels (§4.4.8, Table 4.2). Our
-  /// details are not decimated (daubechies.h), so ms = 16 here covers the thesis's ms = 8.
-  int window = 16;
+  /// Description window ms × ms in the feature level's detail pixels (§4.4.8, Table 4.2: ms = 8
+  /// of decimated DWT pixels; our details are not decimated, daubechies.h, so 16 would be the
+  /// same area; 12 matched best on the rendered pairs).
+  int window = 12;
   int orientation_bins = 40;  ///< orientation-assignment histogram: 360/bin, bin = 9° (§4.4.8)
   double orientation_sigma = 1.5;  ///< Gaussian σ = this × the feature's scale (§4.4.7.1 c)
   double descriptor_clip = 0.5;    ///< normalised entries clipped here, then renormalised
                                    ///< (one strong edge must not own the descriptor)
 
-  SwifResponse response = SwifResponse::kTensor;  ///< tensor | directions
+  SwifResponse response = SwifResponse::kTensor;      ///< tensor | directions
   SwifScaleAxis scale_axis = SwifScaleAxis::kLevels;  ///< levels | orders
   double tensor_sigma = 1.0;
-  SwifDescriptorLayout descriptor = SwifDescriptorLayout::kGrid;  ///< grid | histogram  ///< Gaussian window of the tensor [detail pixels of the level]
+  SwifDescriptorLayout descriptor =
+      SwifDescriptorLayout::kGrid;  ///< grid | histogram  ///< Gaussian window of the tensor
+                                    ///< [detail pixels of the level]
 
   Status load(const ConfigNode& node);
 };
@@ -107,12 +117,20 @@ class Swif {
                               cv::Mat* response, std::vector<cv::Mat>* work);
   void findMaximaOverOrders(int level, std::vector<cv::KeyPoint>* out) const;
   void findMaximaOverLevels(int level, std::vector<cv::KeyPoint>* out) const;
+  /// Detail-pixel delay of an order (−1: the mean over the orders, the level response's).
+  double delay(int order_index) const;
+  /// Detail pixel (x, y) of `level` (response of order `order_index`, −1 = level mean) in input
+  /// pixels, and back for a keypoint.
+  cv::Point2f toInput(int level, int order_index, float x, float y) const;
+  cv::Point2f toLevel(const cv::KeyPoint& kp) const;
   float describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const;
 
   SwifOptions o_;
   std::vector<std::vector<Scale>> pyramid_;  ///< [level][order index]
-  std::vector<cv::Mat> level_response_;       ///< [level] mean response over the orders
-  std::vector<cv::Mat> approximation_;       ///< A_0 (the image) … A_{levels−1}
+  std::vector<cv::Mat> level_response_;      ///< [level] mean response over the orders
+  std::vector<cv::Mat> approximation_;
+  std::vector<double> level_offset_;  ///< input position of sample 0 of A_l [px]       ///< A_0
+                                      ///< (the image) … A_{levels−1}
   std::vector<cv::KeyPoint> all_;
   std::vector<cv::Mat> work_;  ///< tensor products (reused)
 };
