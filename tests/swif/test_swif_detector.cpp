@@ -154,5 +154,27 @@ TEST(SwifDetector, OptionsRejectBadValues) {
   EXPECT_EQ(o.descriptor, SwifDescriptorLayout::kHistogram);
 }
 
+TEST(SwifDetector, ShippedConfigHoldsTheDefaults) {
+  auto cfg = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/front_end.yaml");
+  ASSERT_TRUE(cfg.ok()) << cfg.status().message();
+  SwifOptions o;
+  ASSERT_TRUE(o.load(cfg->child("front_end").child("detector").child("swif")).ok());
+  const SwifOptions d;
+  EXPECT_EQ(o.levels, d.levels);
+  EXPECT_EQ(o.orders, d.orders);
+  EXPECT_DOUBLE_EQ(o.threshold, d.threshold);
+  EXPECT_EQ(o.max_features, d.max_features);
+  EXPECT_EQ(o.grid_cols, d.grid_cols);
+  EXPECT_EQ(o.grid_rows, d.grid_rows);
+  EXPECT_EQ(o.window, d.window);
+  EXPECT_EQ(o.orientation_bins, d.orientation_bins);
+  EXPECT_DOUBLE_EQ(o.orientation_sigma, d.orientation_sigma);
+  EXPECT_DOUBLE_EQ(o.descriptor_clip, d.descriptor_clip);
+  EXPECT_EQ(o.response, d.response);
+  EXPECT_DOUBLE_EQ(o.tensor_sigma, d.tensor_sigma);
+  EXPECT_EQ(o.scale_axis, d.scale_axis);
+  EXPECT_EQ(o.descriptor, d.descriptor);
+}
+
 }  // namespace
 }  // namespace cvslam::vision
