@@ -8,6 +8,7 @@
 
 #include "core/vision_test_data.h"
 #include "cvslam/vision/detector_eval.h"
+#include "cvslam/vision/stereo_front_end.h"
 #include "cvslam/vision/swif.h"
 
 namespace cvslam::vision {
@@ -45,6 +46,36 @@ TEST(SwifEuroc, StereoMatchesSatisfyTheEpipolarConstraint) {
             << ")\n";
   EXPECT_GE(q.correct, 80);
   EXPECT_GE(q.precision, 0.75);
+}
+
+TEST(SwifEuroc, StereoFrontEndRunsWithSwif) {
+  // detector.type: swif through the front end (§4.2.8 stereo constraints, no vocabulary: there
+  // is none for SWIF descriptors, and a SIFT one is refused).
+  StereoCalibration calib;
+  ASSERT_TRUE(test::eurocCalibration(&calib));
+  auto rect = StereoRectifier::create(calib);
+  ASSERT_TRUE(rect.ok());
+  const auto stamps = test::eurocStereoStamps();
+  ASSERT_FALSE(stamps.empty());
+  cv::Mat l, r, lr, rr;
+  ASSERT_TRUE(test::loadEurocPair(stamps[0], &l, &r));
+  ASSERT_TRUE(rect->rectify(l, r, &lr, &rr).ok());
+  StereoFrontEndOptions o;
+  o.detector.type = DetectorType::kSwif;
+  o.stereo.focal_px = rect->rectified().f;
+  o.stereo.baseline_m = rect->rectified().baseline;
+  auto fe = StereoFrontEnd::create(o, nullptr);
+  ASSERT_TRUE(fe.ok()) << fe.status().message();
+  std::vector<StereoObservation> obs;
+  ASSERT_TRUE(fe->process(lr, rr, &obs).ok());
+  std::cout << "front end: " << obs.size() << " stereo observations\n";
+  EXPECT_GE(obs.size(), 50u);
+  for (const StereoObservation& ob : obs) {
+    EXPECT_LE(std::abs(ob.z(1) - ob.z(3)), o.stereo.max_vertical_disparity_px + 1e-9);
+    EXPECT_GT(ob.z(0) - ob.z(2), 0.0);
+    EXPECT_EQ(ob.descriptor.size(),
+              static_cast<std::size_t>(descriptorBytes(DescriptorType::kSwif)));
+  }
 }
 
 TEST(SwifEuroc, ConsecutiveFramesFitAFundamentalMatrix) {
