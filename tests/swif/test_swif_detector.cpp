@@ -123,9 +123,15 @@ TEST(SwifDetector, SelectableThroughTheDetectorSwitch) {
   EXPECT_EQ(f.type, DescriptorType::kSwif);
   EXPECT_EQ(f.descriptors.cols, descriptorBytes(DescriptorType::kSwif));
   EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.size()));
-  // Bad input is an error, not a crash.
+  // Bad input is an error, not a crash; so are options built in code that load() would refuse.
   EXPECT_FALSE((*det)->detect(cv::Mat(), &f).ok());
   EXPECT_FALSE((*det)->detect(cv::Mat(10, 10, CV_32F), &f).ok());
+  SwifOptions bad;
+  bad.orders.clear();
+  EXPECT_FALSE(Swif(bad).detectAndDescribe(cv::Mat(64, 64, CV_8U, cv::Scalar(0)), &f).ok());
+  bad = SwifOptions();
+  bad.orientation_bins = 1000;
+  EXPECT_FALSE(Swif(bad).detectAndDescribe(cv::Mat(64, 64, CV_8U, cv::Scalar(0)), &f).ok());
 }
 
 TEST(SwifDetector, OptionsRejectBadValues) {

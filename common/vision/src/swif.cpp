@@ -123,6 +123,13 @@ Status SwifOptions::load(const ConfigNode& node) {
 Status Swif::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints) {
   if (gray.empty() || gray.type() != CV_8UC1)
     return Status::Error("SWIF: expected a non-empty 8-bit grey image");
+  // Options built in code skip load(): the checks that keep memory access in bounds again.
+  bool orders_ok = !o_.orders.empty();
+  for (int k : o_.orders) orders_ok = orders_ok && k >= 1 && k <= kMaxDaubechiesOrder;
+  if (!orders_ok || o_.levels < 1 || o_.levels > kMaxLevels || o_.window < 4 ||
+      o_.orientation_bins < 4 || o_.orientation_bins > kMaxOrientationBins ||
+      (o_.scale_axis == SwifScaleAxis::kOrders && o_.orders.size() < 3))
+    return Status::Error("SWIF: invalid options (see SwifOptions::load for the valid ranges)");
   const int n_orders = static_cast<int>(o_.orders.size());
   approximation_.resize(static_cast<std::size_t>(o_.levels));
   gray.convertTo(approximation_[0], CV_32F);
