@@ -54,6 +54,22 @@ TEST(SwifDetector, RepeatableUnderScaleChange) {
   EXPECT_GE(repeatabilityUnder(render::scaleChange(1.5, test::kViewSize)), 0.35);
 }
 
+TEST(SwifDetector, SubOctavePyramidsKeepTheBounds) {
+  ASSERT_FALSE(test::groundImage().empty());
+  SwifOptions o;
+  o.scales_per_octave = 2;
+  for (const render::ViewChange& change :
+       {render::rotationChange(30.0, test::kViewSize), render::scaleChange(1.5, test::kViewSize)}) {
+    const render::ViewPair p = render::makeViewPair(test::groundImage(), test::kViewSize, change);
+    const Features a = detectSwif(p.reference, o), b = detectSwif(p.transformed, o);
+    const auto r =
+        repeatability(a.keypoints, test::kViewSize, b.keypoints, test::kViewSize, change.H, kEpsPx);
+    std::cout << "2 scales per octave, " << change.family << ' ' << change.amount
+              << ": repeatability " << r.repeatability << '\n';
+    EXPECT_GE(r.repeatability, change.family == "rotation" ? 0.45 : 0.35);
+  }
+}
+
 TEST(SwifDetector, RepeatabilityFailsUnderAWrongHomography) {
   ASSERT_FALSE(test::groundImage().empty());
   const render::ViewPair p = render::makeViewPair(test::groundImage(), test::kViewSize,
@@ -140,7 +156,8 @@ TEST(SwifDetector, OptionsRejectBadValues) {
         "{orders: [2, 4], scale_axis: orders}", "{threshold: 0}", "{max_features: 0}",
         "{grid_cols: 4, grid_rows: 0}", "{window: 2}", "{orientation_bins: 2}",
         "{orientation_sigma: -1}", "{descriptor_clip: 1.5}", "{tensor_sigma: 0}",
-        "{response: hessian}", "{descriptor: sift}", "{scale_axis: time}"}) {
+        "{response: hessian}", "{descriptor: sift}", "{scale_axis: time}", "{scales_per_octave: 0}",
+        "{scales_per_octave: 5}"}) {
     auto cfg = ConfigNode::fromString(std::string("swif: ") + bad, "s.yaml");
     ASSERT_TRUE(cfg.ok()) << bad;
     SwifOptions o;
@@ -180,6 +197,7 @@ TEST(SwifDetector, ShippedConfigHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(o.tensor_sigma, d.tensor_sigma);
   EXPECT_EQ(o.scale_axis, d.scale_axis);
   EXPECT_EQ(o.descriptor, d.descriptor);
+  EXPECT_EQ(o.scales_per_octave, d.scales_per_octave);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@ constexpr double kTwoPi = 2.0 * M_PI;
 constexpr int kMaxLevels = 8;             // 2^8 = 256: coarser levels of a VGA image are empty
 constexpr int kMaxOrientationBins = 360;  // bin ≥ 1° (Table 4.1 explores 3°…90°)
 constexpr float kDescriptorByteScale = 512.0f;  // unit-norm entries → bytes (as OpenCV's SIFT)
+constexpr int kMaxScalesPerOctave = 4;          // finer steps than 2^(1/4) only cost time
 constexpr int kBorder = 1;                      // the 3 × 3 neighbourhood must be inside the image
 
 // Adds weight w at fractional circular bin position b of an n-bin histogram (linear split).
@@ -97,6 +98,9 @@ Status SwifOptions::load(const ConfigNode& node) {
       {{"grid", SwifDescriptorLayout::kGrid}, {"histogram", SwifDescriptorLayout::kHistogram}});
   node.getEnum("scale_axis", scale_axis,
                {{"levels", SwifScaleAxis::kLevels}, {"orders", SwifScaleAxis::kOrders}});
+  node.get("scales_per_octave", scales_per_octave);
+  node.check(scales_per_octave >= 1 && scales_per_octave <= kMaxScalesPerOctave,
+             "scales_per_octave", "must be in 1…4");
   node.check(tensor_sigma > 0, "tensor_sigma", "must be > 0");
   node.check(levels >= 1 && levels <= kMaxLevels, "levels", "must be in 1…8");
   const std::size_t min_orders = scale_axis == SwifScaleAxis::kOrders ? 3 : 1;
@@ -127,59 +131,74 @@ Status Swif::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints) {
   bool orders_ok = !o_.orders.empty();
   for (int k : o_.orders) orders_ok = orders_ok && k >= 1 && k <= kMaxDaubechiesOrder;
   if (!orders_ok || o_.levels < 1 || o_.levels > kMaxLevels || o_.window < 4 ||
+      o_.scales_per_octave < 1 || o_.scales_per_octave > kMaxScalesPerOctave ||
       o_.orientation_bins < 4 || o_.orientation_bins > kMaxOrientationBins ||
       (o_.scale_axis == SwifScaleAxis::kOrders && o_.orders.size() < 3))
     return Status::Error("SWIF: invalid options (see SwifOptions::load for the valid ranges)");
   const int n_orders = static_cast<int>(o_.orders.size());
+  const int per_octave = o_.scales_per_octave;
+  layers_.resize(static_cast<std::size_t>(o_.levels * per_octave));
+  for (Layer& layer : layers_) layer.built = false;
   approximation_.resize(static_cast<std::size_t>(o_.levels));
-  gray.convertTo(approximation_[0], CV_32F);
-  // Levels whose approximation is smaller than the description window are not built.
-  int levels = 0;
-  pyramid_.resize(static_cast<std::size_t>(o_.levels));
-  level_response_.resize(static_cast<std::size_t>(o_.levels));
-  level_offset_.assign(static_cast<std::size_t>(o_.levels), 0.0);
-  for (int l = 0; l < o_.levels; ++l) {
-    const cv::Mat& a = approximation_[static_cast<std::size_t>(l)];
-    if (std::min(a.rows, a.cols) < o_.window) break;
-    auto& scales = pyramid_[static_cast<std::size_t>(l)];
-    scales.resize(static_cast<std::size_t>(n_orders));
-    for (int s = 0; s < n_orders; ++s) {
-      Scale& sc = scales[static_cast<std::size_t>(s)];
-      // The next approximation from the first (shortest) wavelet: eq. 4.27 repeated on A.
-      const bool next = s == 0 && l + 1 < o_.levels;
-      waveletLevel(a, o_.orders[static_cast<std::size_t>(s)], next, &sc.wavelet);
-      if (next) {
-        approximation_[static_cast<std::size_t>(l + 1)] = sc.wavelet.next;
-        // Sample i of A_{l+1} is sample 2i + delay of A_l (daubechies.h).
-        level_offset_[static_cast<std::size_t>(l + 1)] =
-            level_offset_[static_cast<std::size_t>(l)] +
-            static_cast<double>(1 << l) * approximationDelay(o_.orders.front());
-      }
-      computeResponse(sc.wavelet, o_.response, o_.tensor_sigma, &sc.response, &work_);
-      // Level l's details carry the DC gain 2^l of the orthonormal approximation A_l; dividing
-      // it out puts Th and the ranking of all levels in grey levels of the input.
-      sc.response *= 1.0 / static_cast<double>(1 << l);
-      // Gradient angle from the x axis: V is the detail across x, H across y. (The thesis's
-      // arctan(V_k/H_k) measures from the y axis, which turns the wrong way with the image.)
-      cv::phase(sc.wavelet.vertical, sc.wavelet.horizontal, sc.angle);
-      cv::magnitude(sc.wavelet.horizontal, sc.wavelet.vertical, sc.magnitude);
+  for (int sub = 0; sub < per_octave; ++sub) {
+    // Sub-octave `sub` starts from the input resized by r = 2^(−sub/S): its levels fall between
+    // those of sub-octave 0 ("three wavelet levels in each octave", §4.4.7.3 iii).
+    const double r = std::exp2(-static_cast<double>(sub) / per_octave);
+    if (sub == 0) {
+      gray.convertTo(approximation_[0], CV_32F);
+    } else {
+      cv::resize(gray, base_, cv::Size(), r, r, cv::INTER_AREA);
+      base_.convertTo(approximation_[0], CV_32F);
     }
-    // "Multi wavelet" response of the level (eq. 4.27 repeated for each k): the mean over k.
-    cv::Mat& mean = level_response_[static_cast<std::size_t>(l)];
-    mean.create(a.size(), CV_32F);
-    mean.setTo(0.0);
-    for (const Scale& sc : scales) mean += sc.response;
-    mean *= 1.0 / n_orders;
-    ++levels;
+    double offset = 0.0;  // base position of sample 0 of A_l
+    for (int l = 0; l < o_.levels; ++l) {
+      const cv::Mat& a = approximation_[static_cast<std::size_t>(l)];
+      // Levels whose approximation is smaller than the description window are not built.
+      if (std::min(a.rows, a.cols) < o_.window) break;
+      Layer& layer = layers_[static_cast<std::size_t>(l * per_octave + sub)];
+      layer.built = true;
+      // Base pixel x ↔ input pixel (x + 0.5)/r − 0.5 (cv::resize's pixel-centre convention).
+      layer.factor = static_cast<double>(1 << l) / r;
+      layer.offset = offset / r + 0.5 / r - 0.5;
+      layer.scales.resize(static_cast<std::size_t>(n_orders));
+      for (int s = 0; s < n_orders; ++s) {
+        Scale& sc = layer.scales[static_cast<std::size_t>(s)];
+        // The next approximation from the first (shortest) wavelet: eq. 4.27 repeated on A.
+        const bool next = s == 0 && l + 1 < o_.levels;
+        waveletLevel(a, o_.orders[static_cast<std::size_t>(s)], next, &sc.wavelet);
+        computeResponse(sc.wavelet, o_.response, o_.tensor_sigma, &sc.response, &work_);
+        // Level l's details carry the DC gain 2^l of the orthonormal approximation A_l;
+        // dividing it out puts Th and the ranking of all levels in grey levels of the input.
+        sc.response *= 1.0 / static_cast<double>(1 << l);
+        // Gradient angle from the x axis: V is the detail across x, H across y. (The thesis's
+        // arctan(V_k/H_k) measures from the y axis, which turns the wrong way with the image.)
+        cv::phase(sc.wavelet.vertical, sc.wavelet.horizontal, sc.angle);
+        cv::magnitude(sc.wavelet.horizontal, sc.wavelet.vertical, sc.magnitude);
+      }
+      // "Multi wavelet" response of the level (eq. 4.27 repeated for each k): the mean over k.
+      layer.response.create(a.size(), CV_32F);
+      layer.response.setTo(0.0);
+      for (const Scale& sc : layer.scales) layer.response += sc.response;
+      layer.response *= 1.0 / n_orders;
+      if (l + 1 < o_.levels) {
+        approximation_[static_cast<std::size_t>(l + 1)] = layer.scales.front().wavelet.next;
+        // Sample i of A_{l+1} is sample 2i + delay of A_l (daubechies.h).
+        offset += static_cast<double>(1 << l) * approximationDelay(o_.orders.front());
+      }
+    }
   }
-  pyramid_.resize(static_cast<std::size_t>(levels));
-  level_response_.resize(static_cast<std::size_t>(levels));
+  // Layers by increasing scale, up to the first one not built (a small image's top).
+  int n_layers = 0;
+  while (n_layers < static_cast<int>(layers_.size()) &&
+         layers_[static_cast<std::size_t>(n_layers)].built)
+    ++n_layers;
+  layers_.resize(static_cast<std::size_t>(n_layers));
   all_.clear();
-  for (int l = 0; l < levels; ++l) {
+  for (int j = 0; j < n_layers; ++j) {
     if (o_.scale_axis == SwifScaleAxis::kOrders)
-      findMaximaOverOrders(l, &all_);
+      findMaximaOverOrders(j, &all_);
     else
-      findMaximaOverLevels(l, &all_);
+      findMaximaOverLevels(j, &all_);
   }
   if (o_.grid_cols > 0) {
     *keypoints = retainUniform(all_, gray.size(), o_.max_features, o_.grid_cols, o_.grid_rows);
@@ -195,9 +214,9 @@ Status Swif::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints) {
 }
 
 void Swif::findMaximaOverOrders(int level, std::vector<cv::KeyPoint>* out) const {
-  const auto& scales = pyramid_[static_cast<std::size_t>(level)];
+  const auto& scales = layers_[static_cast<std::size_t>(level)].scales;
   const float th = static_cast<float>(o_.threshold);
-  const float f = static_cast<float>(1 << level);  // level pixels → input pixels
+  const auto f = static_cast<float>(layers_[static_cast<std::size_t>(level)].factor);
   for (std::size_t s = 1; s + 1 < scales.size(); ++s) {
     const cv::Mat& r = scales[s].response;
     const int step = static_cast<int>(r.step1());
@@ -253,14 +272,21 @@ bool aboveBlock(const cv::Mat& m, int x, int y, float v) {
 }  // namespace
 
 void Swif::findMaximaOverLevels(int level, std::vector<cv::KeyPoint>* out) const {
-  const cv::Mat& r = level_response_[static_cast<std::size_t>(level)];
-  const cv::Mat* finer =
-      level > 0 ? &level_response_[static_cast<std::size_t>(level - 1)] : nullptr;
-  const cv::Mat* coarser = level + 1 < static_cast<int>(level_response_.size())
-                               ? &level_response_[static_cast<std::size_t>(level + 1)]
-                               : nullptr;
+  const Layer& layer = layers_[static_cast<std::size_t>(level)];
+  const cv::Mat& r = layer.response;
+  const Layer* finer = level > 0 ? &layers_[static_cast<std::size_t>(level - 1)] : nullptr;
+  const Layer* coarser = level + 1 < static_cast<int>(layers_.size())
+                             ? &layers_[static_cast<std::size_t>(level + 1)]
+                             : nullptr;
+  const double d = delay(-1);
+  // Pixel of `other` at the input position of this layer's pixel (x, y).
+  auto at = [&](const Layer& other, int x, int y) {
+    const double k = layer.factor / other.factor, c = (layer.offset - other.offset) / other.factor;
+    return cv::Point(static_cast<int>(std::lround(k * (x + d) + c - d)),
+                     static_cast<int>(std::lround(k * (y + d) + c - d)));
+  };
   const float th = static_cast<float>(o_.threshold);
-  const float f = static_cast<float>(1 << level);
+  const auto size = static_cast<float>(o_.window * layer.factor);
   const int step = static_cast<int>(r.step1());
   for (int y = kBorder; y < r.rows - kBorder; ++y) {
     const float* row = r.ptr<float>(y);
@@ -274,15 +300,21 @@ void Swif::findMaximaOverLevels(int level, std::vector<cv::KeyPoint>* out) const
             is_max = false;
             break;
           }
-      // The 9 + 9 neighbours in the levels below and above (§4.4.3.2 ii), at the same input
-      // position: a level's detail pixel is 2 pixels of the finer level, half of the coarser.
-      if (!is_max || (finer && !aboveBlock(*finer, 2 * x, 2 * y, v)) ||
-          (coarser && !aboveBlock(*coarser, x / 2, y / 2, v)))
-        continue;
+      if (!is_max) continue;
+      // The 9 + 9 neighbours in the scales below and above (§4.4.3.2 ii), at the same input
+      // position.
+      if (finer) {
+        const cv::Point p = at(*finer, x, y);
+        if (!aboveBlock(finer->response, p.x, p.y, v)) continue;
+      }
+      if (coarser) {
+        const cv::Point p = at(*coarser, x, y);
+        if (!aboveBlock(coarser->response, p.x, p.y, v)) continue;
+      }
       const float ox = parabolaOffset(row[x - 1], v, row[x + 1]);
       const float oy = parabolaOffset(row[x - step], v, row[x + step]);
       out->emplace_back(toInput(level, -1, static_cast<float>(x) + ox, static_cast<float>(y) + oy),
-                        static_cast<float>(o_.window) * f, -1.0f, v, level, 0);
+                        size, -1.0f, v, level, 0);
     }
   }
 }
@@ -295,15 +327,17 @@ double Swif::delay(int order_index) const {
 }
 
 cv::Point2f Swif::toInput(int level, int order_index, float x, float y) const {
-  const double f = static_cast<double>(1 << level);
-  const double d = delay(order_index), off = level_offset_[static_cast<std::size_t>(level)];
+  const Layer& layer = layers_[static_cast<std::size_t>(level)];
+  const double f = layer.factor;
+  const double d = delay(order_index), off = layer.offset;
   return {static_cast<float>(f * (x + d) + off), static_cast<float>(f * (y + d) + off)};
 }
 
 cv::Point2f Swif::toLevel(const cv::KeyPoint& kp) const {
-  const double f = static_cast<double>(1 << kp.octave);
+  const Layer& layer = layers_[static_cast<std::size_t>(kp.octave)];
+  const double f = layer.factor;
   const int order_index = o_.scale_axis == SwifScaleAxis::kOrders ? kp.class_id : -1;
-  const double d = delay(order_index), off = level_offset_[static_cast<std::size_t>(kp.octave)];
+  const double d = delay(order_index), off = layer.offset;
   return {static_cast<float>((kp.pt.x - off) / f - d), static_cast<float>((kp.pt.y - off) / f - d)};
 }
 
@@ -317,7 +351,7 @@ void Swif::describe(std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) 
 
 float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
   const Scale& sc =
-      pyramid_[static_cast<std::size_t>(kp.octave)][static_cast<std::size_t>(kp.class_id)];
+      layers_[static_cast<std::size_t>(kp.octave)].scales[static_cast<std::size_t>(kp.class_id)];
   const cv::Point2f centre = toLevel(kp);
   const int cx = static_cast<int>(std::lround(centre.x));
   const int cy = static_cast<int>(std::lround(centre.y));

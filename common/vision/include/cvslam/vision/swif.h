@@ -76,6 +76,9 @@ struct SwifOptions {
   SwifResponse response = SwifResponse::kTensor;      ///< tensor | directions
   SwifScaleAxis scale_axis = SwifScaleAxis::kLevels;  ///< levels | orders
   double tensor_sigma = 1.0;
+  /// Pyramids per octave, started from the input resized by 2^(−s/S), s = 0…S−1, so that the
+  /// scale test compares scales 2^(1/S) apart instead of an octave; 1 = a single DWT pyramid.
+  int scales_per_octave = 1;
   SwifDescriptorLayout descriptor =
       SwifDescriptorLayout::kGrid;  ///< grid | histogram  ///< Gaussian window of the tensor
                                     ///< [detail pixels of the level]
@@ -98,8 +101,8 @@ class Swif {
   explicit Swif(const SwifOptions& options) : o_(options) {}
 
   /// Builds the wavelet pyramid of `gray` (CV_8UC1) and keeps at most max_features maxima
-  /// (pt in input pixels, size = the window in input pixels, octave = level, class_id = order
-  /// index, angle −1: no orientation yet).
+  /// (pt in input pixels, size = the window in input pixels, octave = layer (scale) index,
+  /// class_id = order index, angle −1: no orientation yet).
   Status detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints);
   /// Orientation (angle, degrees) and descriptors of keypoints of the last detect().
   void describe(std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors);
@@ -125,12 +128,18 @@ class Swif {
   cv::Point2f toLevel(const cv::KeyPoint& kp) const;
   float describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const;
 
+  struct Layer {                // one level of one sub-octave pyramid
+    std::vector<Scale> scales;  ///< [order index]
+    cv::Mat response;           ///< mean response over the orders
+    double factor = 1.0;        ///< input pixels per detail pixel
+    double offset = 0.0;        ///< input position of detail sample 0, before the filter delay
+    bool built = false;
+  };
+
   SwifOptions o_;
-  std::vector<std::vector<Scale>> pyramid_;  ///< [level][order index]
-  std::vector<cv::Mat> level_response_;      ///< [level] mean response over the orders
-  std::vector<cv::Mat> approximation_;
-  std::vector<double> level_offset_;  ///< input position of sample 0 of A_l [px]       ///< A_0
-                                      ///< (the image) … A_{levels−1}
+  std::vector<Layer> layers_;           ///< by increasing scale: level l, sub-octave s at l·S + s
+  std::vector<cv::Mat> approximation_;  ///< A_0 … A_{levels−1} of the sub-octave being built
+  cv::Mat base_;                        ///< the resized input of a sub-octave
   std::vector<cv::KeyPoint> all_;
   std::vector<cv::Mat> work_;  ///< tensor products (reused)
 };
