@@ -151,13 +151,26 @@ TEST(SwifDetector, SelectableThroughTheDetectorSwitch) {
 }
 
 TEST(SwifDetector, OptionsRejectBadValues) {
-  for (const char* bad :
-       {"{levels: 0}", "{levels: 9}", "{orders: [3, 2]}", "{orders: [0]}", "{orders: [11]}",
-        "{orders: [2, 4], scale_axis: orders}", "{threshold: 0}", "{max_features: 0}",
-        "{grid_cols: 4, grid_rows: 0}", "{window: 2}", "{orientation_bins: 2}",
-        "{orientation_sigma: -1}", "{descriptor_clip: 1.5}", "{tensor_sigma: 0}",
-        "{response: hessian}", "{descriptor: sift}", "{scale_axis: time}", "{scales_per_octave: 0}",
-        "{scales_per_octave: 5}"}) {
+  for (const char* bad : {"{levels: 0}",
+                          "{levels: 9}",
+                          "{orders: [3, 2]}",
+                          "{orders: [0]}",
+                          "{orders: [11]}",
+                          "{orders: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 10]}",
+                          "{orders: [2, 4], scale_axis: orders}",
+                          "{threshold: 0}",
+                          "{max_features: 0}",
+                          "{grid_cols: 4, grid_rows: 0}",
+                          "{window: 2}",
+                          "{orientation_bins: 2}",
+                          "{orientation_sigma: -1}",
+                          "{descriptor_clip: 1.5}",
+                          "{tensor_sigma: 0}",
+                          "{response: hessian}",
+                          "{descriptor: sift}",
+                          "{scale_axis: time}",
+                          "{scales_per_octave: 0}",
+                          "{scales_per_octave: 5}"}) {
     auto cfg = ConfigNode::fromString(std::string("swif: ") + bad, "s.yaml");
     ASSERT_TRUE(cfg.ok()) << bad;
     SwifOptions o;

@@ -81,7 +81,10 @@ void Swif::computeResponse(const WaveletLevel& w, SwifResponse type, double tens
 
 Status SwifOptions::load(const ConfigNode& node) {
   node.get("levels", levels);
-  node.get("orders", orders);
+  std::vector<int> order_list(orders.begin(), orders.end());
+  node.get("orders", order_list);
+  orders.clear();
+  for (int k : order_list) orders.push_back(k);
   node.get("threshold", threshold);
   node.get("max_features", max_features);
   node.get("grid_cols", grid_cols);
@@ -104,7 +107,7 @@ Status SwifOptions::load(const ConfigNode& node) {
   node.check(tensor_sigma > 0, "tensor_sigma", "must be > 0");
   node.check(levels >= 1 && levels <= kMaxLevels, "levels", "must be in 1…8");
   const std::size_t min_orders = scale_axis == SwifScaleAxis::kOrders ? 3 : 1;
-  bool orders_ok = orders.size() >= min_orders;
+  bool orders_ok = orders.size() >= min_orders && !orders.overfull();
   for (std::size_t i = 0; i < orders.size(); ++i) {
     orders_ok = orders_ok && orders[i] >= 1 && orders[i] <= kMaxDaubechiesOrder;
     if (i > 0) orders_ok = orders_ok && orders[i] > orders[i - 1];
@@ -128,7 +131,7 @@ Status Swif::detect(const cv::Mat& gray, std::vector<cv::KeyPoint>* keypoints) {
   if (gray.empty() || gray.type() != CV_8UC1)
     return Status::Error("SWIF: expected a non-empty 8-bit grey image");
   // Options built in code skip load(): the checks that keep memory access in bounds again.
-  bool orders_ok = !o_.orders.empty();
+  bool orders_ok = !o_.orders.empty() && !o_.orders.overfull();
   for (int k : o_.orders) orders_ok = orders_ok && k >= 1 && k <= kMaxDaubechiesOrder;
   if (!orders_ok || o_.levels < 1 || o_.levels > kMaxLevels || o_.window < 4 ||
       o_.scales_per_octave < 1 || o_.scales_per_octave > kMaxScalesPerOctave ||

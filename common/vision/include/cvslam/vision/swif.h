@@ -20,6 +20,9 @@
 // orders, descriptor: histogram, orders [2, 4, 6, 8]); the defaults are the readings that work
 // on our images, measured in docs/results/swif.md and explained in docs/front_end.md "SWIF".
 
+#include <algorithm>
+#include <array>
+#include <initializer_list>
 #include <vector>
 
 #include "cvslam/core/status.h"
@@ -37,6 +40,41 @@ enum class SwifResponse {
   kTensor,      ///< √λ_min of the Gaussian-summed second-moment matrix of (V, H): turns with the
                 ///< image (default)
   kDirections,  ///< (|H| |V| |D|)^(1/3): the thesis's "in all three directions" read literally
+};
+
+/// A short list of Daubechies orders held inline (at most kMaxDaubechiesOrder, since they are
+/// increasing in 1…10): options structs stay free of heap members, which GCC 12 reports as
+/// maybe-uninitialised inside aggregate-initialised configs (coop/agent_config.cpp).
+class SwifOrders {
+ public:
+  SwifOrders() = default;
+  SwifOrders(std::initializer_list<int> orders) {
+    for (int k : orders) push_back(k);
+  }
+  /// Appends k; beyond kMaxDaubechiesOrder entries k is dropped and the list marked overfull
+  /// (invalid: load() and Swif::detect() refuse it).
+  void push_back(int k) {
+    if (n_ < kMaxDaubechiesOrder)
+      k_[static_cast<std::size_t>(n_++)] = k;
+    else
+      overfull_ = true;
+  }
+  void clear() { n_ = 0, overfull_ = false; }
+  std::size_t size() const { return static_cast<std::size_t>(n_); }
+  bool empty() const { return n_ == 0; }
+  bool overfull() const { return overfull_; }
+  int operator[](std::size_t i) const { return k_[i]; }
+  int front() const { return k_[0]; }
+  const int* begin() const { return k_.data(); }
+  const int* end() const { return k_.data() + n_; }
+  bool operator==(const SwifOrders& o) const {
+    return n_ == o.n_ && overfull_ == o.overfull_ && std::equal(begin(), end(), o.begin());
+  }
+
+ private:
+  std::array<int, kMaxDaubechiesOrder> k_{};
+  int n_ = 0;
+  bool overfull_ = false;
 };
 
 /// Where the "scale above and below" of the extremum test (§4.4.3.2 ii) is taken.
@@ -57,7 +95,7 @@ struct SwifOptions {
   /// 1…10. scale_axis levels: their responses are averaged (default db1, Haar: its details are
   /// first differences, the only ones whose (V, H) turns like a gradient with the image);
   /// scale_axis orders: at least 3, extrema sought at the inner ones.
-  std::vector<int> orders = {1};
+  SwifOrders orders = {1};
   /// Th on the response, in grey levels of the input (each level's 2^l DWT gain divided out);
   /// the thesis's Th = 15…25 (§4.4.6) is in raw MATLAB dwt2 units of its response.
   double threshold = 3.0;
