@@ -78,7 +78,8 @@ cvslam::Expected<StereoFrontEnd> makeFrontEnd(const Pair& p, DetectorType type, 
   o.stereo.focal_px = p.f;
   o.stereo.baseline_m = p.baseline;
   std::shared_ptr<const Vocabulary> vocab;
-  if (type != DetectorType::kOrb) {
+  // ORB has its own vocabulary, SWIF none (docs/front_end.md "SWIF").
+  if (type != DetectorType::kOrb && type != DetectorType::kSwif) {
     auto v = Vocabulary::load(std::string(CVSLAM_SOURCE_DIR) + "/config/vocabulary_sift.cvoc");
     if (!v.ok()) return v.status();
     vocab = std::make_shared<const Vocabulary>(std::move(v.value()));
@@ -104,7 +105,8 @@ void frontEnd(benchmark::State& state) {
   state.counters["stereo_matches"] = static_cast<double>(obs.size());
 }
 
-// Args: {0: 320×240, 1: 752×480}, {detector: 0 adaptive SIFT, 1 SIFT, 2 ORB, 3 fast SIFT},
+// Args: {0: 320×240, 1: 752×480}, {detector: 0 adaptive SIFT, 1 SIFT, 2 ORB, 3 fast SIFT,
+// 4 SWIF},
 // {adaptive SIFT with upsample_first_octave: 0 true (default), 1 false}.
 BENCHMARK(frontEnd)
     ->ArgNames({"size752", "detector", "no_upsample"})
@@ -112,6 +114,8 @@ BENCHMARK(frontEnd)
     ->Args({1, 3, 0})
     ->Args({0, 2, 0})
     ->Args({1, 2, 0})
+    ->Args({0, 4, 0})
+    ->Args({1, 4, 0})
     ->Args({0, 0, 0})
     ->Args({1, 0, 0})
     ->Args({0, 0, 1})

@@ -96,6 +96,10 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
 Expected<std::shared_ptr<const vision::Vocabulary>> loadFeatureIndexVocabulary(
     const VisualFrontEndOptions& options, const std::string& config_dir) {
   const bool orb = options.front_end.detector.type == vision::DetectorType::kOrb;
+  // SWIF descriptors (thesis §4.4) have no trained vocabulary: the feature index is off for
+  // them (a SIFT vocabulary would read 128 bytes of 64-byte descriptors).
+  if (options.front_end.detector.type == vision::DetectorType::kSwif)
+    return std::shared_ptr<const vision::Vocabulary>();
   const std::string& name = orb ? options.vocabulary_orb : options.vocabulary;
   if (name.empty()) return std::shared_ptr<const vision::Vocabulary>();
   std::filesystem::path file = name;
@@ -121,8 +125,7 @@ Expected<VisualSlamPipeline> VisualSlamPipeline::create(
   o.front_end.stereo.focal_px = c.fx;
   o.front_end.stereo.baseline_m = c.baseline;
   const bool orb = o.front_end.detector.type == vision::DetectorType::kOrb;
-  o.association.descriptor_type =
-      orb ? vision::DescriptorType::kOrb : vision::DescriptorType::kSift;
+  o.association.descriptor_type = vision::descriptorTypeOf(o.front_end.detector.type);
   if (orb) {
     o.association.max_descriptor_distance = o.max_hamming_distance;
     o.loop_detection.max_descriptor_distance = o.max_hamming_distance;

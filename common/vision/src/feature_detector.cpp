@@ -12,9 +12,11 @@ Status DetectorOptions::load(const ConfigNode& node) {
                {{"adaptive_sift", DetectorType::kAdaptiveSift},
                 {"sift", DetectorType::kSift},
                 {"orb", DetectorType::kOrb},
-                {"fast_sift", DetectorType::kFastSift}});
+                {"fast_sift", DetectorType::kFastSift},
+                {"swif", DetectorType::kSwif}});
   adaptive_sift.load(node.child("adaptive_sift"));
   fast_sift.load(node.child("fast_sift"));
+  swif.load(node.child("swif"));
   node.get("sift_max_features", sift_max_features);
   node.get("sift_octave_layers", sift_octave_layers);
   node.get("sift_contrast_threshold", sift_contrast_threshold);
@@ -38,6 +40,20 @@ Status DetectorOptions::load(const ConfigNode& node) {
   node.check(orb_levels >= 1, "orb_levels", "must be >= 1");
   node.check(orb_fast_threshold > 0, "orb_fast_threshold", "must be > 0");
   return node.status();
+}
+
+DescriptorType descriptorTypeOf(DetectorType type) {
+  switch (type) {
+    case DetectorType::kOrb:
+      return DescriptorType::kOrb;
+    case DetectorType::kSwif:
+      return DescriptorType::kSwif;
+    case DetectorType::kAdaptiveSift:
+    case DetectorType::kSift:
+    case DetectorType::kFastSift:
+      break;
+  }
+  return DescriptorType::kSift;
 }
 
 namespace {
@@ -70,6 +86,18 @@ class FastSiftDetector final : public FeatureDetector {
 
  private:
   FastSift sift_;
+};
+
+class SwifDetector final : public FeatureDetector {
+ public:
+  explicit SwifDetector(const SwifOptions& o) : swif_(o) {}
+  Status detect(const cv::Mat& gray, Features* out) override {
+    return swif_.detectAndDescribe(gray, out);
+  }
+  DescriptorType descriptorType() const override { return DescriptorType::kSwif; }
+
+ private:
+  Swif swif_;
 };
 
 class SiftDetector final : public FeatureDetector {
@@ -137,6 +165,9 @@ Expected<std::unique_ptr<FeatureDetector>> makeFeatureDetector(const DetectorOpt
       break;
     case DetectorType::kOrb:
       d = std::make_unique<OrbDetector>(o);
+      break;
+    case DetectorType::kSwif:
+      d = std::make_unique<SwifDetector>(o.swif);
       break;
   }
   if (!d) return Status::Error("feature detector: unknown type");

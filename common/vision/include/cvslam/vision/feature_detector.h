@@ -1,7 +1,8 @@
 #pragma once
 // One interface for the front end's detectors (thesis §4.2.3–4.2.5, docs/front_end.md):
 // adaptive SIFT (the thesis's choice, on OpenCV's SIFT), fast SIFT (the same adaptation on our
-// own scale space, fast_sift.h), plain SIFT (Lowe, the baseline) and ORB.
+// own scale space, fast_sift.h), plain SIFT (Lowe, the baseline), ORB, and SWIF (the thesis's
+// wavelet detector and descriptor, §4.4, swif.h).
 // A detector turns one grey image into keypoints plus descriptors.
 
 #include <memory>
@@ -10,6 +11,7 @@
 #include "cvslam/vision/adaptive_sift.h"
 #include "cvslam/vision/fast_sift.h"
 #include "cvslam/vision/features.h"
+#include "cvslam/vision/swif.h"
 
 namespace cvslam {
 class ConfigNode;
@@ -17,12 +19,17 @@ class ConfigNode;
 
 namespace cvslam::vision {
 
-enum class DetectorType { kAdaptiveSift, kSift, kOrb, kFastSift };
+enum class DetectorType { kAdaptiveSift, kSift, kOrb, kFastSift, kSwif };
+
+/// The descriptors a detector type produces.
+DescriptorType descriptorTypeOf(DetectorType type);
 
 struct DetectorOptions {
-  DetectorType type = DetectorType::kAdaptiveSift;  ///< adaptive_sift | fast_sift | sift | orb
+  DetectorType type =
+      DetectorType::kAdaptiveSift;    ///< adaptive_sift | fast_sift | sift | orb | swif
   AdaptiveSiftOptions adaptive_sift;  ///< §4.2.5 (adaptive_sift, and fast_sift's adaptation)
   FastSiftOptions fast_sift;          ///< grid and octaves of fast_sift
+  SwifOptions swif;                   ///< §4.4 wavelet detector and descriptor (swif.h)
   // Plain SIFT (Lowe 2004; OpenCV's defaults).
   int sift_max_features = 0;              ///< 0 = keep all (classical SIFT)
   int sift_octave_layers = 3;             ///< s, k = 2^(1/s)

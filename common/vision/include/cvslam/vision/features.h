@@ -6,6 +6,9 @@
 //    float descriptor is exactly these integers, so nothing is lost). The byte form makes the
 //    L∞, L2 and angle distances of §4.2.6 integer loops the compiler vectorises.
 //  - ORB: 32 bytes, 256 binary tests, compared by Hamming distance.
+//  - SWIF: 64 bytes, orientation histograms of the wavelet details relative to the dominant
+//    orientation (thesis §4.4.7, swif.h), unit-normalised and quantised like SIFT's, so the
+//    same L2 / L∞ / angle criteria apply.
 
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -16,11 +19,20 @@ namespace cvslam::vision {
 enum class DescriptorType : uint8_t {
   kSift = 0,  ///< 128 bytes, histogram values 0..255
   kOrb = 1,   ///< 32 bytes, binary
+  kSwif = 2,  ///< 64 bytes, histogram values 0..255 (swif.h)
 };
 
 /// Bytes per descriptor row.
 inline int descriptorBytes(DescriptorType type) {
-  return type == DescriptorType::kSift ? 128 : 32;
+  switch (type) {
+    case DescriptorType::kSift:
+      return 128;
+    case DescriptorType::kOrb:
+      return 32;
+    case DescriptorType::kSwif:
+      return 64;  // kSwifDescriptorBytes (swif.h)
+  }
+  return 0;
 }
 
 struct Features {
