@@ -20,6 +20,8 @@ Status AgentSpec::load(const ConfigNode& node, const std::string& base_dir) {
   node.check(camera_rate_hz > 0.0 && camera_rate_hz <= 1000.0, "camera_rate_hz",
              "must be in (0, 1000]");
   pixel_noise.load(node.child("pixel_noise"));
+  has_gps = node.has("gps");
+  if (has_gps) gps.load(node.child("gps"));
   return node.status();
 }
 

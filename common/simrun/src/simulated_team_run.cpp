@@ -28,7 +28,13 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
     AgentFilterSetup setup = simulatedAgentSetup(as, options);
     auto pipeline = AgentPipeline::create(as.id(), setup, as.camera());
     if (!pipeline.ok()) return pipeline.status();
-    Agent a{as.id(), std::move(pipeline.value()), std::move(agent_sensing), std::move(setup)};
+    Agent a{as.id(), std::move(pipeline.value()), std::move(agent_sensing), std::move(setup), {}};
+    if (as.spec().has_gps) {
+      sim::GpsSimulator gps(as.sharedTrajectory(), as.spec().gps,
+                            deriveSeed(scenario.seed, as.id(), RngStream::kGps));
+      const std::vector<GpsFix> fixes = gps.fixes(scenario.duration);
+      a.gps.assign(fixes.begin(), fixes.end());
+    }
     if (a.id >= static_cast<int>(run->slot_of_id_.size())) run->slot_of_id_.resize(a.id + 1, -1);
     run->slot_of_id_[static_cast<std::size_t>(a.id)] = static_cast<int>(run->agents_.size());
     run->agents_.push_back(std::move(a));
@@ -46,6 +52,13 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame, const ImuCallback& o
       if (Status s = p.addImu(ev.imu); !s.ok()) return s;
       if (on_imu) on_imu(a.id, ev.imu);
       continue;
+    }
+    while (!a.gps.empty() && a.gps.front().t_us <= ev.t_us) {
+      // Fixes from before the filter started (its first frame) are of no use.
+      if (a.gps.front().t_us >= p.slam().time()) {
+        if (Status s = p.slam().addGps(a.gps.front()); !s.ok()) return s;
+      }
+      a.gps.pop_front();
     }
     FrameSensing& sensing = *a.sensing;
     if (Status s = p.processWith(

@@ -14,6 +14,7 @@ Status VisualInertialSlamOptions::load(const ConfigNode& root) {
   ins.load(root.child("ins"));
   map.load(root.child("map"));
   slam.load(root.child("slam"));
+  gps.load(root.child("gps"));
   return root.status();
 }
 
@@ -26,7 +27,8 @@ VisualInertialSlam::VisualInertialSlam(const VisualInertialSlamOptions& options,
       updater_(vehicle_, camera, options.slam),
       initialiser_(vehicle_, camera, options.slam),
       loop_closer_(vehicle_, camera, options.slam),
-      ci_updater_(vehicle_) {
+      ci_updater_(vehicle_),
+      gps_updater_(vehicle_, options.gps) {
   Expected<UpdatePolicy> policy = o_.filter.policy();
   if (policy.ok()) {
     policy_ = *policy;
@@ -103,6 +105,21 @@ Status VisualInertialSlam::propagateTo(int64_t t_us) {
     return s;
   }
   t_us_ = propagation_.time();
+  return Status::Ok();
+}
+
+Status VisualInertialSlam::addGps(const GpsFix& fix, UpdateReport* report) {
+  if (!o_.gps.enabled) return Status::Ok();
+  if (!initialized_) return Status::Error("gps fix before initialize");
+  if (fix.t_us < t_us_) {
+    return Status::Error("gps fix at " + std::to_string(fix.t_us) +
+                         " µs is older than the filter (" + std::to_string(t_us_) + " µs)");
+  }
+  if (Status s = propagateTo(fix.t_us); !s.ok()) return s;
+  UpdateReport local;
+  if (Status s = gps_updater_.update(state_, fix, policy_, &local); !s.ok()) return s;
+  stats_.add(local);
+  if (report != nullptr) *report = local;
   return Status::Ok();
 }
 

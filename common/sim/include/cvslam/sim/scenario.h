@@ -14,6 +14,7 @@
 #include "cvslam/ins/initial_uncertainty.h"
 #include "cvslam/render/stereo_renderer.h"
 #include "cvslam/render/world.h"
+#include "cvslam/sim/gps_simulator.h"
 #include "cvslam/sim/imu_simulator.h"
 #include "cvslam/sim/observation_simulator.h"
 #include "cvslam/sim/trajectory_spec.h"
@@ -33,6 +34,10 @@ struct AgentSpec {
   StereoCameraOptions camera;
   double camera_rate_hz = 10.0;  ///< stereo frame rate [Hz]
   PixelNoiseOptions pixel_noise;
+  /// Section `gps:` (gps_simulator.h): a GPS receiver on this UAV, with outage windows for
+  /// GPS-denied stretches; the filter uses its fixes when the agent's `gps.enabled` is true.
+  bool has_gps = false;
+  GpsOptions gps;
 
   Status load(const ConfigNode& node, const std::string& base_dir);
 };

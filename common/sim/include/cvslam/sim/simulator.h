@@ -62,6 +62,7 @@ class AgentSimulator {
   int id() const { return spec_.id; }
   const AgentSpec& spec() const { return spec_; }
   const Trajectory& trajectory() const { return *trajectory_; }
+  std::shared_ptr<const Trajectory> sharedTrajectory() const { return trajectory_; }
   const StereoCamera& camera() const { return observer_.camera(); }
 
   /// Plays a recorded IMU instead of synthesising one (ImuOptions::recording).

@@ -5,6 +5,7 @@
 // frame; the caller decides what to record.
 
 #include <Eigen/Core>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -74,6 +75,9 @@ class SimulatedTeamRun {
     std::unique_ptr<AgentPipeline> pipeline;
     std::unique_ptr<FrameSensing> sensing;
     AgentFilterSetup setup;
+    /// The UAV's GPS fixes not yet used (scenario `gps:`), applied before the first frame
+    /// at or after each (VisualInertialSlam::addGps; nothing happens unless gps.enabled).
+    std::deque<GpsFix> gps;
   };
   SimulatedTeamRun(sim::Simulator simulator) : simulator_(std::move(simulator)) {}
 

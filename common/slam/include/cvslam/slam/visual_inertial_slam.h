@@ -35,6 +35,7 @@
 #include "cvslam/ins/imu_sample.h"
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/slam/ci_updater.h"
+#include "cvslam/slam/gps_updater.h"
 #include "cvslam/slam/k_nearest_map_manager.h"
 #include "cvslam/slam/landmark_archive.h"
 #include "cvslam/slam/landmark_book.h"
@@ -54,6 +55,7 @@ struct VisualInertialSlamOptions {
   InsPropagatorOptions ins;  ///< `ins:`
   MapManagerOptions map;     ///< `map:`
   SlamOptions slam;          ///< `slam:`
+  GpsUpdateOptions gps;      ///< `gps:` (off unless enabled)
 
   Status load(const ConfigNode& root);
 };
@@ -114,6 +116,10 @@ class VisualInertialSlam {
   /// processFrame at the same time then does not propagate again). Used to predict the map's
   /// observations for association before the frame is processed (map_prediction.h).
   Status propagateTo(int64_t t_us);
+  /// A GPS fix (gps_updater.h): propagates the vehicle through the buffered IMU to the fix's
+  /// time and updates it with the fix. Ok and nothing done when options.gps.enabled is false;
+  /// an error for a fix older than the filter's time (feed fixes before the frame after them).
+  Status addGps(const GpsFix& fix, UpdateReport* report = nullptr);
   /// Stored descriptor of a landmark in the state or the archive; nullptr if none.
   const std::vector<uint8_t>* descriptorOf(int64_t landmark_id) const;
 
@@ -172,6 +178,7 @@ class VisualInertialSlam {
   LandmarkInitialiser initialiser_;
   LoopCloser loop_closer_;
   CiUpdater ci_updater_;
+  GpsUpdater gps_updater_;
   VehiclePropagation propagation_;  // the IMU buffer of step 1
   FilterStatistics stats_;
   int64_t t_us_ = 0;

@@ -1,0 +1,57 @@
+#pragma once
+// GPS updates of a VSLAM vehicle (issue #17; thesis §2.4, §3.7 — the chapter-3 GPS aiding,
+// here inside the chapter-5 SLAM filter): a team can fly in and out of GPS-denied areas, the
+// filter using fixes when there are any and vision alone otherwise.
+//
+// Observation of one fix (a receiver at the vehicle origin, no lever arm):
+//   z = [p_N; v_N] = h(x_v) + n,   h = [p_BinN; R_BtoN v_B],   n ~ N(0, diag(σ_p², σ_v²)·s²)
+// with s = sigma_scale (receivers state optimistic accuracies). Jacobian w.r.t. the pose
+// entries [p, v_B, attitude]: [I 0 0; 0 R ∂(R v_B)/∂attitude], where the attitude columns are
+// −R [v_B]× for the rotation error state (R = R̂ Exp(δθ)) and ∂R(φθψ)/∂(φθψ)·v_B for Euler
+// angles. Bias columns are zero. The position and the velocity are two observation groups,
+// each χ² gated (CovarianceHelper::update). Neither the observability constraint nor
+// first-estimate Jacobians apply: GPS observes exactly the global position and (through the
+// velocity in N) the heading that vision cannot.
+
+#include <Eigen/Core>
+
+#include "cvslam/core/status.h"
+#include "cvslam/filter/measurement_batch.h"
+#include "cvslam/filter/slam_state.h"
+#include "cvslam/filter/update_policy.h"
+#include "cvslam/filter/vehicle_model.h"
+#include "cvslam/ins/gps_fix.h"
+
+namespace cvslam {
+
+class ConfigNode;
+
+/// Config section `gps:` of agent.yaml.
+struct GpsUpdateOptions {
+  bool enabled = false;      ///< use GPS fixes when the sensors provide them
+  bool use_velocity = true;  ///< also update with the fix's NED velocity
+  double sigma_scale = 1.0;  ///< multiplies the receiver's stated σ (≥ 1 for optimistic ones)
+
+  Status load(const ConfigNode& node);
+};
+
+/// h(pose) = [p_BinN; R_BtoN v_B] (6) and its Jacobian w.r.t. the pose entries (6 × 9).
+Eigen::Matrix<double, 6, 1> gpsPrediction(const vehicle_model::Pose& pose);
+Eigen::Matrix<double, 6, vehicle_model::kPoseSize> gpsJacobian(const vehicle_model::Pose& pose);
+
+class GpsUpdater {
+ public:
+  GpsUpdater(const VariableKey& vehicle, const GpsUpdateOptions& options)
+      : vehicle_(vehicle), o_(options) {}
+
+  /// One EKF / NH∞ update of the state with `fix` (the state at the fix's time).
+  Status update(SlamState& state, const GpsFix& fix, const UpdatePolicy& policy,
+                UpdateReport* report);
+
+ private:
+  VariableKey vehicle_;
+  GpsUpdateOptions o_;
+  MeasurementBatch batch_;  // reused: no allocation per fix once warm
+};
+
+}  // namespace cvslam
