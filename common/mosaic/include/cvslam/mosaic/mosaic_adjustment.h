@@ -1,0 +1,67 @@
+#pragma once
+// Global adjustment of the frames of a mosaic (thesis §4.3.3.2 registers each image to the
+// mosaic; with many images, chaining these registrations drifts, so here all pairwise
+// registrations are reconciled at once, with the estimated poses as the prior).
+//
+// Each frame k is placed by its pose prior G_k (image → mosaic pixel, mosaic_builder.h) and
+// a homography correction C_k of the mosaic plane, expressed around the centre c_k of its
+// prior footprint in units of its size s_k (for conditioning): p = c + s·π((I + Δ_k) q),
+// q = [(g − c)/s; 1], g = G_k(x). Residuals:
+//  - a link (matched, RANSAC-inlier feature pair x_i ↔ x_j between two frames): p_i − p_j,
+//    weight 1/σ_match: the same ground point must land on the same mosaic pixel;
+//  - the prior: the correction at the footprint corners, weight 1/σ_prior (the pose estimate
+//    holds the mosaic in the team frame, and places frames that have no link).
+// Solved by Gauss–Newton on the sparse normal equations (8 unknowns per frame). A full
+// homography, not an affine map, because the terrain under a frame is a tilted plane
+// rather than the prior's level plane D = ground_down: a slope of 0.1 changes the scale by
+// ~3 % across a 10 m-high footprint, i.e. several pixels, which only the projective terms
+// absorb.
+//
+// YAML (section `mosaic.adjustment`):
+//   model: similarity   sigma_match_px: 1.0   sigma_prior_px: 20.0   iterations: 5
+
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "cvslam/core/status.h"
+
+namespace cvslam {
+class ConfigNode;
+}  // namespace cvslam
+
+namespace cvslam::mosaic {
+
+/// Degrees of freedom of the correction of a frame. `similarity` (shift, rotation, scale)
+/// is what errors of the estimated pose do to a near-nadir view of a plane; `affine` and
+/// `homography` also absorb ground tilt, but leave low-frequency distortions of a long
+/// strip of frames weakly determined by the links (they drift as the chain grows).
+enum class CorrectionModel { kSimilarity, kAffine, kHomography };
+
+struct AdjustmentOptions {
+  CorrectionModel model = CorrectionModel::kSimilarity;  ///< similarity | affine | homography
+  double sigma_match_px = 1.0;                           ///< σ of a feature link [mosaic px]
+  double sigma_prior_px = 20.0;  ///< σ of the pose prior at the footprint corners [mosaic px]
+  int iterations = 5;            ///< Gauss–Newton iterations
+
+  Status load(const ConfigNode& node);
+};
+
+/// A feature pair linking frame i (at prior mosaic position g_i) and frame j (g_j).
+struct FrameLink {
+  int i = 0, j = 0;
+  Eigen::Vector2d g_i, g_j;
+};
+
+/// Prior geometry of a frame: footprint corners and centre in mosaic pixels.
+struct FramePrior {
+  Eigen::Vector2d centre;
+  std::vector<Eigen::Vector2d> corners;
+};
+
+/// Homography corrections C_k (mosaic pixel → mosaic pixel) per frame: H_k = C_k G_k.
+Expected<std::vector<Eigen::Matrix3d>> adjustFrames(const std::vector<FramePrior>& frames,
+                                                    const std::vector<FrameLink>& links,
+                                                    const AdjustmentOptions& options);
+
+}  // namespace cvslam::mosaic
