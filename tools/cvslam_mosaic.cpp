@@ -16,12 +16,12 @@
 
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/cli.h"
+#include "cvslam/io/config_node.h"
 #include "cvslam/io/run_reader.h"
 #include "cvslam/mosaic/mosaic_config.h"
 #include "cvslam/render/ground_texture.h"
 #include "cvslam/render/stereo_renderer.h"
 #include "cvslam/sim/scenario.h"
-#include "cvslam/simrun/render_world_choice.h"
 
 namespace {
 
@@ -43,11 +43,12 @@ truth [mosaic px] and the PSNR of super-resolved patches vs the plain mosaic.
   --config FILE       mosaic options (default: config/mosaic.yaml of the source tree)
   --duration S        use the first S seconds of the run (default: all)
   --period S          one frame per UAV every S seconds (overrides evaluation.frame_period)
-  --world KIND        render world aerial|hall (default: the run's, else chosen)
+  --world KIND        render world aerial|hall (default: the run's, see run.json)
   --out PNG           the mosaic at full resolution
   --preview PNG       the mosaic downscaled to at most --preview-px on its longer side
   --preview-px N      (default 1200)
   --sr-sample PNG     one super-resolution patch: truth | plain mosaic | super-resolved
+  --true-prior        use the true poses as the prior instead of the estimates (baseline)
   -h, --help          this text
 )";
 
@@ -61,6 +62,7 @@ struct Args {
   std::vector<int> agents;
   double duration = 0.0, period = -1.0;
   int preview_px = 1200;
+  bool true_prior = false;
 };
 
 struct Inputs {
@@ -83,6 +85,7 @@ cvslam::Status agentFrames(const Args& a, const cvslam::sim::AgentSpec& spec,
                            const std::shared_ptr<const cvslam::render::World>& world,
                            const cvslam::render::RenderOptions& render,
                            const mosaic::EvaluationOptions& eval,
+                           const mosaic::MosaicOptions& mosaic_options,
                            std::vector<std::pair<double, std::size_t>>* order, Inputs* in) {
   const std::string dir = a.run + "/agent_" + std::to_string(spec.id);
   auto est = cvslam::readStateTable(dir + "/states.csv");
@@ -90,6 +93,11 @@ cvslam::Status agentFrames(const Args& a, const cvslam::sim::AgentSpec& spec,
   auto truth = cvslam::readStateTable(dir + "/truth.csv");
   if (!truth.ok()) return truth.status();
   if (est->empty() || truth->empty()) return cvslam::Status::Error(dir + ": no states");
+  // The UAV's estimated map gives the ground plane under each frame (its own frame, N).
+  auto landmarks = cvslam::readLandmarks(dir + "/landmarks.csv");
+  if (!landmarks.ok()) return landmarks.status();
+  std::vector<Eigen::Vector3d> ground;
+  for (const cvslam::LandmarkRecord& l : *landmarks) ground.push_back(l.p_LinN);
   const cvslam::StereoCamera camera(spec.camera);
   const cvslam::render::StereoRenderer renderer(world, camera, render);
   const cvslam::StereoCameraOptions& c = spec.camera;
@@ -110,9 +118,12 @@ cvslam::Status agentFrames(const Args& a, const cvslam::sim::AgentSpec& spec,
     f.image = left.image;
     f.K = K;
     f.agent = spec.id;
-    const Eigen::Vector3d p_est = s.x.head<3>(), e_est = s.x.tail<3>();
+    const cvslam::StateRecord& prior = a.true_prior ? *tr : s;
+    const Eigen::Vector3d p_est = prior.x.head<3>(), e_est = prior.x.tail<3>();
     f.R_NtoC = c.R_BtoC * cvslam::rotationNavToBody(e_est);
     f.p_CinN = p_est + cvslam::rotationBodyToNav(e_est) * c.p_CinB;
+    f.ground_plane = mosaic::groundPlaneFromPoints(f, ground, mosaic_options.min_ground_points,
+                                                   mosaic_options.min_ground_spread);
     std::vector<mosaic::TruthPoint> pts;
     const int g = eval.truth_grid;
     for (int j = 1; j < g; ++j)
@@ -120,6 +131,21 @@ cvslam::Status agentFrames(const Args& a, const cvslam::sim::AgentSpec& spec,
         const Eigen::Vector2d px(c.width * i / double(g), c.height * j / double(g));
         if (auto sp = left.surfaceAt(px.x(), px.y())) pts.push_back({px, sp->p_N.head<2>()});
       }
+    if (getenv("MOSAIC_DEBUG") && index % 20 == 1) {
+      const Eigen::Matrix3d G = mosaic::imageToGround(f, 0.0);
+      std::fprintf(stderr, "t %.1f plane %s |", s.t, f.ground_plane ? "yes" : "no");
+      for (std::size_t q = 0; q < pts.size(); q += 12) {
+        const Eigen::Vector2d g = mosaic::applyHomography(G, pts[q].pixel);
+        const auto sp = left.surfaceAt(pts[q].pixel.x(), pts[q].pixel.y());
+        std::fprintf(stderr, " px(%.0f,%.0f) err(%.3f,%.3f) z %.2f", pts[q].pixel.x(),
+                     pts[q].pixel.y(), g.x() - pts[q].ground_xy.x(), g.y() - pts[q].ground_xy.y(),
+                     sp->p_N.z());
+      }
+      if (f.ground_plane)
+        std::fprintf(stderr, " plane %.3f %.3f %.3f", (*f.ground_plane)(0), (*f.ground_plane)(1),
+                     (*f.ground_plane)(2));
+      std::fprintf(stderr, "\n");
+    }
     order->emplace_back(s.t, in->frames.size());
     in->frames.push_back(f);
     in->truth.push_back(std::move(pts));
@@ -200,9 +226,15 @@ int run(const Args& a) {
   if (!scenario.ok()) return fail(scenario.status().message());
   auto info = cvslam::readRunInfo(a.run);
   if (!info.ok()) return fail(info.status().message());
-  auto choice = cvslam::chooseRenderWorld(*scenario, a.world.empty() ? info->world : a.world);
-  if (!choice.ok()) return fail(choice.status().message());
-  auto world = cvslam::render::World::create(choice->options);
+  // The world the run rendered: the scenario's `render:` world with cvslam_run's --world
+  // override of its kind (run.json), as cvslam_run builds it.
+  const std::string kind = a.world.empty() ? info->world : a.world;
+  if (!kind.empty()) {
+    auto node = cvslam::ConfigNode::fromString("kind: " + kind, "--world");
+    if (!node.ok()) return fail(node.status().message());
+    if (auto s = scenario->render_world.load(*node); !s.ok()) return fail(s.message());
+  }
+  auto world = cvslam::render::World::create(scenario->render_world);
   if (!world.ok()) return fail(world.status().message());
   std::vector<int> ids = a.agents;
   if (ids.empty()) {
@@ -217,7 +249,8 @@ int run(const Args& a) {
                              [id](const auto& s) { return s.id == id; });
     if (spec == scenario->agents.end())
       return fail("agent " + std::to_string(id) + " is not in " + a.scenario);
-    if (auto s = agentFrames(a, *spec, *world, scenario->render, cfg->evaluation, &order, &in);
+    if (auto s = agentFrames(a, *spec, *world, scenario->render, cfg->evaluation, cfg->mosaic,
+                             &order, &in);
         !s.ok())
       return fail(s.message());
   }
@@ -272,6 +305,7 @@ int main(int argc, char** argv) {
   app.add_option("--preview", a.preview);
   app.add_option("--preview-px", a.preview_px)->check(CLI::Range(16, 100000));
   app.add_option("--sr-sample", a.sr_sample);
+  app.add_flag("--true-prior", a.true_prior);
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return *exit_code;
   return run(a);
 }

@@ -70,14 +70,16 @@ struct Frame {
 
 Status AdjustmentOptions::load(const ConfigNode& node) {
   node.get("sigma_match_px", sigma_match_px);
-  node.get("sigma_prior_px", sigma_prior_px);
+  node.get("sigma_shift_px", sigma_shift_px);
+  node.get("sigma_shape_px", sigma_shape_px);
   node.get("iterations", iterations);
   node.getEnum("model", model,
                {{"similarity", CorrectionModel::kSimilarity},
                 {"affine", CorrectionModel::kAffine},
                 {"homography", CorrectionModel::kHomography}});
   node.check(sigma_match_px > 0.0, "sigma_match_px", "must be > 0");
-  node.check(sigma_prior_px > 0.0, "sigma_prior_px", "must be > 0");
+  node.check(sigma_shift_px > 0.0, "sigma_shift_px", "must be > 0");
+  node.check(sigma_shape_px > 0.0, "sigma_shape_px", "must be > 0");
   node.check(iterations >= 1, "iterations", "must be ≥ 1");
   return node.status();
 }
@@ -97,7 +99,8 @@ Expected<std::vector<Eigen::Matrix3d>> adjustFrames(const std::vector<FramePrior
   }
   const Basis B = basis(o.model);
   const auto d = static_cast<int>(B.cols());
-  const double wp = 1.0 / (o.sigma_prior_px * o.sigma_prior_px);
+  const double w_shift = 1.0 / (o.sigma_shift_px * o.sigma_shift_px);
+  const double w_shape = 1.0 / (o.sigma_shape_px * o.sigma_shape_px);
   const double wm = 1.0 / (o.sigma_match_px * o.sigma_match_px);
   for (int it = 0; it < o.iterations; ++it) {
     // Gauss–Newton normal equations, accumulated in dense 8×8 blocks per frame pair.
@@ -111,12 +114,20 @@ Expected<std::vector<Eigen::Matrix3d>> adjustFrames(const std::vector<FramePrior
     for (int k = 0; k < n; ++k) {
       const Frame& f = frames[static_cast<std::size_t>(k)];
       Eigen::MatrixXd& A = block(k, k);
+      // The prior: no shift of the footprint centre, and no change of the corners relative
+      // to it (rotation, scale, shear), each with its own σ.
+      Matrix28d Jc8;
+      const Eigen::Vector2d c = priors[static_cast<std::size_t>(k)].centre;
+      const Eigen::Vector2d rc = f.apply(c, &Jc8) - c;
+      const Eigen::MatrixXd Jc = Jc8 * B;
+      A += w_shift * Jc.transpose() * Jc;
+      b.segment(k * d, d) -= w_shift * Jc.transpose() * rc;
       for (const Eigen::Vector2d& g : priors[static_cast<std::size_t>(k)].corners) {
         Matrix28d J8;
-        const Eigen::Vector2d r = f.apply(g, &J8) - g;  // the prior: no correction
-        const Eigen::MatrixXd J = J8 * B;
-        A += wp * J.transpose() * J;
-        b.segment(k * d, d) -= wp * J.transpose() * r;
+        const Eigen::Vector2d r = f.apply(g, &J8) - g - rc;
+        const Eigen::MatrixXd J = J8 * B - Jc;
+        A += w_shape * J.transpose() * J;
+        b.segment(k * d, d) -= w_shape * J.transpose() * r;
       }
     }
     for (const FrameLink& l : links) {

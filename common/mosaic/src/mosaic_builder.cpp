@@ -1,6 +1,7 @@
 #include "cvslam/mosaic/mosaic_builder.h"
 
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -63,6 +64,8 @@ Status MosaicOptions::load(const ConfigNode& node) {
   node.get("max_correction_px", max_correction_px);
   node.get("feather_px", feather_px);
   node.get("max_megapixels", max_megapixels);
+  node.get("min_ground_points", min_ground_points);
+  node.get("min_ground_spread", min_ground_spread);
   adjustment.load(node.child("adjustment"));
   node.check(gsd > 0.0, "gsd", "must be > 0");
   node.check(margin >= 0.0, "margin", "must be ≥ 0");
@@ -72,6 +75,8 @@ Status MosaicOptions::load(const ConfigNode& node) {
   node.check(max_correction_px > 0.0, "max_correction_px", "must be > 0");
   node.check(feather_px > 0.0, "feather_px", "must be > 0");
   node.check(max_megapixels > 0.0, "max_megapixels", "must be > 0");
+  node.check(min_ground_points >= 3, "min_ground_points", "must be ≥ 3");
+  node.check(min_ground_spread >= 0.0, "min_ground_spread", "must be ≥ 0");
   return node.status();
 }
 
@@ -89,15 +94,48 @@ Eigen::Vector2d MosaicGrid::toGround(const Eigen::Vector2d& px) const {
   return {x_max - px.y() * gsd, y_min + px.x() * gsd};
 }
 
-Eigen::Matrix3d imageToGround(const MosaicFrame& f, double default_down) {
-  const double ground_down = f.ground_down.value_or(default_down);
-  // Ground point (x, y, D) in the camera: R_NtoC ([x y D]ᵀ − p_CinN) = R [e1 e2 D·e3 − p] [x y 1]ᵀ.
+Eigen::Matrix3d imageToGround(const MosaicFrame& f, double ground_down) {
+  // Ground point (x, y, a·x + b·y + c) in the camera: R_NtoC (X − p_CinN) = R B [x y 1]ᵀ.
+  const Eigen::Vector3d plane = f.ground_plane.value_or(Eigen::Vector3d(0.0, 0.0, ground_down));
   Eigen::Matrix3d B;
-  B.col(0) = Eigen::Vector3d::UnitX();
-  B.col(1) = Eigen::Vector3d::UnitY();
-  B.col(2) = ground_down * Eigen::Vector3d::UnitZ() - f.p_CinN;
+  B.col(0) = Eigen::Vector3d::UnitX() + plane(0) * Eigen::Vector3d::UnitZ();
+  B.col(1) = Eigen::Vector3d::UnitY() + plane(1) * Eigen::Vector3d::UnitZ();
+  B.col(2) = plane(2) * Eigen::Vector3d::UnitZ() - f.p_CinN;
   const Eigen::Matrix3d ground_to_image = f.K * f.R_NtoC * B;
   return ground_to_image.inverse();
+}
+
+std::optional<Eigen::Vector3d> groundPlaneFromPoints(const MosaicFrame& f,
+                                                     const std::vector<Eigen::Vector3d>& points,
+                                                     int min_points, double min_spread) {
+  std::vector<Eigen::Vector3d> seen;
+  for (const Eigen::Vector3d& p : points) {
+    const Eigen::Vector3d c = f.R_NtoC * (p - f.p_CinN);
+    if (c.z() <= 0.0) continue;
+    const Eigen::Vector3d u = f.K * c;
+    const double x = u.x() / u.z(), y = u.y() / u.z();
+    if (x >= 0 && y >= 0 && x <= f.image.cols - 1 && y <= f.image.rows - 1) seen.push_back(p);
+  }
+  if (static_cast<int>(seen.size()) < std::max(1, min_points / 2)) return std::nullopt;
+  std::vector<double> downs;
+  Eigen::Vector2d lo = seen.front().head<2>(), hi = lo;
+  for (const Eigen::Vector3d& p : seen) {
+    downs.push_back(p.z());
+    lo = lo.cwiseMin(p.head<2>());
+    hi = hi.cwiseMax(p.head<2>());
+  }
+  std::nth_element(downs.begin(), downs.begin() + static_cast<long>(downs.size() / 2), downs.end());
+  const Eigen::Vector3d level(0.0, 0.0, downs[downs.size() / 2]);
+  if (static_cast<int>(seen.size()) < min_points || (hi - lo).minCoeff() < min_spread) return level;
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(seen.size()), 3);
+  Eigen::VectorXd z(A.rows());
+  for (Eigen::Index i = 0; i < A.rows(); ++i) {
+    const Eigen::Vector3d& p = seen[static_cast<std::size_t>(i)];
+    A.row(i) << p.x(), p.y(), 1.0;
+    z(i) = p.z();
+  }
+  const Eigen::Vector3d plane = A.colPivHouseholderQr().solve(z);
+  return plane.allFinite() ? plane : level;
 }
 
 MosaicBuilder::MosaicBuilder(const MosaicGrid& grid, const MosaicOptions& mosaic,
@@ -116,7 +154,10 @@ Expected<MosaicGrid> MosaicBuilder::gridCovering(const std::vector<MosaicFrame>&
     const Eigen::Matrix3d H = imageToGround(f, o.ground_down);
     for (const Eigen::Vector2d& c : corners(f.image)) {
       const Eigen::Vector2d xy = applyHomography(H, c);
-      if (f.p_CinN.z() >= f.ground_down.value_or(o.ground_down) || !xy.allFinite())
+      const Eigen::Vector3d plane =
+          f.ground_plane.value_or(Eigen::Vector3d(0.0, 0.0, o.ground_down));
+      const double ground_below = plane.dot(Eigen::Vector3d(f.p_CinN.x(), f.p_CinN.y(), 1.0));
+      if (f.p_CinN.z() >= ground_below || !xy.allFinite())
         return Status::Error("mosaic: a camera is not above the ground plane");
       x0 = std::min(x0, xy.x());
       y0 = std::min(y0, xy.y());
@@ -241,6 +282,21 @@ Expected<std::vector<FramePlacement>> MosaicBuilder::finish() {
     auto adjusted = adjustFrames(priors, links_, o_.adjustment);
     if (!adjusted.ok()) return adjusted.status();
     corrections = std::move(*adjusted);
+    if (getenv("MOSAIC_DEBUG")) {
+      std::vector<double> before, after;
+      for (const FrameLink& l : links_) {
+        before.push_back((l.g_i - l.g_j).norm());
+        after.push_back(
+            (applyHomography(corrections[l.i], l.g_i) - applyHomography(corrections[l.j], l.g_j))
+                .norm());
+      }
+      std::sort(before.begin(), before.end());
+      std::sort(after.begin(), after.end());
+      fprintf(stderr,
+              "links %zu: before median %.2f p90 %.2f, after median %.2f p90 %.2f max %.2f\n",
+              links_.size(), before[before.size() / 2], before[before.size() * 9 / 10],
+              after[after.size() / 2], after[after.size() * 9 / 10], after.back());
+    }
   }
   sum_.setTo(0);
   weight_.setTo(0);

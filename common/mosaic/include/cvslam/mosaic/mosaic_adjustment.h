@@ -9,8 +9,9 @@
 // q = [(g − c)/s; 1], g = G_k(x). Residuals:
 //  - a link (matched, RANSAC-inlier feature pair x_i ↔ x_j between two frames): p_i − p_j,
 //    weight 1/σ_match: the same ground point must land on the same mosaic pixel;
-//  - the prior: the correction at the footprint corners, weight 1/σ_prior (the pose estimate
-//    holds the mosaic in the team frame, and places frames that have no link).
+//  - the prior (the pose estimate holds the mosaic in the team frame, and places frames that
+//    have no link): the shift of the footprint centre, weight 1/σ_shift, and the move of the
+//    corners relative to it (rotation, scale), weight 1/σ_shape.
 // Solved by Gauss–Newton on the sparse normal equations (8 unknowns per frame). A full
 // homography, not an affine map, because the terrain under a frame is a tilted plane
 // rather than the prior's level plane D = ground_down: a slope of 0.1 changes the scale by
@@ -18,7 +19,8 @@
 // absorb.
 //
 // YAML (section `mosaic.adjustment`):
-//   model: similarity   sigma_match_px: 1.0   sigma_prior_px: 20.0   iterations: 5
+//   model: similarity   sigma_match_px: 1.0   sigma_shift_px: 20.0   sigma_shape_px: 2.0
+//   iterations: 5
 
 #include <Eigen/Core>
 
@@ -41,8 +43,14 @@ enum class CorrectionModel { kSimilarity, kAffine, kHomography };
 struct AdjustmentOptions {
   CorrectionModel model = CorrectionModel::kSimilarity;  ///< similarity | affine | homography
   double sigma_match_px = 1.0;                           ///< σ of a feature link [mosaic px]
-  double sigma_prior_px = 20.0;  ///< σ of the pose prior at the footprint corners [mosaic px]
-  int iterations = 5;            ///< Gauss–Newton iterations
+  /// σ of the pose prior on the shift of the footprint centre [mosaic px]: position errors.
+  double sigma_shift_px = 20.0;
+  /// σ of the pose prior on the corners relative to the centre [mosaic px]: attitude and
+  /// height errors. Tighter than the shift: a small rotation or scale error repeated along a
+  /// chain of links bends the whole strip (0.003 rad per link is 25 px after 30 links at
+  /// 30 m), and the estimated attitude is good to milliradians.
+  double sigma_shape_px = 2.0;
+  int iterations = 5;  ///< Gauss–Newton iterations
 
   Status load(const ConfigNode& node);
 };

@@ -2,9 +2,12 @@
 // The mosaicking algorithm (thesis §4.3.3.2, Diagram 2; cooperative use §6.5): camera images
 // are placed in one ground-plane mosaic, north up, in the team frame N.
 //
-//  1. Prior (add()): the estimated camera pose and a ground plane D = ground_down give the
-//     homography image → ground (x, y) → mosaic pixel G_k (the ground point X = (x, y, D)
-//     projects to u ≅ K R_NtoC [e1 e2 D·e3 − p_CinN] [x y 1]ᵀ).
+//  1. Prior (add()): the estimated camera pose and the ground plane under the frame
+//     D = a·x + b·y + c (fitted to the estimated landmarks it sees; else D = ground_down) give
+//     the homography image → ground (x, y) → mosaic pixel G_k: the ground point
+//     X = (x, y, D) projects to u ≅ K R_NtoC [e1 + a·e3, e2 + b·e3, c·e3 − p_CinN] [x y 1]ᵀ.
+//     The plane matters: terrain 2 m below the level plane seen from 10 m makes the prior's
+//     scale 20 % wrong, and differently along a flight.
 //  2. Geometric registration (§4.3.3.1, add()): adaptive SIFT of the new image against the
 //     images already added whose prior footprints overlap it most (any UAV: the cooperative
 //     mosaic links the team's views), matches gated around G_j⁻¹ G_k, RANSAC homography; the
@@ -22,7 +25,8 @@
 // YAML (section `mosaic`):
 //   gsd: 0.02   margin: 2.0   ground_down: 0.0   register: true   min_overlap: 0.2
 //   max_neighbours: 6   max_links_per_pair: 40   max_correction_px: 60   feather_px: 30
-//   max_megapixels: 100   adjustment: {sigma_match_px: 1.0, sigma_prior_px: 20.0}
+//   max_megapixels: 100   min_ground_points: 8   min_ground_spread: 1.0   adjustment:
+//   {sigma_match_px: 1.0, sigma_prior_px: 20.0}
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -49,6 +53,8 @@ struct MosaicOptions {
   double max_correction_px = 60.0;  ///< larger corrections of the prior are rejected [px]
   double feather_px = 30.0;         ///< blending weight ramps up over this from the border
   double max_megapixels = 100.0;    ///< refuse larger mosaics (memory: 8 bytes per pixel)
+  int min_ground_points = 8;        ///< landmarks needed to fit a frame's ground plane
+  double min_ground_spread = 1.0;   ///< … spread over at least this (else level plane) [m]
   AdjustmentOptions adjustment;     ///< section `adjustment`
 
   Status load(const ConfigNode& node);
@@ -73,13 +79,22 @@ struct MosaicFrame {
   Eigen::Matrix3d R_NtoC = Eigen::Matrix3d::Identity();  ///< estimated orientation
   Eigen::Vector3d p_CinN = Eigen::Vector3d::Zero();      ///< estimated camera centre [m]
   int agent = 0;                                         ///< UAV id
-  /// Ground height D under this frame (e.g. from the estimated landmarks); none: the
-  /// options' ground_down.
-  std::optional<double> ground_down;
+  /// Local ground plane under this frame, D = a·x + b·y + c as (a, b, c) (e.g. fitted to the
+  /// estimated landmarks it sees, groundPlaneFromPoints()); none: the level plane
+  /// D = ground_down of the options.
+  std::optional<Eigen::Vector3d> ground_plane;
 };
 
-/// Image → ground (x, y) homography of a camera above the plane D = frame.ground_down, else
-/// D = ground_down.
+/// Least-squares plane D = a·x + b·y + c through the points (in N) that the frame's camera
+/// sees inside its image; a level plane at their median D when they are too few or too
+/// clustered for a tilt (< min_points, or a footprint spread below min_spread metres); none
+/// below min_points / 2 points.
+std::optional<Eigen::Vector3d> groundPlaneFromPoints(const MosaicFrame& frame,
+                                                     const std::vector<Eigen::Vector3d>& points,
+                                                     int min_points, double min_spread);
+
+/// Image → ground (x, y) homography of a camera above the plane frame.ground_plane, else the
+/// level plane D = ground_down.
 Eigen::Matrix3d imageToGround(const MosaicFrame& frame, double ground_down);
 
 /// What happened to one frame.
