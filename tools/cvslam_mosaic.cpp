@@ -131,21 +131,6 @@ cvslam::Status agentFrames(const Args& a, const cvslam::sim::AgentSpec& spec,
         const Eigen::Vector2d px(c.width * i / double(g), c.height * j / double(g));
         if (auto sp = left.surfaceAt(px.x(), px.y())) pts.push_back({px, sp->p_N.head<2>()});
       }
-    if (getenv("MOSAIC_DEBUG") && index % 20 == 1) {
-      const Eigen::Matrix3d G = mosaic::imageToGround(f, 0.0);
-      std::fprintf(stderr, "t %.1f plane %s |", s.t, f.ground_plane ? "yes" : "no");
-      for (std::size_t q = 0; q < pts.size(); q += 12) {
-        const Eigen::Vector2d g = mosaic::applyHomography(G, pts[q].pixel);
-        const auto sp = left.surfaceAt(pts[q].pixel.x(), pts[q].pixel.y());
-        std::fprintf(stderr, " px(%.0f,%.0f) err(%.3f,%.3f) z %.2f", pts[q].pixel.x(),
-                     pts[q].pixel.y(), g.x() - pts[q].ground_xy.x(), g.y() - pts[q].ground_xy.y(),
-                     sp->p_N.z());
-      }
-      if (f.ground_plane)
-        std::fprintf(stderr, " plane %.3f %.3f %.3f", (*f.ground_plane)(0), (*f.ground_plane)(1),
-                     (*f.ground_plane)(2));
-      std::fprintf(stderr, "\n");
-    }
     order->emplace_back(s.t, in->frames.size());
     in->frames.push_back(f);
     in->truth.push_back(std::move(pts));
@@ -281,6 +266,15 @@ int run(const Args& a) {
       "%d×%d px at %.3f m/px\n",
       ids.size(), frames.size(), registered, grid->cols, grid->rows, grid->gsd);
   const auto reg = mosaic::registrationError(builder.grid(), placed);
+  if (ids.size() > 1)
+    for (int id : ids) {
+      std::vector<mosaic::PlacedTruth> sub;
+      for (std::size_t k = 0; k < frames.size(); ++k)
+        if (frames[k].agent == id) sub.push_back(placed[k]);
+      const auto e = mosaic::registrationError(builder.grid(), sub);
+      std::printf("  UAV %d: median %.2f  p90 %.2f  (after its own similarity; raw median %.2f)\n",
+                  id, e.aligned.median, e.aligned.p90, e.raw.median);
+    }
   printRegistration("registration error", reg);
   printRegistration("pose prior only   ", mosaic::registrationError(builder.grid(), prior));
   superResolution(a, *cfg, builder, *placements, **world, scenario->render.effects.exposure,

@@ -70,6 +70,8 @@ struct Frame {
 
 Status AdjustmentOptions::load(const ConfigNode& node) {
   node.get("sigma_match_px", sigma_match_px);
+  node.get("sigma_cross_px", sigma_cross_px);
+  node.get("sigma_smooth_px", sigma_smooth_px);
   node.get("sigma_shift_px", sigma_shift_px);
   node.get("sigma_shape_px", sigma_shape_px);
   node.get("iterations", iterations);
@@ -78,6 +80,8 @@ Status AdjustmentOptions::load(const ConfigNode& node) {
                 {"affine", CorrectionModel::kAffine},
                 {"homography", CorrectionModel::kHomography}});
   node.check(sigma_match_px > 0.0, "sigma_match_px", "must be > 0");
+  node.check(sigma_cross_px > 0.0, "sigma_cross_px", "must be > 0");
+  node.check(sigma_smooth_px > 0.0, "sigma_smooth_px", "must be > 0");
   node.check(sigma_shift_px > 0.0, "sigma_shift_px", "must be > 0");
   node.check(sigma_shape_px > 0.0, "sigma_shape_px", "must be > 0");
   node.check(iterations >= 1, "iterations", "must be ≥ 1");
@@ -101,7 +105,9 @@ Expected<std::vector<Eigen::Matrix3d>> adjustFrames(const std::vector<FramePrior
   const auto d = static_cast<int>(B.cols());
   const double w_shift = 1.0 / (o.sigma_shift_px * o.sigma_shift_px);
   const double w_shape = 1.0 / (o.sigma_shape_px * o.sigma_shape_px);
-  const double wm = 1.0 / (o.sigma_match_px * o.sigma_match_px);
+  const double w_own = 1.0 / (o.sigma_match_px * o.sigma_match_px);
+  const double w_cross = 1.0 / (o.sigma_cross_px * o.sigma_cross_px);
+  const double w_smooth = 1.0 / (o.sigma_smooth_px * o.sigma_smooth_px);
   for (int it = 0; it < o.iterations; ++it) {
     // Gauss–Newton normal equations, accumulated in dense 8×8 blocks per frame pair.
     std::map<std::pair<int, int>, Eigen::MatrixXd> blocks;
@@ -135,6 +141,8 @@ Expected<std::vector<Eigen::Matrix3d>> adjustFrames(const std::vector<FramePrior
       const Eigen::Vector2d r = frames[static_cast<std::size_t>(l.i)].apply(l.g_i, &Ji8) -
                                 frames[static_cast<std::size_t>(l.j)].apply(l.g_j, &Jj8);
       const Eigen::MatrixXd Ji = Ji8 * B, Jj = Jj8 * B;
+      const double wm =
+          l.kind == FrameLink::kCross ? w_cross : (l.kind == FrameLink::kSmooth ? w_smooth : w_own);
       block(l.i, l.i) += wm * Ji.transpose() * Ji;
       block(l.j, l.j) += wm * Jj.transpose() * Jj;
       block(l.i, l.j) -= wm * Ji.transpose() * Jj;

@@ -199,6 +199,16 @@ Status MosaicBuilder::add(const MosaicFrame& frame) {
   frames_.push_back(frame);
   stored_.push_back(std::move(st));
   placements_.push_back(p);
+  // Smoothness of the correction along this UAV's track (mosaic_adjustment.h).
+  const int k_new = static_cast<int>(frames_.size()) - 1;
+  for (int j = k_new - 1; j >= 0; --j) {
+    if (frames_[static_cast<std::size_t>(j)].agent != frame.agent) continue;
+    const FramePrior& fp = stored_.back().footprint;
+    links_.push_back({k_new, j, fp.centre, fp.centre, FrameLink::kSmooth});
+    for (const Eigen::Vector2d& c : fp.corners)
+      links_.push_back({k_new, j, c, c, FrameLink::kSmooth});
+    break;
+  }
   if (!o_.register_frames) return Status::Ok();
 
   // The earlier frames overlapping this one most, half of the slots for other UAVs (the
@@ -244,7 +254,8 @@ void MosaicBuilder::linkTo(std::size_t k, std::size_t j) {
   for (std::size_t q = 0; q < inliers.size(); q += step) {
     links_.push_back({static_cast<int>(k), static_cast<int>(j),
                       applyHomography(Gk, r->src[inliers[q]]),
-                      applyHomography(Gj, r->dst[inliers[q]])});
+                      applyHomography(Gj, r->dst[inliers[q]]),
+                      frames_[k].agent != frames_[j].agent ? FrameLink::kCross : FrameLink::kOwn});
     ++added;
   }
   placements_[k].registered_pairs += 1;
@@ -282,21 +293,6 @@ Expected<std::vector<FramePlacement>> MosaicBuilder::finish() {
     auto adjusted = adjustFrames(priors, links_, o_.adjustment);
     if (!adjusted.ok()) return adjusted.status();
     corrections = std::move(*adjusted);
-    if (getenv("MOSAIC_DEBUG")) {
-      std::vector<double> before, after;
-      for (const FrameLink& l : links_) {
-        before.push_back((l.g_i - l.g_j).norm());
-        after.push_back(
-            (applyHomography(corrections[l.i], l.g_i) - applyHomography(corrections[l.j], l.g_j))
-                .norm());
-      }
-      std::sort(before.begin(), before.end());
-      std::sort(after.begin(), after.end());
-      fprintf(stderr,
-              "links %zu: before median %.2f p90 %.2f, after median %.2f p90 %.2f max %.2f\n",
-              links_.size(), before[before.size() / 2], before[before.size() * 9 / 10],
-              after[after.size() / 2], after[after.size() * 9 / 10], after.back());
-    }
   }
   sum_.setTo(0);
   weight_.setTo(0);

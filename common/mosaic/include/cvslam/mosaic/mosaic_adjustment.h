@@ -9,6 +9,8 @@
 // q = [(g − c)/s; 1], g = G_k(x). Residuals:
 //  - a link (matched, RANSAC-inlier feature pair x_i ↔ x_j between two frames): p_i − p_j,
 //    weight 1/σ_match: the same ground point must land on the same mosaic pixel;
+//  - smoothness: the corrections of consecutive frames of one UAV differ by little (the
+//    estimate's drift is slow), weight 1/σ_smooth;
 //  - the prior (the pose estimate holds the mosaic in the team frame, and places frames that
 //    have no link): the shift of the footprint centre, weight 1/σ_shift, and the move of the
 //    corners relative to it (rotation, scale), weight 1/σ_shape.
@@ -19,7 +21,8 @@
 // absorb.
 //
 // YAML (section `mosaic.adjustment`):
-//   model: similarity   sigma_match_px: 1.0   sigma_shift_px: 20.0   sigma_shape_px: 2.0
+//   model: similarity   sigma_match_px: 2.0   sigma_cross_px: 2.0   sigma_smooth_px: 0.1
+//   sigma_shift_px: 20.0   sigma_shape_px: 2.0
 //   iterations: 5
 
 #include <Eigen/Core>
@@ -42,7 +45,17 @@ enum class CorrectionModel { kSimilarity, kAffine, kHomography };
 
 struct AdjustmentOptions {
   CorrectionModel model = CorrectionModel::kSimilarity;  ///< similarity | affine | homography
-  double sigma_match_px = 1.0;                           ///< σ of a feature link [mosaic px]
+  double sigma_match_px = 2.0;  ///< σ of a feature link between frames of one UAV [mosaic px]
+  /// σ of a link between frames of two UAVs [mosaic px]. Looser: their views are metres
+  /// apart and at different heights, so the relief's parallax makes their links disagree
+  /// with the one-plane-per-frame model by a few pixels; many such links still fix the
+  /// UAVs' relative offset without bending each UAV's strip.
+  double sigma_cross_px = 2.0;
+  /// σ of the change of the correction between consecutive frames of one UAV, at their
+  /// footprint centre and corners [mosaic px]. The pose estimate drifts slowly, while a
+  /// frame's links carry the relief's parallax (a pixel or so, larger than the drift between
+  /// two frames): the correction should follow the drift, not each frame's link noise.
+  double sigma_smooth_px = 0.1;
   /// σ of the pose prior on the shift of the footprint centre [mosaic px]: position errors.
   double sigma_shift_px = 20.0;
   /// σ of the pose prior on the corners relative to the centre [mosaic px]: attitude and
@@ -59,6 +72,11 @@ struct AdjustmentOptions {
 struct FrameLink {
   int i = 0, j = 0;
   Eigen::Vector2d g_i, g_j;
+  enum Kind { kOwn, kCross, kSmooth };
+  /// kOwn: feature pair between frames of one UAV (1/σ_match); kCross: between two UAVs
+  /// (1/σ_cross); kSmooth: g_i = g_j, consecutive frames of one UAV, whose corrections
+  /// should differ little (1/σ_smooth).
+  Kind kind = kOwn;
 };
 
 /// Prior geometry of a frame: footprint corners and centre in mosaic pixels.
