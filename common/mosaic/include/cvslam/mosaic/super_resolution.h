@@ -15,7 +15,7 @@
 // with `padding` pixels to keep the borders from ringing.
 //
 // YAML (section `super_resolution`):
-//   scale: 2   iterations: 40   bandwidth: 0.7   padding: 16
+//   scale: 2   iterations: 10   bandwidth: 0.5   padding: 16
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -32,8 +32,8 @@ namespace cvslam::mosaic {
 
 struct SuperResolutionOptions {
   int scale = 2;           ///< HR pixels per LR (mosaic) pixel along each axis
-  int iterations = 40;     ///< Papoulis–Gerchberg iterations
-  double bandwidth = 0.7;  ///< kept fraction of the HR Nyquist band per axis, (0, 1]
+  int iterations = 10;     ///< Papoulis–Gerchberg iterations
+  double bandwidth = 0.5;  ///< kept fraction of the HR Nyquist band per axis, (0, 1]
   int padding = 16;        ///< reflection padding of the HR grid for the DFT [HR px]
 
   Status load(const ConfigNode& node);
