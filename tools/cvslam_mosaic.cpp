@@ -57,6 +57,15 @@ int fail(const std::string& message) {
   return 2;
 }
 
+// cv::imwrite throws on a name without a known image extension.
+bool writeImage(const std::string& path, const cv::Mat& image) {
+  try {
+    return cv::imwrite(path, image);
+  } catch (const cv::Exception&) {
+    return false;
+  }
+}
+
 struct Args {
   std::string scenario, run, config, world, out, preview, sr_sample;
   std::vector<int> agents;
@@ -195,7 +204,8 @@ void superResolution(const Args& a, const mosaic::MosaicConfig& cfg,
       cv::Mat row, out;
       cv::hconcat(std::vector<cv::Mat>{p->truth, p->plain, p->sr}, row);
       row.convertTo(out, CV_8U);
-      cv::imwrite(a.sr_sample, out);
+      if (!writeImage(a.sr_sample, out))
+        std::fprintf(stderr, "cvslam_mosaic: cannot write %s\n", a.sr_sample.c_str());
     }
   }
   const auto med = [](std::vector<double> v) { return mosaic::errorStats(std::move(v)).median; };
@@ -213,17 +223,20 @@ void superResolution(const Args& a, const mosaic::MosaicConfig& cfg,
 
 int writeOutputs(const Args& a, const mosaic::MosaicBuilder& builder) {
   const cv::Mat image = builder.image();
-  if (!a.out.empty() && !cv::imwrite(a.out, image)) return fail("cannot write " + a.out);
+  if (!a.out.empty() && !writeImage(a.out, image)) return fail("cannot write " + a.out);
   if (!a.preview.empty()) {
     const double f = std::min(1.0, a.preview_px / double(std::max(image.cols, image.rows)));
     cv::Mat small;
     cv::resize(image, small, cv::Size(), f, f, cv::INTER_AREA);
-    if (!cv::imwrite(a.preview, small)) return fail("cannot write " + a.preview);
+    if (!writeImage(a.preview, small)) return fail("cannot write " + a.preview);
   }
   return 0;
 }
 
 int run(const Args& a) {
+  for (const std::string* path : {&a.out, &a.preview, &a.sr_sample})
+    if (!path->empty() && !cv::haveImageWriter(*path))
+      return fail("no image format for " + *path + " (use .png)");
   auto cfg = mosaic::MosaicConfig::loadFile(a.config);
   if (!cfg.ok()) return fail(cfg.status().message());
   if (a.period >= 0.0) cfg->evaluation.frame_period = a.period;
