@@ -21,8 +21,8 @@
 // absorb.
 //
 // YAML (section `mosaic.adjustment`):
-//   model: similarity   sigma_match_px: 2.0   sigma_cross_px: 2.0   sigma_smooth_px: 0.1
-//   sigma_shift_px: 20.0   sigma_shape_px: 2.0
+//   model: similarity   sigma_match_px: 2.0   sigma_cross_px: 2.0   sigma_smooth_px: 0.03
+//   sigma_shift_px: 20.0   sigma_shape_px: 10.0
 //   iterations: 5
 
 #include <Eigen/Core>
@@ -55,14 +55,14 @@ struct AdjustmentOptions {
   /// footprint centre and corners [mosaic px]. The pose estimate drifts slowly, while a
   /// frame's links carry the relief's parallax (a pixel or so, larger than the drift between
   /// two frames): the correction should follow the drift, not each frame's link noise.
-  double sigma_smooth_px = 0.1;
+  double sigma_smooth_px = 0.03;
   /// σ of the pose prior on the shift of the footprint centre [mosaic px]: position errors.
   double sigma_shift_px = 20.0;
   /// σ of the pose prior on the corners relative to the centre [mosaic px]: attitude and
-  /// height errors. Tighter than the shift: a small rotation or scale error repeated along a
-  /// chain of links bends the whole strip (0.003 rad per link is 25 px after 30 links at
-  /// 30 m), and the estimated attitude is good to milliradians.
-  double sigma_shape_px = 2.0;
+  /// height errors. Loose: each UAV's yaw estimate drifts on its own (0.015 rad in 30 s is
+  /// 20 px at 30 m), and the smoothness term already keeps the corrections from following
+  /// each frame's link noise (team3: 10 px gives 3.6 px, 2 px gave 5.6 px; results/mosaic.md).
+  double sigma_shape_px = 10.0;
   int iterations = 5;  ///< Gauss–Newton iterations
 
   Status load(const ConfigNode& node);
