@@ -31,7 +31,6 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include <map>
 #include <optional>
 #include <vector>
 
