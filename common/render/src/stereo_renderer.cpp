@@ -49,12 +49,6 @@ int halfLog2(float x) {
   return e >> 1;  // arithmetic shift: floor division, also for negative exponents
 }
 
-// floor() without a libm call (baseline x86-64 has no SSE4.1 rounding instruction).
-int64_t floorToInt64(double x) {
-  const auto i = static_cast<int64_t>(x);
-  return i - (x < static_cast<double>(i));
-}
-
 // Bounding box in (x, y) of the view frustum (apex to the far plane) inside the slab
 // z ∈ [z_lo, z_hi]: its vertices are the frustum's edges clipped to the slab.
 bool frustumSlabBounds(const Eigen::Vector3d& apex, const Eigen::Vector3d (&far_corner)[4],
@@ -197,9 +191,7 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
     setups.push_back(setupMaterial(m, R_NtoC, p_CinN, intrinsics_, world_->texelSize(), exposure));
   const auto background = cv::saturate_cast<uint8_t>(options_.background * exposure);
   const double tile = bank.tileSize();
-  const double inv_tile = 1.0 / tile;
   const int max_level = bank.levels() - 1;
-  const auto tiles = static_cast<uint64_t>(bank.tileCount());
   const std::vector<Eigen::Vector3d>& planes = raster.planes();
 
   for (int j = 0; j < image.rows; ++j) {
@@ -252,16 +244,14 @@ void StereoRenderer::shade(const Eigen::Matrix3d& R_NtoC, const Eigen::Vector3d&
           level = std::clamp(halfLog2(static_cast<float>(rho2) + 1e-30f), 0, max_level);
         }
         if (!(s >= cell_s0 && s < cell_s0 + tile && t >= cell_t0 && t < cell_t0 + tile)) {
-          const int64_t cs = floorToInt64(s * inv_tile), ct = floorToInt64(t * inv_tile);
-          const uint64_t h = hashCell(cs, ct, S.salt);
-          tile_index = static_cast<int>(h % tiles);
-          cell_s0 = static_cast<double>(cs) * tile;
-          cell_t0 = static_cast<double>(ct) * tile;
-          const bool mirror_s = (h >> 40) & 1u, mirror_t = (h >> 41) & 1u;
-          sign_s = mirror_s ? -1.0 : 1.0;
-          sign_t = mirror_t ? -1.0 : 1.0;
-          off_s = mirror_s ? cell_s0 + tile : -cell_s0;
-          off_t = mirror_t ? cell_t0 + tile : -cell_t0;
+          const TextureBank::Cell c = bank.cellAt(s, t, S.salt);
+          tile_index = c.tile;
+          cell_s0 = c.s0;
+          cell_t0 = c.t0;
+          sign_s = c.sign_s;
+          sign_t = c.sign_t;
+          off_s = c.off_s;
+          off_t = c.off_t;
         }
         // Clamped at 0: rounding at a cell edge must not give a (tiny) negative coordinate.
         const double ls = std::max(0.0, sign_s * s + off_s);

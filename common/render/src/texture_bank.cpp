@@ -133,4 +133,25 @@ Expected<TextureBank> TextureBank::create(const TextureOptions& o) {
   return bank;
 }
 
+TextureBank::Cell TextureBank::cellAt(double s, double t, uint64_t salt) const {
+  const double tile = tile_size_;
+  // floor() without a libm call (the renderer calls this once per cell change).
+  auto floor64 = [](double x) {
+    const auto i = static_cast<int64_t>(x);
+    return i - (x < static_cast<double>(i));
+  };
+  const int64_t cs = floor64(s / tile), ct = floor64(t / tile);
+  const uint64_t h = hashCell(cs, ct, salt);
+  Cell c;
+  c.tile = static_cast<int>(h % static_cast<uint64_t>(tileCount()));
+  c.s0 = static_cast<double>(cs) * tile;
+  c.t0 = static_cast<double>(ct) * tile;
+  const bool mirror_s = (h >> 40) & 1u, mirror_t = (h >> 41) & 1u;
+  c.sign_s = mirror_s ? -1.0 : 1.0;
+  c.sign_t = mirror_t ? -1.0 : 1.0;
+  c.off_s = mirror_s ? c.s0 + tile : -c.s0;
+  c.off_t = mirror_t ? c.t0 + tile : -c.t0;
+  return c;
+}
+
 }  // namespace cvslam::render

@@ -93,6 +93,18 @@ class TextureBank {
     return this->level(tile, level).sample(s, t);
   }
 
+  /// The texture cell (one tile wide) holding surface texture coordinates (s, t) [texels]
+  /// of a surface with `salt`: which tile it shows and how the tile is mirrored. Shared by
+  /// the renderer's shading and by the true-texture lookups (ground_texture.h), so both see
+  /// the same texels.
+  struct Cell {
+    int tile = 0;
+    double s0 = 0.0, t0 = 0.0;  ///< cell extent [s0, s0 + tileSize()) × [t0, t0 + tileSize())
+    double sign_s = 1.0, sign_t = 1.0;  ///< tile coordinates ls = sign_s·s + off_s (mirror)
+    double off_s = 0.0, off_t = 0.0;
+  };
+  Cell cellAt(double s, double t, uint64_t salt) const;
+
  private:
   static Level block(const cv::Mat& level, int index);
 
