@@ -150,6 +150,107 @@ vision::CameraCalibration toVision(const EurocCameraCalibration& c) {
   return v;
 }
 
+struct EvalContext {
+  std::vector<std::string> names;
+  std::map<std::string, vision::DetectorType> types;
+  vision::DetectorOptions base;
+  vision::MatchOptions match;
+  double eps = 2.5;
+};
+
+/// The rendered view changes: per detector and change, and the mean per family.
+Status evaluateRendered(const EvalContext& c, const std::vector<render::ViewPair>& views,
+                        std::map<std::string, Timer>* time) {
+  for (const auto& name : c.names) {
+    const vision::DetectorOptions o = optionsFor(name, c.types.at(name), c.base);
+    auto det = vision::makeFeatureDetector(o);
+    if (!det.ok()) return Status::Error(det.status().message());
+    std::map<std::string, Accumulator> by_family;
+    std::vector<std::string> order;
+    for (const auto& v : views) {
+      vision::Features a, b;
+      if (Status s = detect(**det, v.reference, &a, &(*time)[name]); !s.ok())
+        return Status::Error(s.message());
+      if (Status s = detect(**det, v.transformed, &b, &(*time)[name]); !s.ok())
+        return Status::Error(s.message());
+      const auto rep =
+          vision::repeatability(a.keypoints, kViewSize, b.keypoints, kViewSize, v.change.H, c.eps);
+      const auto m = vision::matchDescriptors(a, b, c.match);
+      const auto q = vision::matchQualityHomography(a, b, m, v.change.H, c.eps);
+      std::ostringstream label;
+      label << v.change.family << ' '
+            << (v.change.family == "illumination" && v.change.gamma != 1.0
+                    ? "γ " + fixed(v.change.gamma, 1)
+                    : fixed(
+                          v.change.amount,
+                          v.change.family == "rotation" || v.change.family == "viewpoint" ? 0 : 2));
+      Accumulator acc;
+      acc.add(q, 0.5 * static_cast<double>(a.size() + b.size()));
+      acc.has_repeatability = true;
+      acc.repeatability = rep.repeatability;
+      printRow(name, label.str(), acc);
+      Accumulator& f = by_family[v.change.family];
+      if (!f.pairs) order.push_back(v.change.family);
+      f.add(q, 0.5 * static_cast<double>(a.size() + b.size()));
+      f.has_repeatability = true;
+      f.repeatability += rep.repeatability;
+    }
+    for (const auto& fam : order) printRow(name, "**mean " + fam + "**", by_family[fam]);
+  }
+  return Status::Ok();
+}
+
+/// The real EuRoC frames: consecutive left frames (RANSAC F) and rectified stereo pairs.
+Status evaluateReal(const EvalContext& c, const std::string& euroc_dir,
+                    const std::vector<std::string>& real, const vision::StereoRectifier& rectifier,
+                    int frames, int stride, std::map<std::string, Timer>* time) {
+  const int n = std::min(frames, static_cast<int>(real.size()) - stride);
+  printHeader("Real EuRoC frames: " + std::to_string(n) + " consecutive left pairs (stride " +
+              std::to_string(stride) + "; good = RANSAC-F inlier at eps) and " + std::to_string(n) +
+              " rectified stereo pairs (good = |Δv| ≤ eps, 0 < d ≤ " +
+              fixed(kStereoMaxDisparity, 0) + ")");
+  for (const auto& name : c.names) {
+    const vision::DetectorOptions o = optionsFor(name, c.types.at(name), c.base);
+    auto det = vision::makeFeatureDetector(o);
+    if (!det.ok()) return Status::Error(det.status().message());
+    Accumulator temporal, stereo;
+    for (int i = 0; i < n; ++i) {
+      const std::string dir = euroc_dir + "/cam0/data/";
+      const cv::Mat l0 =
+          cv::imread(dir + real[static_cast<std::size_t>(i)] + ".png", cv::IMREAD_GRAYSCALE);
+      const cv::Mat l1 = cv::imread(dir + real[static_cast<std::size_t>(i + stride)] + ".png",
+                                    cv::IMREAD_GRAYSCALE);
+      const cv::Mat r0 =
+          cv::imread(euroc_dir + "/cam1/data/" + real[static_cast<std::size_t>(i)] + ".png",
+                     cv::IMREAD_GRAYSCALE);
+      if (l0.empty() || l1.empty() || r0.empty())
+        return Status::Error("cannot read frame " + real[static_cast<std::size_t>(i)]);
+      vision::Features a, b;
+      if (Status s = detect(**det, l0, &a, &(*time)[name]); !s.ok())
+        return Status::Error(s.message());
+      if (Status s = detect(**det, l1, &b, &(*time)[name]); !s.ok())
+        return Status::Error(s.message());
+      const auto m = vision::matchDescriptors(a, b, c.match);
+      temporal.add(vision::matchQualityFundamental(a, b, m, c.eps),
+                   0.5 * static_cast<double>(a.size() + b.size()));
+      cv::Mat lr, rr;
+      if (Status s = rectifier.rectify(l0, r0, &lr, &rr); !s.ok())
+        return Status::Error(s.message());
+      vision::Features sl, sr;
+      if (Status s = detect(**det, lr, &sl, &(*time)[name]); !s.ok())
+        return Status::Error(s.message());
+      if (Status s = detect(**det, rr, &sr, &(*time)[name]); !s.ok())
+        return Status::Error(s.message());
+      const auto ms = vision::matchDescriptors(sl, sr, c.match);
+      stereo.add(vision::matchQualityStereo(sl, sr, ms, c.eps, 0.0, kStereoMaxDisparity),
+                 0.5 * static_cast<double>(sl.size() + sr.size()));
+    }
+    printRow(name, "consecutive left frames", temporal);
+    printRow(name, "stereo left/right", stereo);
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -236,83 +337,14 @@ int main(int argc, char** argv) {
   std::cout << "# cvslam_detector_eval: eps " << eps << " px, DistRatio " << dist_ratio
             << ", mutual, L2 (ORB: Hamming)\n";
   printHeader("Rendered ground image (640×480 views of a 1024² nadir rendering, known homography)");
-  for (const auto& name : names) {
-    const vision::DetectorOptions o = optionsFor(name, kTypes.at(name), base);
-    auto det = vision::makeFeatureDetector(o);
-    if (!det.ok()) return fail(det.status().message());
-    std::map<std::string, Accumulator> by_family;
-    std::vector<std::string> order;
-    for (const auto& v : views) {
-      vision::Features a, b;
-      if (Status s = detect(**det, v.reference, &a, &rendered_time[name]); !s.ok())
-        return fail(s.message());
-      if (Status s = detect(**det, v.transformed, &b, &rendered_time[name]); !s.ok())
-        return fail(s.message());
-      const auto rep =
-          vision::repeatability(a.keypoints, kViewSize, b.keypoints, kViewSize, v.change.H, eps);
-      const auto m = vision::matchDescriptors(a, b, match);
-      const auto q = vision::matchQualityHomography(a, b, m, v.change.H, eps);
-      std::ostringstream label;
-      label << v.change.family << ' '
-            << (v.change.family == "illumination" && v.change.gamma != 1.0
-                    ? "γ " + fixed(v.change.gamma, 1)
-                    : fixed(
-                          v.change.amount,
-                          v.change.family == "rotation" || v.change.family == "viewpoint" ? 0 : 2));
-      Accumulator acc;
-      acc.add(q, 0.5 * static_cast<double>(a.size() + b.size()));
-      acc.has_repeatability = true;
-      acc.repeatability = rep.repeatability;
-      printRow(name, label.str(), acc);
-      Accumulator& f = by_family[v.change.family];
-      if (!f.pairs) order.push_back(v.change.family);
-      f.add(q, 0.5 * static_cast<double>(a.size() + b.size()));
-      f.has_repeatability = true;
-      f.repeatability += rep.repeatability;
-    }
-    for (const auto& fam : order) printRow(name, "**mean " + fam + "**", by_family[fam]);
-  }
+  const EvalContext context{names, kTypes, base, match, eps};
+  if (Status s = evaluateRendered(context, views, &rendered_time); !s.ok())
+    return fail(s.message());
 
   if (rectifier) {
-    const int n = std::min(frames, static_cast<int>(real.size()) - stride);
-    printHeader("Real EuRoC frames: " + std::to_string(n) + " consecutive left pairs (stride " +
-                std::to_string(stride) + "; good = RANSAC-F inlier at eps) and " +
-                std::to_string(n) + " rectified stereo pairs (good = |Δv| ≤ eps, 0 < d ≤ " +
-                fixed(kStereoMaxDisparity, 0) + ")");
-    for (const auto& name : names) {
-      const vision::DetectorOptions o = optionsFor(name, kTypes.at(name), base);
-      auto det = vision::makeFeatureDetector(o);
-      if (!det.ok()) return fail(det.status().message());
-      Accumulator temporal, stereo;
-      for (int i = 0; i < n; ++i) {
-        const std::string dir = euroc_dir + "/cam0/data/";
-        const cv::Mat l0 =
-            cv::imread(dir + real[static_cast<std::size_t>(i)] + ".png", cv::IMREAD_GRAYSCALE);
-        const cv::Mat l1 = cv::imread(dir + real[static_cast<std::size_t>(i + stride)] + ".png",
-                                      cv::IMREAD_GRAYSCALE);
-        const cv::Mat r0 =
-            cv::imread(euroc_dir + "/cam1/data/" + real[static_cast<std::size_t>(i)] + ".png",
-                       cv::IMREAD_GRAYSCALE);
-        if (l0.empty() || l1.empty() || r0.empty())
-          return fail("cannot read frame " + real[static_cast<std::size_t>(i)]);
-        vision::Features a, b;
-        if (Status s = detect(**det, l0, &a, &real_time[name]); !s.ok()) return fail(s.message());
-        if (Status s = detect(**det, l1, &b, &real_time[name]); !s.ok()) return fail(s.message());
-        const auto m = vision::matchDescriptors(a, b, match);
-        temporal.add(vision::matchQualityFundamental(a, b, m, eps),
-                     0.5 * static_cast<double>(a.size() + b.size()));
-        cv::Mat lr, rr;
-        if (Status s = rectifier->rectify(l0, r0, &lr, &rr); !s.ok()) return fail(s.message());
-        vision::Features sl, sr;
-        if (Status s = detect(**det, lr, &sl, &real_time[name]); !s.ok()) return fail(s.message());
-        if (Status s = detect(**det, rr, &sr, &real_time[name]); !s.ok()) return fail(s.message());
-        const auto ms = vision::matchDescriptors(sl, sr, match);
-        stereo.add(vision::matchQualityStereo(sl, sr, ms, eps, 0.0, kStereoMaxDisparity),
-                   0.5 * static_cast<double>(sl.size() + sr.size()));
-      }
-      printRow(name, "consecutive left frames", temporal);
-      printRow(name, "stereo left/right", stereo);
-    }
+    if (Status s = evaluateReal(context, euroc_dir, real, *rectifier, frames, stride, &real_time);
+        !s.ok())
+      return fail(s.message());
   }
 
   std::cout

@@ -35,6 +35,58 @@ inline float parabolaOffset(float m, float c, float p) {
   return den < 0.0f ? std::clamp(0.5f * (m - p) / den, -0.5f, 0.5f) : 0.0f;
 }
 
+/// Is v (at row[x]) larger than its 8 neighbours in a response image of row stride `step`?
+inline bool aboveItsNeighbours(const float* row, int step, int x, float v) {
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if ((dx != 0 || dy != 0) && row[dy * step + x + dx] >= v) return false;
+  return true;
+}
+
+/// Smooths the orientation histogram circularly ([1 2 1]/4, twice) and returns its peak
+/// orientation [rad] with parabolic interpolation (§4.4.7.1 c).
+float peakOrientation(std::array<float, kMaxOrientationBins + 1>* h, int nb, float to_bin) {
+  auto& hist = *h;
+  for (int pass = 0; pass < 2; ++pass) {
+    const float first = hist[0];
+    float prev = hist[static_cast<std::size_t>(nb - 1)];
+    for (int i = 0; i < nb; ++i) {
+      const float cur = hist[static_cast<std::size_t>(i)];
+      const float next = i + 1 < nb ? hist[static_cast<std::size_t>(i + 1)] : first;
+      hist[static_cast<std::size_t>(i)] = 0.25f * (prev + 2.0f * cur + next);
+      prev = cur;
+    }
+  }
+  int peak = 0;
+  for (int i = 1; i < nb; ++i)
+    if (hist[static_cast<std::size_t>(i)] > hist[static_cast<std::size_t>(peak)]) peak = i;
+  const float hm = hist[static_cast<std::size_t>((peak + nb - 1) % nb)];
+  const float hc = hist[static_cast<std::size_t>(peak)];
+  const float hp = hist[static_cast<std::size_t>((peak + 1) % nb)];
+  const float den = hm - 2.0f * hc + hp;
+  const float frac = den < 0.0f ? 0.5f * (hm - hp) / den : 0.0f;
+  return static_cast<float>(
+      std::fmod((static_cast<float>(peak) + frac + static_cast<float>(nb)) / to_bin, kTwoPi));
+}
+
+/// L2-normalises (contrast invariance, §4.4.7.2), clips at `clip`, renormalises and quantises
+/// to bytes.
+void quantise(std::array<float, kSwifDescriptorBytes>* d, float clip, uint8_t* descriptor) {
+  auto& desc = *d;
+  auto normalise = [&desc]() {
+    float n2 = 0.0f;
+    for (float v : desc) n2 += v * v;
+    const float inv = n2 > 0.0f ? 1.0f / std::sqrt(n2) : 0.0f;
+    for (float& v : desc) v *= inv;
+  };
+  normalise();
+  for (float& v : desc) v = std::min(v, clip);
+  normalise();
+  for (int i = 0; i < kSwifDescriptorBytes; ++i)
+    descriptor[i] =
+        cv::saturate_cast<uint8_t>(desc[static_cast<std::size_t>(i)] * kDescriptorByteScale);
+}
+
 }  // namespace
 
 void Swif::computeResponse(const WaveletLevel& w, SwifResponse type, double tensor_sigma,
@@ -230,13 +282,7 @@ void Swif::findMaximaOverOrders(int level, std::vector<cv::KeyPoint>* out) const
         if (v < th) continue;
         // 8 neighbours at this order, then 9 + 9 at the orders below and above (§4.4.3.2 ii);
         // most points fail within the first few comparisons.
-        bool is_max = true;
-        for (int dy = -1; dy <= 1 && is_max; ++dy)
-          for (int dx = -1; dx <= 1; ++dx)
-            if ((dx != 0 || dy != 0) && row[dy * step + x + dx] >= v) {
-              is_max = false;
-              break;
-            }
+        bool is_max = aboveItsNeighbours(row, step, x, v);
         for (std::size_t t : {s - 1, s + 1}) {
           if (!is_max) break;
           const float* other = scales[t].response.ptr<float>(y);
@@ -296,13 +342,7 @@ void Swif::findMaximaOverLevels(int level, std::vector<cv::KeyPoint>* out) const
     for (int x = kBorder; x < r.cols - kBorder; ++x) {
       const float v = row[x];
       if (v < th) continue;
-      bool is_max = true;
-      for (int dy = -1; dy <= 1 && is_max; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-          if ((dx != 0 || dy != 0) && row[dy * step + x + dx] >= v) {
-            is_max = false;
-            break;
-          }
+      const bool is_max = aboveItsNeighbours(row, step, x, v);
       if (!is_max) continue;
       // The 9 + 9 neighbours in the scales below and above (§4.4.3.2 ii), at the same input
       // position.
@@ -384,27 +424,7 @@ float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
                   mag[x] * std::exp(-r2 / (2 * sigma_o * sigma_o)));
     }
   }
-  // Smooth circularly ([1 2 1]/4, twice), then the peak with parabolic interpolation.
-  for (int pass = 0; pass < 2; ++pass) {
-    const float first = hist[0];
-    float prev = hist[static_cast<std::size_t>(nb - 1)];
-    for (int i = 0; i < nb; ++i) {
-      const float cur = hist[static_cast<std::size_t>(i)];
-      const float next = i + 1 < nb ? hist[static_cast<std::size_t>(i + 1)] : first;
-      hist[static_cast<std::size_t>(i)] = 0.25f * (prev + 2.0f * cur + next);
-      prev = cur;
-    }
-  }
-  int peak = 0;
-  for (int i = 1; i < nb; ++i)
-    if (hist[static_cast<std::size_t>(i)] > hist[static_cast<std::size_t>(peak)]) peak = i;
-  const float hm = hist[static_cast<std::size_t>((peak + nb - 1) % nb)];
-  const float hc = hist[static_cast<std::size_t>(peak)];
-  const float hp = hist[static_cast<std::size_t>((peak + 1) % nb)];
-  const float den = hm - 2.0f * hc + hp;
-  const float frac = den < 0.0f ? 0.5f * (hm - hp) / den : 0.0f;
-  const float theta = static_cast<float>(
-      std::fmod((static_cast<float>(peak) + frac + static_cast<float>(nb)) / to_bin, kTwoPi));
+  const float theta = peakOrientation(&hist, nb, to_bin);
   // Pass 2 (§4.4.7.1 d, §4.4.7.2): orientations relative to Θ_f, weighted by the norm N and
   // the descriptor's Gaussian (σ = the window radius, as SIFT's).
   const float sigma_d = static_cast<float>(radius);
@@ -469,19 +489,7 @@ float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
       }
     }
   }
-  // L2-normalise (contrast invariance, §4.4.7.2), clip, renormalise, quantise to bytes.
-  auto normalise = [&desc]() {
-    float n2 = 0.0f;
-    for (float v : desc) n2 += v * v;
-    const float inv = n2 > 0.0f ? 1.0f / std::sqrt(n2) : 0.0f;
-    for (float& v : desc) v *= inv;
-  };
-  normalise();
-  for (float& v : desc) v = std::min(v, static_cast<float>(o_.descriptor_clip));
-  normalise();
-  for (int i = 0; i < kSwifDescriptorBytes; ++i)
-    descriptor[i] =
-        cv::saturate_cast<uint8_t>(desc[static_cast<std::size_t>(i)] * kDescriptorByteScale);
+  quantise(&desc, static_cast<float>(o_.descriptor_clip), descriptor);
   return static_cast<float>(theta * 180.0 / M_PI);
 }
 
