@@ -5,9 +5,9 @@
 #include <cstring>
 #include <limits>
 
+#include "cvslam/core/random.h"
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/config_node.h"
-#include "cvslam/core/random.h"
 
 namespace cvslam::render {
 namespace {

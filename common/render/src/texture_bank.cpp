@@ -4,8 +4,8 @@
 
 #include <array>
 
-#include "cvslam/io/config_node.h"
 #include "cvslam/core/random.h"
+#include "cvslam/io/config_node.h"
 
 namespace cvslam::render {
 namespace {

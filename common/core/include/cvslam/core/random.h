@@ -32,7 +32,9 @@ inline uint64_t splitmix64(uint64_t& state) {
 }
 
 /// splitmix64 finaliser of `x` without a state: a well-mixed 64-bit hash.
-inline uint64_t mixBits(uint64_t x) { return splitmix64(x); }
+inline uint64_t mixBits(uint64_t x) {
+  return splitmix64(x);
+}
 
 /// Hash of an integer cell (i, j) and a salt.
 inline uint64_t hashCell(int64_t i, int64_t j, uint64_t salt) {
