@@ -3,15 +3,12 @@
 // here inside the chapter-5 SLAM filter): a team can fly in and out of GPS-denied areas, the
 // filter using fixes when there are any and vision alone otherwise.
 //
-// Observation of one fix (a receiver at the vehicle origin, no lever arm):
-//   z = [p_N; v_N] = h(x_v) + n,   h = [p_BinN; R_BtoN v_B],   n ~ N(0, diag(σ_p², σ_v²)·s²)
-// with s = sigma_scale (see GpsUpdateOptions). Jacobian w.r.t. the pose
-// entries [p, v_B, attitude]: [I 0 0; 0 R ∂(R v_B)/∂attitude], where the attitude columns are
-// −R [v_B]× for the rotation error state (R = R̂ Exp(δθ)) and ∂R(φθψ)/∂(φθψ)·v_B for Euler
-// angles. Bias columns are zero. The position and the velocity are two observation groups,
-// each χ² gated (CovarianceHelper::update). Neither the observability constraint nor
-// first-estimate Jacobians apply: GPS observes exactly the global position and (through the
-// velocity in N) the heading that vision cannot.
+// Observation of one fix: ins/gps_observation.h (h = [p_BinN; R_BtoN v_B], the same model as
+// the chapter-3 filters), its noise the receiver's stated σ × sigma_scale. Bias columns of the
+// Jacobian are zero. The position and the velocity are two observation groups, each χ² gated
+// (CovarianceHelper::update). Neither the observability constraint nor first-estimate
+// Jacobians apply: GPS observes exactly the global position and (through the velocity in N)
+// the heading that vision cannot.
 
 #include <Eigen/Core>
 
@@ -21,6 +18,7 @@
 #include "cvslam/filter/update_policy.h"
 #include "cvslam/filter/vehicle_model.h"
 #include "cvslam/ins/gps_fix.h"
+#include "cvslam/ins/gps_observation.h"
 
 namespace cvslam {
 
@@ -37,10 +35,6 @@ struct GpsUpdateOptions {
 
   Status load(const ConfigNode& node);
 };
-
-/// h(pose) = [p_BinN; R_BtoN v_B] (6) and its Jacobian w.r.t. the pose entries (6 × 9).
-Eigen::Matrix<double, 6, 1> gpsPrediction(const vehicle_model::Pose& pose);
-Eigen::Matrix<double, 6, vehicle_model::kPoseSize> gpsJacobian(const vehicle_model::Pose& pose);
 
 class GpsUpdater {
  public:
