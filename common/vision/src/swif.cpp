@@ -35,6 +35,26 @@ inline float parabolaOffset(float m, float c, float p) {
   return den < 0.0f ? std::clamp(0.5f * (m - p) / den, -0.5f, 0.5f) : 0.0f;
 }
 
+/// Calls f(r², angle, magnitude) for every pixel of `scale` (its angle and magnitude images)
+/// in the disc of `radius` around (cx, cy), clipped to the image: the sampling window of the
+/// orientation and of the histogram descriptor (§4.4.7.1), which turns with the image.
+template <typename Scale, typename F>
+void forEachInDisc(const Scale& scale, int cx, int cy, int radius, F&& f) {
+  const int y0 = std::max(0, cy - radius), y1 = std::min(scale.angle.rows - 1, cy + radius);
+  const int x0 = std::max(0, cx - radius), x1 = std::min(scale.angle.cols - 1, cx + radius);
+  const float r2max = static_cast<float>(radius * radius);
+  for (int y = y0; y <= y1; ++y) {
+    const float* ang = scale.angle.template ptr<float>(y);
+    const float* mag = scale.magnitude.template ptr<float>(y);
+    const float ddy = static_cast<float>(y - cy);
+    for (int x = x0; x <= x1; ++x) {
+      const float ddx = static_cast<float>(x - cx);
+      const float r2 = ddx * ddx + ddy * ddy;
+      if (r2 <= r2max) f(r2, ang[x], mag[x]);
+    }
+  }
+}
+
 /// Is v (at row[x]) larger than its 8 neighbours in a response image of row stride `step`?
 inline bool aboveItsNeighbours(const float* row, int step, int x, float v) {
   for (int dy = -1; dy <= 1; ++dy)
@@ -407,23 +427,12 @@ float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
   std::array<float, kMaxOrientationBins + 1> hist{};
   std::array<float, kSwifDescriptorBytes> desc{};  // unused entries stay 0
   const float to_bin = static_cast<float>(nb / kTwoPi);
-  const int y0 = std::max(0, cy - radius), y1 = std::min(sc.angle.rows - 1, cy + radius);
-  const int x0 = std::max(0, cx - radius), x1 = std::min(sc.angle.cols - 1, cx + radius);
-  const float r2max = static_cast<float>(radius * radius);
   // Pass 1 (§4.4.7.1 b–c): histogram of atan2(V, H) weighted by the norm N and a Gaussian,
   // over a disc (a square window would not rotate with the image).
-  for (int y = y0; y <= y1; ++y) {
-    const float* ang = sc.angle.ptr<float>(y);
-    const float* mag = sc.magnitude.ptr<float>(y);
-    const float ddy = static_cast<float>(y - cy);
-    for (int x = x0; x <= x1; ++x) {
-      const float ddx = static_cast<float>(x - cx);
-      const float r2 = ddx * ddx + ddy * ddy;
-      if (r2 > r2max) continue;
-      addCircular(hist.data(), nb, ang[x] * to_bin,
-                  mag[x] * std::exp(-r2 / (2 * sigma_o * sigma_o)));
-    }
-  }
+  forEachInDisc(sc, cx, cy, radius, [&](float r2, float angle, float magnitude) {
+    addCircular(hist.data(), nb, angle * to_bin,
+                magnitude * std::exp(-r2 / (2 * sigma_o * sigma_o)));
+  });
   const float theta = peakOrientation(&hist, nb, to_bin);
   // Pass 2 (§4.4.7.1 d, §4.4.7.2): orientations relative to Θ_f, weighted by the norm N and
   // the descriptor's Gaussian (σ = the window radius, as SIFT's).
@@ -432,20 +441,12 @@ float Swif::describeOne(const cv::KeyPoint& kp, uint8_t* descriptor) const {
   if (o_.descriptor == SwifDescriptorLayout::kHistogram) {
     // The thesis's descriptor: one histogram of kSwifHistogramBins circular bins.
     const float to_desc = static_cast<float>(kSwifHistogramBins / kTwoPi);
-    for (int y = y0; y <= y1; ++y) {
-      const float* ang = sc.angle.ptr<float>(y);
-      const float* mag = sc.magnitude.ptr<float>(y);
-      const float ddy = static_cast<float>(y - cy);
-      for (int x = x0; x <= x1; ++x) {
-        const float ddx = static_cast<float>(x - cx);
-        const float r2 = ddx * ddx + ddy * ddy;
-        if (r2 > r2max) continue;
-        float rel = ang[x] - theta;
-        if (rel < 0.0f) rel += static_cast<float>(kTwoPi);
-        addCircular(desc.data(), kSwifHistogramBins, rel * to_desc,
-                    mag[x] * std::exp(-r2 * inv_2sd2));
-      }
-    }
+    forEachInDisc(sc, cx, cy, radius, [&](float r2, float angle, float magnitude) {
+      float rel = angle - theta;
+      if (rel < 0.0f) rel += static_cast<float>(kTwoPi);
+      addCircular(desc.data(), kSwifHistogramBins, rel * to_desc,
+                  magnitude * std::exp(-r2 * inv_2sd2));
+    });
   } else {
     // Grid: the window turned by Θ_f and cut into kSwifCells × kSwifCells cells of
     // kSwifGridBins relative orientations each, samples split bilinearly between cells (as
