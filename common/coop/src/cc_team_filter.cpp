@@ -216,24 +216,32 @@ Status CcTeamFilter::processBatch(const CcObservationBatch& batch, CcStepReport*
 
 Status CcTeamFilter::meetMap(CcVehicle& v, FrameReport* fr) {
   Impl& m = *impl_;
-  // 1. Move the linearisation point: this UAV and its own landmarks by the translation that
-  // puts where it sees the met landmarks onto where the map has them (median per axis). An
-  // update linearised metres away from the truth would invent information (the yaw of the UAV
-  // collapses, measured on coop_pair); the move is within the UAV's own uncertainty, which
-  // the update that follows then shrinks (as the loop alignment of loop_closer.h, without yaw:
-  // initial headings are known, §6.3.1).
-  const Eigen::Vector3d shift = m.meetShift(v);
-  m.shiftVehicleMap(v, shift);
-  // 2. The met landmarks first, gated, so that a wrong association cannot drag the UAV.
-  std::vector<UpdateReport> passes;
-  const Status s =
-      v.updater.update(m.state, v.book, m.frame, 1, StereoUpdater::Selection::kOnlyListed, m.meet,
-                       m.policy, &passes);
-  for (const UpdateReport& u : passes) {
-    stats_.filter.add(u);
-    fr->theta_reduced = fr->theta_reduced || u.theta_reduced;
+  // The met landmarks enter as one iterated update (CovarianceHelper::iteratedUpdate), first
+  // linearised at this UAV moved by the translation that puts where it sees them onto where the
+  // map has them (median per axis; no yaw: initial headings are known, §6.3.1). Linearised
+  // metres away from the truth the update would invent information (the UAV's yaw collapses,
+  // measured on coop_pair); starting from the prior, the shift comes through the gain and the
+  // covariance pays for it. Gated per observation, so a wrong association cannot drag the UAV.
+  SlamState start = m.state;
+  const StateVariable* veh = start.find(v.key);
+  vehicle_model::moveRigidly(start, *veh, start.value(*veh).head<3>() + m.meetShift(v), 0.0);
+  const Eigen::VectorXd mean_before = m.state.mean();
+  const CovarianceHelper::Linearisation linearise = [&](const SlamState& at, MeasurementBatch* b) {
+    return v.updater.linearise(at, v.book, m.frame, StereoUpdater::Selection::kOnlyListed, m.meet,
+                               StereoUpdater::Jacobians::kPlain, 1.0, b);
+  };
+  IteratedUpdateOptions iterated;
+  iterated.max_iterations = o_.slam.slam.loop_closure_passes;
+  UpdateReport u;
+  if (Status s = CovarianceHelper::iteratedUpdate(m.state, std::move(start), linearise, iterated,
+                                                  m.policy, &m.meet_batch, &u);
+      !s.ok()) {
+    return s;
   }
-  if (!s.ok()) return s;
+  stats_.filter.add(u);
+  fr->theta_reduced = fr->theta_reduced || u.theta_reduced;
+  if (u.rows == 0) return Status::Ok();
+  m.followCorrectionEverywhere(mean_before);
   ++stats_.agents[v.agent_id].rendezvous;
   return Status::Ok();
 }
@@ -262,6 +270,9 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
   }
   fr.loop_landmarks = loop.loop_landmarks;
   fr.loop_closure = loop.loop_closure;
+  fr.loop_refused = loop.loop_refused;
+  // The loop moved every UAV correlated with this one: their books follow.
+  if (loop.loop_closure) m.followCorrectionEverywhere(loop.mean_before);
   fr.theta_reduced = loop.theta_reduced;
   // A rendezvous first (cc_team_filter.h), then the gated updates of the rest.
   std::vector<int64_t> done = v.loop_closer.loopIds();

@@ -66,6 +66,7 @@ struct CcTeamFilter::Impl {
   std::map<std::pair<int, int>, int64_t> contact;
   int64_t next_fresh_id = int64_t{1} << 40;  // as VisualInertialSlam
   StereoFrameObservations frame;             // the batch with joint ids (reused)
+  MeasurementBatch meet_batch;               // rendezvous updates (reused)
   std::vector<int> types;                    // per observation of `frame`: 1, 2, 3
   std::vector<int64_t> meet;                 // rendezvous landmarks of `frame` (ascending)
 
@@ -90,8 +91,9 @@ struct CcTeamFilter::Impl {
   /// Rendezvous: the translation (median per axis) from where v sees the met landmarks to
   /// where the map has them.
   Eigen::Vector3d meetShift(const CcVehicle& v) const;
-  /// Moves v and its own landmarks (means, first estimates, OC directions) by `shift`.
-  void shiftVehicleMap(CcVehicle& v, const Eigen::Vector3d& shift);
+  /// After an update that moved the joint estimate far (rendezvous, loop closure): every
+  /// UAV's book follows (followCorrection of loop_closer.h).
+  void followCorrectionEverywhere(const Eigen::VectorXd& mean_before);
   /// 1σ of a vehicle's position [m] (√(trace/3)).
   double positionSigma(const CcVehicle& v) const;
   /// The book record of `id` in any vehicle's book (first by agent id), else null.

@@ -103,24 +103,8 @@ Eigen::Vector3d CcTeamFilter::Impl::meetShift(const CcVehicle& v) const {
   return shift;
 }
 
-void CcTeamFilter::Impl::shiftVehicleMap(CcVehicle& v, const Eigen::Vector3d& shift) {
-  const StateVariable* veh = state.find(v.key);
-  const Eigen::Vector3d p = state.value(*veh).head<3>() + shift;
-  vehicle_model::moveRigidly(state, *veh, p, 0.0);
-  // The first estimates and OC yaw directions (observability_constraint.h: e3 × p) restart
-  // at the moved estimate; left behind, this UAV's directions would disagree with the other
-  // map's by e3 × shift and the projection would invent roll and pitch information.
-  Eigen::VectorXd u_v = v.book.vehicleYawDirection();
-  u_v.head<3>() = yawDirectionOfPoint(p);
-  v.book.setVehicleYawDirection(u_v);
-  for (const StateVariable& sv : state.variables()) {
-    if (sv.key.kind != VariableKey::Kind::kLandmark) continue;
-    LandmarkBookEntry* r = v.book.find(static_cast<int64_t>(sv.key.id));
-    if (r == nullptr || !r->drifts_with_vehicle) continue;
-    state.setValue(sv, state.value(sv) + shift);
-    r->first_estimate = state.value(sv);
-    r->yaw_direction = yawDirectionOfPoint(r->first_estimate);
-  }
+void CcTeamFilter::Impl::followCorrectionEverywhere(const Eigen::VectorXd& mean_before) {
+  for (auto& [agent_id, w] : vehicles) followCorrection(state, mean_before, w->key, &w->book);
 }
 
 void CcTeamFilter::Impl::noteObserver(int64_t id, int agent_id, const StereoObservation& obs) {

@@ -113,13 +113,14 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   }
   const Eigen::MatrixXd K = S_llt.solve(PHt_a.transpose()).transpose();
   const Eigen::VectorXd dx = K * r_a;
+  report.rows = static_cast<int>(rows.size());
+  report.nis = S_llt.matrixL().solve(r_a).squaredNorm();
 
   // 4. Joseph form (eq. 3.23): P⁺ = (I − KH) P (I − KH)ᵀ + K R Kᵀ, with (I − KH) applied
   //    through the sparse H: A P = P − K (H P), then
   //    (A P) Aᵀ + K R Kᵀ = A P − (A P Hᵀ − K R) Kᵀ.
-  //    For the optimal K the bracket vanishes in exact arithmetic; computing it keeps the
-  //    Joseph form's first-order insensitivity to errors in K. R is block diagonal, so K R is
-  //    formed per observation.
+  //    The bracket vanishes for the optimal K; computing it keeps the Joseph form's first-order
+  //    insensitivity to errors in K. R is block diagonal: K R is formed per observation.
   Eigen::MatrixXd AP = P;
   AP.noalias() -= K * PHt_a.transpose();
   Eigen::MatrixXd correction;

@@ -132,6 +132,24 @@ void correct(Eigen::Ref<Eigen::VectorXd> x_v, const Eigen::Ref<const Eigen::Vect
   x_v(vehicle::kAttitude + 2) = wrapAngle(x_v(vehicle::kAttitude + 2));
 }
 
+Eigen::VectorXd difference(const Eigen::Ref<const Eigen::VectorXd>& x_a,
+                           const Eigen::Quaterniond* nominal_a,
+                           const Eigen::Ref<const Eigen::VectorXd>& x_b,
+                           const Eigen::Quaterniond* nominal_b) {
+  Eigen::VectorXd d = x_a - x_b;
+  if (d.size() < vehicle::kSizeNoBias) return d;
+  if (nominal_a != nullptr && nominal_b != nullptr) {
+    // R_a = R_b Exp(δθ) (right perturbation, as `correct` folds it): δθ = Log(R_bᵀ R_a), plus
+    // any unfolded δθ_a − δθ_b (first order).
+    d.segment<3>(vehicle::kAttitude) +=
+        so3::log((nominal_b->conjugate() * *nominal_a).toRotationMatrix());
+    return d;
+  }
+  d(vehicle::kAttitude) = wrapAngle(d(vehicle::kAttitude));
+  d(vehicle::kAttitude + 2) = wrapAngle(d(vehicle::kAttitude + 2));
+  return d;
+}
+
 void moveRigidly(SlamState& state, const StateVariable& vehicle, const Eigen::Vector3d& position,
                  double delta_yaw) {
   Eigen::VectorXd x_v = state.value(vehicle);

@@ -16,7 +16,7 @@ Status AgentRunRecorder::open(const std::string& run_dir, int agent_id, bool ima
   events_.open(dir_ + "/events.csv", std::ios::trunc);
   if (!events_) return Status::Error("cannot write " + dir_ + "/events.csv");
   events_ << "t,observations,updated,rejected,initialised,archived,reactivated,"
-             "loop_landmarks,loop_closure,theta_reduced,state_size\n";
+             "loop_landmarks,loop_closure,loop_refused,theta_reduced,state_size\n";
   if (images) return openFrontend();
   return Status::Ok();
 }
@@ -74,8 +74,8 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
   events_ << formatSeconds(t) << ',' << report.observations << ',' << report.updated << ','
           << report.rejected << ',' << report.initialised << ',' << report.archived << ','
           << report.reactivated << ',' << report.loop_landmarks << ','
-          << (report.loop_closure ? 1 : 0) << ',' << (report.theta_reduced ? 1 : 0) << ','
-          << report.state_size << '\n';
+          << (report.loop_closure ? 1 : 0) << ',' << (report.loop_refused ? 1 : 0) << ','
+          << (report.theta_reduced ? 1 : 0) << ',' << report.state_size << '\n';
   return events_ ? Status::Ok() : Status::Error(dir_ + "/events.csv: write failed");
 }
 

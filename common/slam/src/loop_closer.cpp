@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "cvslam/filter/covariance_helper.h"
 #include "cvslam/filter/vehicle_model.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/slam/loop_alignment.h"
@@ -37,31 +38,54 @@ Status LoopCloser::process(SlamState& state, LandmarkBook& book,
                            StereoUpdater& updater, const UpdatePolicy& policy,
                            FilterStatistics* stats, LoopReport* report) {
   detect(book, frame, t_us, report);
+  LoopAlignment fit;
   if (o_.loop_closure_min_landmarks == 0 ||
       static_cast<int>(loop_ids_.size()) < o_.loop_closure_min_landmarks ||
-      align(state, book, frame, t_us) < o_.loop_closure_min_landmarks) {
+      align(state, frame, &fit) < o_.loop_closure_min_landmarks) {
     return Status::Ok();
   }
-  // Loop closing: the aligned loop landmarks first, ungated, iterated.
-  UpdatePolicy ungated = policy;
+  // The first linearisation point: the vehicle moved by the alignment. The loop landmarks
+  // stay (they are in the old frame); the other landmarks have no rows in this update.
+  SlamState start = state;
+  const StateVariable* veh = start.find(vehicle_);
+  vehicle_model::moveRigidly(start, *veh, fit.apply(vehicle_model::pose(start, *veh).p_BinN),
+                             fit.yaw);
+  Eigen::VectorXd mean_before = state.mean();
+  // Plain Jacobians: Gauss–Newton needs ∂h/∂x at each linearisation point (the first
+  // estimates of the loop landmarks' observer are from before the drift).
+  const CovarianceHelper::Linearisation linearise = [&](const SlamState& at,
+                                                        MeasurementBatch* batch) {
+    return updater.linearise(at, book, frame, StereoUpdater::Selection::kOnlyListed, loop_ids_,
+                             StereoUpdater::Jacobians::kPlain, 1.0, batch);
+  };
+  IteratedUpdateOptions iterated;
+  iterated.max_iterations = o_.loop_closure_passes;
+  iterated.joint_gate_probability = o_.loop_closure_gate_probability;
+  UpdatePolicy ungated = policy;  // the joint gate replaces the per-observation one
   ungated.gate_probability = 0.0;
-  const int loop_passes = o_.loop_closure_passes;
-  std::vector<UpdateReport> passes;
-  const Status s =
-      updater.update(state, book, frame, loop_passes, StereoUpdater::Selection::kOnlyListed,
-                     loop_ids_, ungated, &passes);
-  for (std::size_t pass = 0; pass < passes.size(); ++pass) {
-    if (pass + 1 == static_cast<std::size_t>(loop_passes)) stats->add(passes[pass]);
-    report->theta_reduced = report->theta_reduced || passes[pass].theta_reduced;
-  }
+  UpdateReport u;
+  const Status s = CovarianceHelper::iteratedUpdate(state, std::move(start), linearise, iterated,
+                                                    ungated, &batch_, &u);
   if (!s.ok()) return s;
+  stats->add(u);
+  report->theta_reduced = u.theta_reduced;
+  report->nis = u.nis;
+  report->nis_dof = u.rows;
+  if (u.rejected_jointly || u.rows == 0) {
+    // Refused: the loop landmarks stay pending (out of the gated updates) until the window
+    // ends or a later frame's loop passes the gate.
+    report->loop_refused = u.rejected_jointly;
+    return Status::Ok();
+  }
   report->loop_closure = true;
+  followCorrection(state, mean_before, vehicle_, &book);
+  report->mean_before = std::move(mean_before);
   for (int64_t id : loop_ids_) book.endPendingLoop(id);
   return Status::Ok();
 }
 
-int LoopCloser::align(SlamState& state, LandmarkBook& book, const StereoFrameObservations& frame,
-                      int64_t t_us) {
+int LoopCloser::align(const SlamState& state, const StereoFrameObservations& frame,
+                      LoopAlignment* fit_out) {
   const StateVariable* veh = state.find(vehicle_);
   if (veh == nullptr) return 0;
   const vehicle_model::Pose x = vehicle_model::pose(state, *veh);
@@ -97,33 +121,30 @@ int LoopCloser::align(SlamState& state, LandmarkBook& book, const StereoFrameObs
   if (!fit.ok() || static_cast<int>(ids.size()) < o_.loop_closure_min_landmarks) return 0;
   loop_ids_ = ids;
   std::sort(loop_ids_.begin(), loop_ids_.end());
+  *fit_out = *fit;
+  return static_cast<int>(loop_ids_.size());
+}
 
-  // Move the linearisation point: the vehicle and the landmarks that drifted with it (all
-  // landmarks of the book but the loop ones) by the fitted rigid motion. The update that
-  // follows then sees small innovations and corrects the covariance as usual.
-  vehicle_model::moveRigidly(state, *veh, fit->apply(x.p_BinN), fit->yaw);
-  // The alignment moves the estimate along the unobservable directions; their tracked
-  // directions move with it.
-  Eigen::VectorXd u_v = book.vehicleYawDirection();
-  u_v.head<3>() = moveYawDirection(u_v.head<3>(), *fit);
-  book.setVehicleYawDirection(u_v);
-  const auto min_age_us = static_cast<int64_t>(o_.loop_closure_min_age_s * 1e6);
+void followCorrection(const SlamState& state, const Eigen::VectorXd& mean_before,
+                      const VariableKey& vehicle, LandmarkBook* book) {
+  // u = e3 × p is linear in p: a move by Δ adds e3 × Δ.
   for (const StateVariable& v : state.variables()) {
-    if (v.key.kind != VariableKey::Kind::kLandmark) continue;
-    const auto id = static_cast<int64_t>(v.key.id);
-    if (std::binary_search(loop_ids_.begin(), loop_ids_.end(), id)) continue;
-    // Only landmarks seen recently drifted with the vehicle; old ones (the full map keeps
-    // them in the state) are in the old frame, like the loop landmarks.
-    LandmarkBookEntry* record = book.find(id);
-    if (record == nullptr || !record->drifts_with_vehicle ||
-        t_us - record->last_seen_us >= min_age_us) {
+    const Eigen::Vector3d delta =
+        state.value(v).head<3>() - mean_before.segment<3>(v.index);  // position entries
+    if (v.key == vehicle) {
+      Eigen::VectorXd u_v = book->vehicleYawDirection();
+      if (u_v.size() >= 3) {
+        u_v.head<3>() += yawDirectionOfPoint(delta);
+        book->setVehicleYawDirection(u_v);
+      }
       continue;
     }
-    state.setValue(v, fit->apply(state.value(v)));
-    record->first_estimate = fit->apply(record->first_estimate);
-    record->yaw_direction = moveYawDirection(record->yaw_direction, *fit);
+    if (v.key.kind != VariableKey::Kind::kLandmark) continue;
+    LandmarkBookEntry* record = book->find(static_cast<int64_t>(v.key.id));
+    if (record == nullptr) continue;
+    record->first_estimate += delta;
+    record->yaw_direction += yawDirectionOfPoint(delta);
   }
-  return static_cast<int>(loop_ids_.size());
 }
 
 }  // namespace cvslam

@@ -21,11 +21,14 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
   node.get("loop_closure_max_residual_m", loop_closure_max_residual_m);
   node.get("loop_closure_passes", loop_closure_passes);
+  node.get("loop_closure_gate_probability", loop_closure_gate_probability);
   node.get("loop_closure_window_s", loop_closure_window_s);
   node.check(loop_closure_window_s > 0.0, "loop_closure_window_s", "must be > 0");
   node.check(loop_closure_min_landmarks >= 0, "loop_closure_min_landmarks", "must be ≥ 0");
   node.check(loop_closure_max_residual_m > 0.0, "loop_closure_max_residual_m", "must be > 0");
   node.check(loop_closure_passes >= 1, "loop_closure_passes", "must be ≥ 1");
+  node.check(loop_closure_gate_probability >= 0.0 && loop_closure_gate_probability < 1.0,
+             "loop_closure_gate_probability", "must be in [0, 1)");
   node.get("initial_accel_bias_sigma", initial_accel_bias_sigma);
   node.get("initial_gyro_bias_sigma", initial_gyro_bias_sigma);
   node.get("initial_accel_bias", initial_accel_bias);

@@ -17,27 +17,34 @@ Status StereoUpdater::update(SlamState& state, const LandmarkBook& book,
                              const StereoFrameObservations& frame, int passes, Selection selection,
                              const std::vector<int64_t>& listed, const UpdatePolicy& policy,
                              std::vector<UpdateReport>* reports) {
+  // Each pass counts the data once in total: R × passes (scale_noise_per_pass, §5.7.3).
+  const double noise_scale = o_.scale_noise_per_pass ? passes : 1.0;
   for (int p = 0; p < passes; ++p) {
-    UpdateReport u;
-    if (Status s = pass(state, book, frame, passes, selection, listed, policy, &u); !s.ok()) {
+    if (Status s = linearise(state, book, frame, selection, listed, Jacobians::kFilter, noise_scale,
+                             &batch_);
+        !s.ok()) {
       return s;
+    }
+    UpdateReport u;
+    if (batch_.groups() > 0) {
+      if (Status s = CovarianceHelper::update(state, batch_, policy, &u); !s.ok()) return s;
     }
     reports->push_back(u);
   }
   return Status::Ok();
 }
 
-Status StereoUpdater::pass(SlamState& state, const LandmarkBook& book,
-                           const StereoFrameObservations& frame, int passes, Selection selection,
-                           const std::vector<int64_t>& listed, const UpdatePolicy& policy,
-                           UpdateReport* report) {
+Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book,
+                                const StereoFrameObservations& frame, Selection selection,
+                                const std::vector<int64_t>& listed, Jacobians jacobians,
+                                double noise_scale, MeasurementBatch* batch) const {
   const StateVariable* veh = state.find(vehicle_);
   if (veh == nullptr) return Status::Error("stereo update: the vehicle is not in the state");
   const vehicle_model::Pose x = vehicle_model::pose(state, *veh);
-  const double noise_scale = o_.scale_noise_per_pass ? passes : 1.0;
+  const bool filter_jacobians = jacobians == Jacobians::kFilter;
   const Eigen::Matrix4d R =
       Eigen::Matrix4d::Identity() * (o_.pixel_sigma * o_.pixel_sigma * noise_scale);
-  batch_.reset(state.size(), 4 * static_cast<int>(frame.observations.size()));
+  batch->reset(state.size(), 4 * static_cast<int>(frame.observations.size()));
   StereoCamera::Matrix4x9d dz_dxv;
   StereoCamera::Matrix4x3d dz_dpL;
   for (const StereoObservation& obs : frame.observations) {
@@ -56,13 +63,14 @@ Status StereoUpdater::pass(SlamState& state, const LandmarkBook& book,
     }
     Eigen::Vector4d z_hat;
     const LandmarkBookEntry* record = book.find(id);
-    if (o_.first_estimate_jacobians && record != nullptr) {
+    if (filter_jacobians && o_.first_estimate_jacobians && record != nullptr) {
       z_hat = camera_.project(x, p_LinN);
       camera_.project(x, record->first_estimate, &dz_dxv, &dz_dpL);
     } else {
       z_hat = camera_.project(x, p_LinN, &dz_dxv, &dz_dpL);
     }
-    if (o_.observability_constrained && record != nullptr && record->constrained) {
+    if (filter_jacobians && o_.observability_constrained && record != nullptr &&
+        record->constrained) {
       // Range-weighted: the landmark's distance puts attitude and position on one scale.
       const double lever = o_.oc_projection == SlamOptions::OcProjection::kRangeWeighted
                                ? (p_LinN - x.p_BinN).norm()
@@ -70,13 +78,12 @@ Status StereoUpdater::pass(SlamState& state, const LandmarkBook& book,
       constrainStereoJacobian(vehicle_model::yawDirectionAt(x, book.vehicleYawDirection()),
                               record->yaw_direction, lever, &dz_dxv, &dz_dpL);
     }
-    const int g = batch_.addObservation(obs.z - z_hat, R);
+    const int g = batch->addObservation(obs.z - z_hat, R);
     if (g < 0) break;
-    vehicle_model::setPoseJacobian(batch_, g, *veh, dz_dxv);
-    batch_.setJacobian(g, *lm, dz_dpL);
+    vehicle_model::setPoseJacobian(*batch, g, *veh, dz_dxv);
+    batch->setJacobian(g, *lm, dz_dpL);
   }
-  if (batch_.groups() == 0) return Status::Ok();
-  return CovarianceHelper::update(state, batch_, policy, report);
+  return Status::Ok();
 }
 
 }  // namespace cvslam

@@ -210,6 +210,7 @@ Status VisualInertialSlam::processFrame(const StereoFrameObservations& frame, Fr
   }
   r.loop_landmarks = loop.loop_landmarks;
   r.loop_closure = loop.loop_closure;
+  r.loop_refused = loop.loop_refused;
   r.theta_reduced = loop.theta_reduced;
   if (Status s = updateObserved(frame, &r); !s.ok()) return s;
   // 5. Initialise the never-seen landmarks.

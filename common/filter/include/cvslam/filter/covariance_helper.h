@@ -10,6 +10,7 @@
 //   marginalise drop the variable's rows and columns (exact for a Gaussian)
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "cvslam/core/status.h"
@@ -18,6 +19,16 @@
 #include "cvslam/filter/update_policy.h"
 
 namespace cvslam {
+
+/// How CovarianceHelper::iteratedUpdate iterates and gates.
+struct IteratedUpdateOptions {
+  int max_iterations = 3;  ///< linearisations (1: an EKF update at the given point)
+  /// Stop when an iteration moves the estimate by less than this in every entry [state units].
+  double step_tolerance = 1e-6;
+  /// Gate on the joint NIS of all rows at the last linearisation: the update is not applied
+  /// when NIS > χ²_rows(p). 0 disables it.
+  double joint_gate_probability = 0.0;
+};
 
 class CovarianceHelper {
  public:
@@ -66,6 +77,23 @@ class CovarianceHelper {
   /// applies the EKF (θ = 0) or NH∞ update. `report` may be null.
   static Status update(SlamState& state, const MeasurementBatch& batch, const UpdatePolicy& policy,
                        UpdateReport* report);
+
+  /// Fills `batch` with z − h(at) and H = ∂h/∂x at `at`, a state with the same variables.
+  using Linearisation = std::function<Status(const SlamState& at, MeasurementBatch* batch)>;
+  /// Iterated EKF update (Gauss–Newton on the MAP cost; Bell & Cathey 1993), for a measurement
+  /// whose prediction at the prior mean is far off (loop closing, rendezvous). Iteration i
+  /// linearises at x_i (x_0 = `start`, e.g. the prior moved by a rigid alignment) and updates
+  /// the PRIOR with r = z − h(x_i) − H (x_prior ⊟ x_i): x_{i+1} = x_prior ⊞ K_i r. Any shift of
+  /// the estimate comes through the gain, so the covariance pays for it, and the joint NIS
+  /// at the last x_i tests the whole measurement against the prior (options). The state is
+  /// left as it was when the joint gate rejects (report->rejected_jointly) or no observation
+  /// remains; per-observation gating follows `policy` in every iteration.
+  static Status iteratedUpdate(SlamState& state, SlamState start, const Linearisation& linearise,
+                               const IteratedUpdateOptions& options, const UpdatePolicy& policy,
+                               MeasurementBatch* batch, UpdateReport* report);
+  /// a ⊟ b over the whole state (the vehicles through vehicle_model::difference); a and b must
+  /// hold the same variables in the same slots.
+  static Expected<Eigen::VectorXd> difference(const SlamState& a, const SlamState& b);
 
  private:
   /// x ← x + dx; a vehicle block through vehicle_model::correct (angles kept in (−π, π], or

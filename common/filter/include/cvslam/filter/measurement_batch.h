@@ -34,6 +34,8 @@ class MeasurementBatch {
     setJacobian(group, v.index, J);
   }
 
+  /// r ← r + d over the used rows (an iterated update's H (x_i ⊟ x_prior) term).
+  void shiftResidual(const Eigen::Ref<const Eigen::VectorXd>& d) { r_.head(m_) += d; }
   int stateSize() const { return n_; }
   int rows() const { return m_; }
   int groups() const { return static_cast<int>(groups_.size()); }

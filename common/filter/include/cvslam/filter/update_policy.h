@@ -78,6 +78,10 @@ struct UpdateReport {
   int observations_rejected = 0;  ///< by the Mahalanobis gate
   double theta_used = 0.0;        ///< θ actually applied (≤ policy θ)
   bool theta_reduced = false;     ///< eq. 3.40 failed with the policy θ and θ was reduced
+  int rows = 0;                   ///< rows of the accepted observations
+  double nis = 0.0;    ///< joint rᵀ S⁻¹ r of the accepted rows (χ² with `rows` dof)
+  int iterations = 0;  ///< linearisations of an iterated update (0: a plain update)
+  bool rejected_jointly = false;  ///< an iterated update's joint NIS failed its gate
 };
 
 /// Running counts over a filter's lifetime (one per filter instance, no globals).

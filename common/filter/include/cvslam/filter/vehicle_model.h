@@ -86,6 +86,13 @@ void poseToBlockJacobian(const Eigen::Matrix<double, 3, kPoseSize>& dy_dpose,
 void correct(Eigen::Ref<Eigen::VectorXd> x_v, const Eigen::Ref<const Eigen::VectorXd>& dx_v,
              Eigen::Quaterniond* nominal);
 
+/// The inverse of `correct`: dx_v with correct(x_b, dx_v, nominal_b) = x_a (x_a ⊟ x_b), for two
+/// values of one vehicle block. Euler: x_a − x_b with the angle differences in (−π, π].
+/// Error state (both nominals given, δθ = 0 in both): Log(R̂_bᵀ R̂_a) on the attitude entries.
+Eigen::VectorXd difference(const Eigen::Ref<const Eigen::VectorXd>& x_a,
+                           const Eigen::Quaterniond* nominal_a,
+                           const Eigen::Ref<const Eigen::VectorXd>& x_b,
+                           const Eigen::Quaterniond* nominal_b);
 /// Moves the vehicle rigidly: its position to `position`, its heading by `delta_yaw` about
 /// N's z axis (the loop alignment, loop_alignment.h). Velocity (body frame), tilt and biases
 /// are unchanged.

@@ -51,13 +51,17 @@ struct SlamOptions {
   /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
   /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
   /// this many are observed in one frame and a rigid yaw + translation aligns where the
-  /// cameras see them with where the map has them (loop_alignment.h), the vehicle and the
-  /// recent landmarks are moved by that alignment (the linearisation point) and the loop
-  /// landmarks are applied before the other observations, ungated, with iterated passes.
-  /// 0 disables this (loop landmarks are then gated like the others).
+  /// cameras see them with where the map has them (loop_alignment.h), the loop landmarks
+  /// enter as an iterated EKF update (CovarianceHelper::iteratedUpdate) linearised first at
+  /// the vehicle moved by that alignment, before the other observations. The shift comes
+  /// through the gain (the covariance pays for it), and the loop is refused when its joint
+  /// NIS fails loop_closure_gate_probability. 0 disables loop closing (loop landmarks are then
+  /// gated like the others).
   int loop_closure_min_landmarks = 3;
   double loop_closure_max_residual_m = 2.0;  ///< loop landmarks farther off the fit are dropped [m]
-  int loop_closure_passes = 3;               ///< iterated passes for the loop-closing update
+  int loop_closure_passes = 3;  ///< Gauss–Newton iterations (linearisations) of the loop update
+  /// χ² probability of the loop update's joint NIS gate (0: no gate).
+  double loop_closure_gate_probability = 0.9999;
   /// Loop landmarks that find no consensus within this time return to the gated updates [s].
   double loop_closure_window_s = 5.0;
   double initial_accel_bias_sigma = 0.05;  ///< 1σ of the initial accel bias state [m/s²]

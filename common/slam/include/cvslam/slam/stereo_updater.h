@@ -38,13 +38,21 @@ class StereoUpdater {
                 int passes, Selection selection, const std::vector<int64_t>& listed,
                 const UpdatePolicy& policy, std::vector<UpdateReport>* reports);
 
+  /// Jacobians of `linearise`: the filter's (first estimates and the observability constraint
+  /// as the options say), or the plain ∂h/∂x at the linearisation point (iterated updates).
+  enum class Jacobians { kFilter, kPlain };
+
+  /// Fills `batch` with the selected observations' z − h(x) and H at the state `at` (R = σ² I₄
+  /// × noise_scale). Observations of landmarks not in `at` or predicted behind the camera are
+  /// left out.
+  Status linearise(const SlamState& at, const LandmarkBook& book,
+                   const StereoFrameObservations& frame, Selection selection,
+                   const std::vector<int64_t>& listed, Jacobians jacobians, double noise_scale,
+                   MeasurementBatch* batch) const;
+
   const VariableKey& vehicle() const { return vehicle_; }
 
  private:
-  Status pass(SlamState& state, const LandmarkBook& book, const StereoFrameObservations& frame,
-              int passes, Selection selection, const std::vector<int64_t>& listed,
-              const UpdatePolicy& policy, UpdateReport* report);
-
   VariableKey vehicle_;
   StereoCamera camera_;
   SlamOptions o_;

@@ -71,6 +71,7 @@ struct FrameReport {
   int reactivated = 0;     ///< archived landmarks brought back into the state
   int loop_landmarks = 0;  ///< landmarks observed again after loop_closure_min_age_s unseen
   bool loop_closure = false;
+  bool loop_refused = false;   ///< loop landmarks aligned but refused by the joint NIS gate
   bool theta_reduced = false;  ///< NH∞: eq. 3.40 forced a smaller θ in this frame
   int state_size = 0;          ///< after the frame
   int landmarks_in_state = 0;  ///< after the frame
