@@ -29,7 +29,8 @@
 //   4. rendezvous (see the options), loop closing (LoopCloser on j's landmark book; a
 //      landmark's last-seen time is the latest of any UAV's, so a landmark another UAV kept
 //      observing is no loop; one nobody saw for loop_closure_min_age_s is, also across UAVs;
-//      the alignment moves j's own recent landmarks only), then the gated stereo update of the
+//      the loop's iterated update moves what is correlated with j and every UAV's book
+//      follows, followCorrection), then the gated stereo update of the
 //      other observations. A type-2 observation updates j's vehicle, the shared landmark and,
 //      through their cross-covariances, the UAV that mapped it;
 //   5. initialise j's never-seen landmarks (type 3). A landmark first seen by two UAVs in the
@@ -92,9 +93,9 @@ struct CcTeamFilterOptions {
   double reactivation_inflation = 1.0;
   /// Rendezvous: when a UAV whose position 1σ is at least this meets another UAV's map for
   /// the first time (or first after slam.loop_closure_min_age_s) and is much more uncertain
-  /// than that UAV (rendezvous_sigma_ratio), its observations of that map are applied first with
-  /// slam.loop_closure_passes iterated passes and its own landmarks' first estimates restart after
-  /// them [m]; 0: never.
+  /// than that UAV (rendezvous_sigma_ratio), its observations of that map are applied first, as
+  /// one iterated EKF update (slam.loop_closure_passes iterations) linearised first at the UAV
+  /// shifted onto the met landmarks; the books follow the correction [m]; 0: never.
   double rendezvous_min_sigma_m = 0.5;
   /// ... and only when its position 1σ is at least this times the other UAV's.
   double rendezvous_sigma_ratio = 3.0;
