@@ -54,6 +54,10 @@ Status VehiclePropagation::propagateTo(int64_t t_us, const InsPropagator& propag
   if (segment.size() >= 2) {
     const StateVariable* v = state.find(vehicle);
     if (v == nullptr) return Status::Error("propagation: the vehicle is not in the state");
+    // Φ is linearised at the current nominal; the error-state attitude part of u_v must be
+    // taken there too (R̂ᵀe3 turns with every update's reset, vehicle_model::yawDirectionAt).
+    const Eigen::VectorXd u_v =
+        vehicle_model::yawDirectionAt(vehicle_model::pose(state, *v), book.vehicleYawDirection());
     InsTransition tr;
     if (Status s = propagator.propagate(
             state.value(*v), vehicle_model::nominalAttitude(state, vehicle), segment, &tr);
@@ -66,7 +70,7 @@ Status VehiclePropagation::propagateTo(int64_t t_us, const InsPropagator& propag
     }
     vehicle_model::setNominalAttitude(state, vehicle, tr.q_BtoN);
     // Φ u_v: the transition's own image of u_v.
-    book.setVehicleYawDirection(tr.Phi * book.vehicleYawDirection());
+    book.setVehicleYawDirection(tr.Phi * u_v);
   }
   buffer_.clear();
   buffer_.push_back(segment.back());
