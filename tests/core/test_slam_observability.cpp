@@ -222,9 +222,11 @@ struct TurnStatistics {
   double mean_pose_nees = 0.0;  ///< position + yaw (4 dof), over frames and seeds
 };
 
-TurnStatistics monteCarloTurns(bool observability_constrained) {
+TurnStatistics monteCarloTurns(bool observability_constrained,
+                               vehicle::Attitude attitude = vehicle::Attitude::kEuler) {
   VisualInertialSlamOptions o;
   o.ins.estimate_imu_bias = true;
+  o.ins.attitude = attitude;
   o.map.k = 20;
   o.slam.observability_constrained = observability_constrained;
   TurnStatistics out;
@@ -270,6 +272,21 @@ TEST(ObservabilityConstraint, TurnsNeverGainAbsoluteYawAndStayConsistent) {
   std::cout << "OC: min yaw sigma " << oc.min_yaw_sigma_deg << " deg, NEES " << oc.mean_pose_nees
             << "; unconstrained: " << plain.min_yaw_sigma_deg << " deg, NEES "
             << plain.mean_pose_nees << "\n";
+}
+
+TEST(ObservabilityConstraint, ErrorStateTurnsKeepMostOfTheYawUnobservable) {
+  // The Euler model keeps the yaw σ exactly (above): its ψ is the yaw generator in every chart.
+  // The error state's generator R̂ᵀe3 turns with each update's reset R̂ ← R̂ Exp(δθ̂). With the
+  // reset Jacobian J_r(δθ̂) on P (CovarianceHelper::correctMean) half of that turn is carried;
+  // the OC kept the generator at the prior nominal, so the other half — second order, ½ δθ̂ ×
+  // R̂ᵀe3 per update — still leaks: 1° → 0.91° over this 30 s turn (0.73° without J_r, and
+  // 0.58° with its sign reversed). Closing that gap is open (docs/filter.md).
+  const TurnStatistics oc = monteCarloTurns(true, vehicle::Attitude::kErrorState);
+  RecordProperty("error_state_min_yaw_sigma_deg", std::to_string(oc.min_yaw_sigma_deg));
+  std::cout << "error state, OC: min yaw sigma " << oc.min_yaw_sigma_deg << " deg, NEES "
+            << oc.mean_pose_nees << "\n";
+  EXPECT_GE(oc.min_yaw_sigma_deg, 0.9 * kInitialYawSigmaDeg);
+  EXPECT_LT(oc.mean_pose_nees, 8.0);
 }
 
 /// Mean 9-dof vehicle NEES (position, body velocity, Euler angles) over the first `duration`

@@ -6,6 +6,8 @@
 #include <string>
 
 #include "cvslam/filter/vehicle_model.h"
+#include "cvslam/geometry/so3.h"
+#include "cvslam/ins/vehicle_state_layout.h"
 
 namespace cvslam {
 namespace {
@@ -196,6 +198,17 @@ void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx) 
     if (v.key.kind == VariableKey::Kind::kVehicle) {
       // The vehicle block's own correction: angles wrapped, or δθ folded into the nominal.
       const auto nominal = state.nominal_.find(v.key);
+      if (nominal != state.nominal_.end()) {
+        // The reset R̂ ← R̂ Exp(δθ̂) moves the error-state chart: the error in the new chart is
+        // J_r(δθ̂) times the old one, so P's attitude rows and columns are mapped by it. Taken
+        // as I, every update leaked global-yaw information the observability constraint had
+        // kept out (ObservabilityConstraint.ErrorStateTurns…: yaw σ 1° → 0.73° on a turn).
+        const int a = v.index + vehicle::kAttitude;
+        const Eigen::Matrix3d G =
+            so3::rightJacobian<double>(Eigen::Vector3d(d.segment<3>(vehicle::kAttitude)));
+        state.P_.middleRows(a, 3) = (G * state.P_.middleRows(a, 3)).eval();
+        state.P_.middleCols(a, 3) = (state.P_.middleCols(a, 3) * G.transpose()).eval();
+      }
       vehicle_model::correct(x, d, nominal == state.nominal_.end() ? nullptr : &nominal->second);
     } else {
       x += d;

@@ -97,7 +97,8 @@ class CovarianceHelper {
 
  private:
   /// x ← x + dx; a vehicle block through vehicle_model::correct (angles kept in (−π, π], or
-  /// the rotation error folded into the nominal).
+  /// the rotation error folded into the nominal, P's attitude rows and columns mapped by the
+  /// reset Jacobian J_r(δθ̂)).
   static void correctMean(SlamState& state, const Eigen::VectorXd& dx);
   static Status append(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value);
 };
