@@ -189,17 +189,6 @@ TEST(ObservabilityConstraint, PropagatedYawDirectionFollowsErrorStateResets) {
       << "carried " << carried.transpose() << "\n true " << truth.transpose();
 }
 
-TEST(ObservabilityConstraint, LoopAlignmentMovesTheYawDirection) {
-  LoopAlignment fit;
-  fit.yaw = 0.3;
-  fit.pivot = Eigen::Vector3d(5.0, 2.0, -10.0);
-  fit.translation = Eigen::Vector3d(1.0, -2.0, 0.0);
-  const Eigen::Vector3d p(20.0, -4.0, -10.0);
-  EXPECT_LT(
-      (moveYawDirection(yawDirectionOfPoint(p), fit) - yawDirectionOfPoint(fit.apply(p))).norm(),
-      1e-12);
-}
-
 // A 25 m-radius turn at 10 m height, 3 m/s, noisy IMU with bias walks, 0.5 px pixel noise.
 std::string turnScenario(uint64_t seed) {
   return "name: oc_turn\nseed: " + std::to_string(seed) +

@@ -32,10 +32,4 @@ void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& 
   *H_L = H_oc.rightCols<3>();
 }
 
-Eigen::Vector3d moveYawDirection(const Eigen::Vector3d& u_position, const LoopAlignment& fit) {
-  // u = e3 × p = (−p_y, p_x, 0): recover p's horizontal part, move it, rebuild u.
-  const Eigen::Vector3d p(u_position.y(), -u_position.x(), fit.pivot.z());
-  return yawDirectionOfPoint(fit.apply(p));
-}
-
 }  // namespace cvslam

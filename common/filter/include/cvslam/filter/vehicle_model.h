@@ -94,8 +94,8 @@ Eigen::VectorXd difference(const Eigen::Ref<const Eigen::VectorXd>& x_a,
                            const Eigen::Ref<const Eigen::VectorXd>& x_b,
                            const Eigen::Quaterniond* nominal_b);
 /// Moves the vehicle rigidly: its position to `position`, its heading by `delta_yaw` about
-/// N's z axis (the loop alignment, loop_alignment.h). Velocity (body frame), tilt and biases
-/// are unchanged.
+/// N's z axis (the first linearisation point of a loop or rendezvous update). Velocity (body
+/// frame), tilt and biases are unchanged.
 void moveRigidly(SlamState& state, const StateVariable& vehicle, const Eigen::Vector3d& position,
                  double delta_yaw);
 
@@ -104,7 +104,7 @@ void moveRigidly(SlamState& state, const StateVariable& vehicle, const Eigen::Ve
 /// or R̂ᵀ e3 (error state: Rz(α) R̂ = R̂ Exp(α R̂ᵀ e3)); 0 elsewhere.
 Eigen::VectorXd yawDirection(const Pose& pose, int block_size);
 
-/// The tracked u_v (propagated by Φ, moved by loop alignments) with its attitude part taken at
+/// The tracked u_v (propagated by Φ, moved with loop corrections) with its attitude part taken at
 /// `pose`, where the Jacobians it constrains are evaluated. Euler: u_v unchanged (its ψ entry
 /// is 1 at any attitude). Error state: R̂ᵀ e3 — every update folds δθ into R̂, which turns
 /// the body-frame yaw axis; a stale one would let the observations inform global yaw.

@@ -24,7 +24,6 @@
 #include <Eigen/Core>
 
 #include "cvslam/camera/stereo_camera.h"
-#include "cvslam/slam/loop_alignment.h"
 
 namespace cvslam {
 
@@ -43,9 +42,5 @@ Eigen::Vector3d yawDirectionOfPoint(const Eigen::Vector3d& p);
 void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
                              double attitude_lever_m, StereoCamera::Matrix4x9d* H_v,
                              StereoCamera::Matrix4x3d* H_L);
-
-/// Moves a yaw direction e3 × p (given as a 3-vector, its z ignored) with the rigid loop
-/// alignment p ↦ fit.apply(p), as the alignment moves the estimate it was taken at.
-Eigen::Vector3d moveYawDirection(const Eigen::Vector3d& u_position, const LoopAlignment& fit);
 
 }  // namespace cvslam
