@@ -82,20 +82,35 @@ Eigen::Vector3d mapEstimate(const Eigen::Vector3d& prior, double sigma, const Ei
   return p;
 }
 
+/// The point after one plain EKF update (CovarianceHelper::update) from N(prior, σ² I).
+SlamState ekfUpdate(const Eigen::Vector3d& prior, double sigma, const Eigen::Vector4d& z) {
+  SlamState s = pointState(prior, sigma);
+  MeasurementBatch batch;
+  EXPECT_TRUE(pointMeasurement(z)(s, &batch).ok());
+  EXPECT_TRUE(CovarianceHelper::update(s, batch, UpdatePolicy::ekf(), nullptr).ok());
+  return s;
+}
+
+/// CovarianceHelper::iteratedUpdate of `state` with z, linearised first at `start`.
+UpdateReport iterate(SlamState& state, const SlamState& start, const Eigen::Vector4d& z,
+                     int iterations, double joint_gate_probability = 0.0) {
+  IteratedUpdateOptions o;
+  o.max_iterations = iterations;
+  o.joint_gate_probability = joint_gate_probability;
+  MeasurementBatch batch;
+  UpdateReport report;
+  EXPECT_TRUE(CovarianceHelper::iteratedUpdate(state, start, pointMeasurement(z), o,
+                                               UpdatePolicy::ekf(), &batch, &report)
+                  .ok());
+  return report;
+}
+
 TEST(IteratedUpdate, OneIterationAtThePriorIsTheEkfUpdate) {
   const Eigen::Vector3d prior(10.0, 1.0, 2.0);
   const Eigen::Vector4d z = rangeBearing(Eigen::Vector3d(10.5, 0.2, 2.4));
-  SlamState ekf = pointState(prior, 1.0), iterated = ekf;
-  MeasurementBatch batch;
-  ASSERT_TRUE(pointMeasurement(z)(ekf, &batch).ok());
-  ASSERT_TRUE(CovarianceHelper::update(ekf, batch, UpdatePolicy::ekf(), nullptr).ok());
-  IteratedUpdateOptions one;
-  one.max_iterations = 1;
-  UpdateReport report;
-  ASSERT_TRUE(CovarianceHelper::iteratedUpdate(iterated, iterated, pointMeasurement(z), one,
-                                               UpdatePolicy::ekf(), &batch, &report)
-                  .ok());
-  EXPECT_EQ(report.iterations, 1);
+  const SlamState ekf = ekfUpdate(prior, 1.0, z);
+  SlamState iterated = pointState(prior, 1.0);
+  EXPECT_EQ(iterate(iterated, iterated, z, 1).iterations, 1);
   EXPECT_LT((iterated.mean() - ekf.mean()).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((iterated.covariance() - ekf.covariance()).cwiseAbs().maxCoeff(), 1e-12);
 }
@@ -105,18 +120,11 @@ TEST(IteratedUpdate, ReachesTheMapEstimateFromAFarLinearisationPoint) {
   const Eigen::Vector3d prior(10.0, 6.0, 3.0), truth(6.0, -0.5, 1.0);
   const Eigen::Vector4d z = rangeBearing(truth);
   const Eigen::Vector3d expected = mapEstimate(prior, 2.0, z);
-  SlamState ekf = pointState(prior, 2.0), iterated = ekf;
-  MeasurementBatch batch;
-  ASSERT_TRUE(pointMeasurement(z)(ekf, &batch).ok());
-  ASSERT_TRUE(CovarianceHelper::update(ekf, batch, UpdatePolicy::ekf(), nullptr).ok());
+  const SlamState ekf = ekfUpdate(prior, 2.0, z);
+  SlamState iterated = pointState(prior, 2.0);
   // Started at a rough guess near the truth (as the loop closer starts at its alignment).
-  SlamState start = pointState(truth + Eigen::Vector3d(0.3, -0.2, 0.1), 2.0);
-  IteratedUpdateOptions o;
-  o.max_iterations = 10;
-  UpdateReport report;
-  ASSERT_TRUE(CovarianceHelper::iteratedUpdate(iterated, start, pointMeasurement(z), o,
-                                               UpdatePolicy::ekf(), &batch, &report)
-                  .ok());
+  const SlamState start = pointState(truth + Eigen::Vector3d(0.3, -0.2, 0.1), 2.0);
+  const UpdateReport report = iterate(iterated, start, z, 10);
   const Eigen::Vector3d p_ekf = ekf.mean(), p_iterated = iterated.mean();
   EXPECT_GT((p_ekf - expected).norm(), 0.1) << "the test's h is not nonlinear enough";
   EXPECT_LT((p_iterated - expected).norm(), 1e-6) << p_iterated.transpose();
@@ -134,24 +142,14 @@ TEST(IteratedUpdate, TheJointGateRefusesWhatThePriorCannotExplainAndLeavesTheSta
   const Eigen::Vector4d z = rangeBearing(Eigen::Vector3d(-15.0, 10.0, 3.0));
   SlamState state = pointState(prior, 0.5);
   const SlamState before = state;
-  IteratedUpdateOptions o;
-  o.max_iterations = 5;
-  o.joint_gate_probability = 0.9999;
-  MeasurementBatch batch;
-  UpdateReport report;
-  ASSERT_TRUE(CovarianceHelper::iteratedUpdate(state, state, pointMeasurement(z), o,
-                                               UpdatePolicy::ekf(), &batch, &report)
-                  .ok());
+  const UpdateReport report = iterate(state, state, z, 5, 0.9999);
   EXPECT_TRUE(report.rejected_jointly);
   EXPECT_GT(report.nis, chiSquareQuantile(0.9999, 4));
   EXPECT_EQ(state.mean(), before.mean());
   EXPECT_EQ(state.covariance(), before.covariance());
   // A measurement the prior explains passes the same gate.
   const Eigen::Vector4d z_near = rangeBearing(prior + Eigen::Vector3d(0.4, -0.3, 0.2));
-  ASSERT_TRUE(CovarianceHelper::iteratedUpdate(state, state, pointMeasurement(z_near), o,
-                                               UpdatePolicy::ekf(), &batch, &report)
-                  .ok());
-  EXPECT_FALSE(report.rejected_jointly);
+  EXPECT_FALSE(iterate(state, state, z_near, 5, 0.9999).rejected_jointly);
   EXPECT_NE(state.mean(), before.mean());
 }
 
