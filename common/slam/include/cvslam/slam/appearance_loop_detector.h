@@ -26,8 +26,8 @@
 // ground; the rendered aerial world reuses a few texture tiles every ≈20 m), so the
 // position prior is what rejects a look-alike place far from where the vehicle can be.
 // The accepted observations are then handed to VisualInertialSlam as re-observations of the
-// archived landmarks, whose loop-closing path (alignLoop, iterated update with a joint NIS gate; slam
-// options loop_closure_*) closes the loop.
+// archived landmarks, whose loop-closing path (alignLoop, iterated update with a joint NIS gate;
+// slam options loop_closure_*) closes the loop.
 //
 // YAML (section `frontend.loop_detection:`): the LoopDetectionOptions keys.
 
