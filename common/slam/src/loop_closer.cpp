@@ -128,20 +128,22 @@ int LoopCloser::align(const SlamState& state, const StereoFrameObservations& fra
 void followCorrection(const SlamState& state, const Eigen::VectorXd& mean_before,
                       const VariableKey& vehicle, LandmarkBook* book) {
   // u = e3 × p is linear in p: a move by Δ adds e3 × Δ.
+  const auto moved = [&](const StateVariable& v, int position_entry) -> Eigen::Vector3d {
+    return state.value(v).segment<3>(position_entry) -
+           mean_before.segment<3>(v.index + position_entry);
+  };
   for (const StateVariable& v : state.variables()) {
-    const Eigen::Vector3d delta =
-        state.value(v).head<3>() - mean_before.segment<3>(v.index);  // position entries
     if (v.key == vehicle) {
       Eigen::VectorXd u_v = book->vehicleYawDirection();
-      if (u_v.size() >= 3) {
-        u_v.head<3>() += yawDirectionOfPoint(delta);
-        book->setVehicleYawDirection(u_v);
-      }
+      if (u_v.size() < 3) continue;
+      u_v.head<3>() += yawDirectionOfPoint(moved(v, vehicle::kPosition));
+      book->setVehicleYawDirection(u_v);
       continue;
     }
     if (v.key.kind != VariableKey::Kind::kLandmark) continue;
     LandmarkBookEntry* record = book->find(static_cast<int64_t>(v.key.id));
     if (record == nullptr) continue;
+    const Eigen::Vector3d delta = moved(v, 0);
     record->first_estimate += delta;
     record->yaw_direction += yawDirectionOfPoint(delta);
   }
