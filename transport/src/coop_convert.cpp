@@ -100,6 +100,7 @@ Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& s) {
   cvslam::shared_landmarks_t m{};
   m.header = toHeader(s.header);
   m.vehicle_cov_trace = s.vehicle_cov_trace;
+  m.informed_by.assign(s.informed_by.begin(), s.informed_by.end());
   // One descriptor length per message: when the landmarks' lengths differ, none is sent (the
   // receiver then confirms by the Mahalanobis gate alone).
   bool same_length = true;
@@ -119,6 +120,7 @@ coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks_t& m, int to_ag
   s.header = fromHeader(m.header);
   s.to_agent = to_agent;
   s.vehicle_cov_trace = m.vehicle_cov_trace;
+  s.informed_by.assign(m.informed_by.begin(), m.informed_by.end());
   // Sizes are trusted here: messages reach this point only through decodeMessage().
   s.landmarks.resize(m.index.size());
   for (std::size_t i = 0; i < m.index.size(); ++i) {

@@ -128,6 +128,7 @@ Status finalize(cvslam::shared_request_t& msg) {
 
 Status finalize(cvslam::shared_landmarks_t& msg) {
   return CountSetter()
+      .leading("informed_by", msg.informed_by, msg.num_informed_by)
       .leading("index", msg.index, msg.num_landmarks)
       .rows("position", msg.position, 3)
       .rows("covariance", msg.covariance, 6)

@@ -187,6 +187,7 @@ Status validate(const cvslam::shared_request_t& msg) {
 Status validate(const cvslam::shared_landmarks_t& msg) {
   return Checker(msg.header)
       .finite("vehicle_cov_trace", msg.vehicle_cov_trace)
+      .count("informed_by", msg.num_informed_by, msg.informed_by)
       .count("index", msg.num_landmarks, msg.index)
       .rows("position", msg.num_landmarks, msg.position, 3)
       .rows("covariance", msg.num_landmarks, msg.covariance, 6)

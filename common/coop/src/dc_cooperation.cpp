@@ -3,9 +3,12 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <iterator>
 #include <limits>
 
 #include "cvslam/filter/chi_square.h"
+#include "cvslam/filter/covariance_helper.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 #include "cvslam/vision/descriptor_distance.h"
 
@@ -42,7 +45,14 @@ std::vector<StateLandmark> observedNow(const std::vector<StateLandmark>& in_stat
 }  // namespace
 
 DcCooperation::DcCooperation(int self_id, const DcCooperationOptions& options, int64_t boot_id)
-    : self_(self_id), o_(options), boot_id_(boot_id) {}
+    : self_(self_id), o_(options), boot_id_(boot_id), informed_by_{self_id} {}
+
+bool DcCooperation::independentOf(const std::vector<int>& informed_by) const {
+  if (informed_by.empty()) return false;  // unknown provenance
+  for (int id : informed_by)
+    if (std::binary_search(informed_by_.begin(), informed_by_.end(), id)) return false;
+  return true;
+}
 
 std::vector<CoopEvent> DcCooperation::takeEvents() {
   std::vector<CoopEvent> out;
@@ -94,6 +104,12 @@ bool DcCooperation::onShared(const SharedLandmarks& m) {
   bool ok = validHeader(m.header) &&
             static_cast<int>(m.landmarks.size()) <= o_.max_landmarks_per_message &&
             std::isfinite(m.vehicle_cov_trace) && m.vehicle_cov_trace >= 0.0;
+  // Provenance: ascending ids ≥ 1 that name the sender, or empty (unknown).
+  const std::vector<int>& from = m.informed_by;
+  ok = ok && static_cast<int>(from.size()) <= o_.max_peers + 1 &&
+       std::adjacent_find(from.begin(), from.end(), std::greater_equal<int>()) == from.end() &&
+       (from.empty() ||
+        (from.front() >= 1 && std::binary_search(from.begin(), from.end(), m.header.agent_id)));
   for (const SharedLandmark& l : m.landmarks) {
     if (!ok) break;
     ok = l.p_LinN.allFinite() && l.p_LinN.norm() <= o_.max_position_m && l.covariance.allFinite() &&
@@ -151,6 +167,7 @@ void DcCooperation::handleSummary(const CoopSummary& m, int64_t now_us) {
     fresh.boot_id = m.boot_id;
     fresh.last_heard_us = m.header.t_us;
     fresh.timeout = RequestTimeout({o_.min_request_timeout_s, o_.request_timeout_s});
+    fresh.consistency = PeerConsistency(o_.consistency);
     peers_[j] = fresh;
     if (restart) ++stats_.peer_restarts;
     CoopEvent e;
@@ -208,6 +225,7 @@ void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSl
   s.header = nextHeader(kSharedStream, now_us);
   s.to_agent = m.header.agent_id;
   s.vehicle_cov_trace = vehiclePositionTrace(slam);
+  s.informed_by = informed_by_;
   for (const StateLandmark& l : slam.stateLandmarks()) {
     if (static_cast<int>(s.landmarks.size()) >= o_.max_landmarks_per_message) break;
     if (!std::binary_search(wanted.begin(), wanted.end(), l.index)) continue;
@@ -242,14 +260,16 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
   e.kind = CoopEventKind::kFused;
   e.peer = j;
   e.count = static_cast<int>(m.landmarks.size());
-  const std::vector<ConfirmedPair> pairs = confirm(m, local, &e);
+  const bool independent = o_.use_provenance && independentOf(m.informed_by);
+  const std::vector<ConfirmedPair> pairs = confirm(m, local, independent, &e);
   if (!pairs.empty() && !fuseConfirmed(m, pairs, local, answers_request, slam, now_us, out, &e))
     return;
   events_.push_back(e);
 }
 
 std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
-    const SharedLandmarks& m, const std::vector<StateLandmark>& local, CoopEvent* e) {
+    const SharedLandmarks& m, const std::vector<StateLandmark>& local, bool independent,
+    CoopEvent* e) {
   const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
   std::vector<bool> used(local.size(), false);
   std::vector<ConfirmedPair> pairs;
@@ -268,7 +288,8 @@ std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
       }
       any_descriptor = true;
       const Eigen::Vector3d d = s.p_LinN - local[i].p_LinN;
-      const double d2 = d.dot((local[i].covariance + s.covariance).ldlt().solve(d));
+      const double d2 = independent ? d.dot((local[i].covariance + s.covariance).ldlt().solve(d))
+                                    : ciBoundedNis(d, local[i].covariance, s.covariance);
       if (d2 <= gate && d2 < best) best = d2, best_i = i;
     }
     if (!any_index) {
@@ -294,6 +315,7 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
                                   CoopEvent* e) {
   const int j = m.header.agent_id;
   const auto n = static_cast<Eigen::Index>(pairs.size());
+  const bool independent = o_.use_provenance && independentOf(m.informed_by);
   // The peer's estimates, and the bound on their stacked covariance: the message carries
   // marginals P_i only, and for ANY joint covariance with those diagonal blocks,
   // Σ ≤ blockdiag(m·P_i) (covariance intersection of the m blocks with equal weights 1/m), so
@@ -303,26 +325,37 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
   peer.y.resize(3 * n);
   peer.R = Eigen::MatrixXd::Zero(3 * n, 3 * n);
   peer.vehicle_trace = m.vehicle_cov_trace;
+  Eigen::VectorXd d(3 * n);
+  std::vector<VariableKey> keys;
   for (Eigen::Index k = 0; k < n; ++k) {
     const ConfirmedPair& pr = pairs[static_cast<std::size_t>(k)];
-    peer.ids.push_back(local[pr.local].id);
+    const StateLandmark& l = local[pr.local];
+    peer.ids.push_back(l.id);
+    keys.push_back(VariableKey::landmark(static_cast<uint64_t>(l.id)));
     peer.y.segment<3>(3 * k) = pr.peer->p_LinN;
+    d.segment<3>(3 * k) = pr.peer->p_LinN - l.p_LinN;
     peer.R.block<3, 3>(3 * k, 3 * k) = static_cast<double>(n) * pr.peer->covariance;
-    peer.landmark_trace += pr.peer->covariance.trace();
   }
-  const Expected<CiChoice> ci =
-      slam.ciUpdater().choose(slam.state(), peer, {o_.ci_method, o_.min_omega});
-  if (!ci.ok()) {
+  // The set jointly, against the own joint covariance P1 of the landmarks: the NIS with bounds
+  // on every unknown covariance is at most χ²(3m)-distributed for a consistent peer.
+  Expected<Eigen::MatrixXd> P1 = CovarianceHelper::marginalCovariance(slam.state(), keys);
+  if (!P1.ok()) {
     ++stats_.fusion_failures;
     return false;
   }
-  e->omega1 = ci->omega1;
-  // both_ways: return the local (pre-fusion) estimates of the confirmed landmarks.
+  e->independent = independent;
+  e->nis_dof = static_cast<int>(3 * n);
+  e->nis = independent ? d.dot((P1.value() + peer.R).ldlt().solve(d))
+                       : ciBoundedNis(d, P1.value(), peer.R);
+  e->r_scale = peers_[j].consistency.add(e->nis, e->nis_dof);
+  // both_ways: return the local (pre-fusion) estimates of the confirmed landmarks, with the
+  // pre-fusion provenance.
   if (o_.both_ways && answers_request) {
     SharedLandmarks back;
     back.header = nextHeader(kSharedStream, now_us);
     back.to_agent = j;
-    back.vehicle_cov_trace = ci->own_vehicle_trace;
+    back.vehicle_cov_trace = vehiclePositionTrace(slam);
+    back.informed_by = informed_by_;
     for (const ConfirmedPair& pr : pairs) {
       const StateLandmark& l = local[pr.local];
       back.landmarks.push_back({pr.peer->index, l.p_LinN, l.covariance, l.descriptor});
@@ -332,18 +365,49 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
                        static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
     out->shared.push_back(std::move(back));
   }
-  // When the peer's landmarks would not even shrink the bound on the vehicle position, the
-  // CI update only inflates the local state; not fusing is always consistent.
-  if (o_.require_vehicle_gain && !ci->vehicle_gain) {
-    ++stats_.skipped_no_gain;
-    e->no_gain = true;
-    e->count = static_cast<int>(m.landmarks.size());
+  if (e->nis > chiSquareQuantile(o_.gate_probability, e->nis_dof)) {
+    ++stats_.rejected_joint_gate;
+    e->rejected_gate += static_cast<int>(n);
     return true;
   }
-  if (Status s = slam.fuseCovarianceIntersection(peer.ids, peer.y, peer.R, ci->omega1); !s.ok()) {
+  if (e->r_scale > 1.0) {
+    peer.R *= e->r_scale;
+    ++stats_.peer_down_weighted;
+  }
+  Status fused = Status::Ok();
+  if (independent) {
+    fused = slam.fuseIndependent(peer.ids, peer.y, peer.R);
+    if (fused.ok()) ++stats_.fused_independent;
+  } else {
+    // ω1 from the covariances actually fused (R, not the marginals it bounds).
+    peer.landmark_trace = peer.R.trace();
+    const Expected<CiChoice> ci =
+        slam.ciUpdater().choose(slam.state(), peer, {o_.ci_method, o_.min_omega});
+    if (!ci.ok()) {
+      ++stats_.fusion_failures;
+      return false;
+    }
+    e->omega1 = ci->omega1;
+    // When the peer's landmarks would not even shrink the bound on the vehicle position, the
+    // CI update only inflates the local state; not fusing is always consistent.
+    if (o_.require_vehicle_gain && !ci->vehicle_gain) {
+      ++stats_.skipped_no_gain;
+      e->no_gain = true;
+      return true;
+    }
+    fused = slam.fuseCovarianceIntersection(peer.ids, peer.y, peer.R, ci->omega1);
+  }
+  if (!fused.ok()) {
     ++stats_.fusion_failures;
     return false;
   }
+  // The state now holds the peer's information and everything its estimates held.
+  std::vector<int> from = m.informed_by;
+  if (from.empty()) from.push_back(j);
+  std::vector<int> merged;
+  std::set_union(informed_by_.begin(), informed_by_.end(), from.begin(), from.end(),
+                 std::back_inserter(merged));
+  informed_by_ = std::move(merged);
   e->fused = static_cast<int>(n);
   stats_.landmarks_fused += n;
   ++stats_.exchanges_completed;

@@ -1,5 +1,7 @@
 #include "cvslam/filter/covariance_intersection.h"
 
+#include <algorithm>
+
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <cmath>
@@ -111,6 +113,18 @@ double optimalVehicleCiOmega(const Eigen::MatrixXd& P_pp, const Eigen::MatrixXd&
   if (cost(1.0) <= cost(w)) return 1.0;
   if (cost(omega_min) <= cost(w)) return omega_min;
   return w;
+}
+
+double ciBoundedNis(const Eigen::VectorXd& d, const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2,
+                    int steps) {
+  double best = 0.0;
+  for (int k = 1; k < steps; ++k) {
+    const double w = static_cast<double>(k) / steps;
+    const Eigen::LDLT<Eigen::MatrixXd> S(P1 / w + P2 / (1.0 - w));
+    if (S.info() != Eigen::Success) continue;
+    best = std::max(best, d.dot(S.solve(d)));
+  }
+  return best;
 }
 
 Expected<CiFusion> fuseCovarianceIntersection(const Eigen::VectorXd& x1, const Eigen::MatrixXd& P1,

@@ -58,12 +58,29 @@ Expected<CiChoice> CiUpdater::choose(const SlamState& state, const CiPeerEstimat
 
 Status CiUpdater::apply(SlamState& state, LandmarkBook& book, const std::vector<int64_t>& ids,
                         const Eigen::VectorXd& y, const Eigen::MatrixXd& R, double omega1) const {
-  const auto m = static_cast<Eigen::Index>(ids.size());
-  if (m == 0) return Status::Ok();
-  if (y.size() != 3 * m || R.rows() != 3 * m || R.cols() != 3 * m)
-    return Status::Error("CI fusion: y and R must have 3 rows per landmark");
   if (!std::isfinite(omega1) || omega1 <= 0.0 || omega1 > 1.0)
     return Status::Error("CI fusion: omega1 must be in (0, 1]");
+  // ω1 = 1 gives all the weight to the local estimate: nothing changes (eq. 6.2).
+  if (omega1 >= 1.0) return validate(state, ids, y, R).status();
+  // P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H  ⇔  scale the prior by 1/ω1, then an EKF update with R/ω2
+  // (docs/cooperation.md).
+  return update(state, book, ids, y, R, 1.0 / omega1, 1.0 / (1.0 - omega1));
+}
+
+Status CiUpdater::applyIndependent(SlamState& state, LandmarkBook& book,
+                                   const std::vector<int64_t>& ids, const Eigen::VectorXd& y,
+                                   const Eigen::MatrixXd& R) const {
+  // Independent estimates: information adds, P⁻¹ ← P⁻¹ + Hᵀ R⁻¹ H, the plain EKF update.
+  return update(state, book, ids, y, R, 1.0, 1.0);
+}
+
+Expected<std::vector<const StateVariable*>> CiUpdater::validate(const SlamState& state,
+                                                                const std::vector<int64_t>& ids,
+                                                                const Eigen::VectorXd& y,
+                                                                const Eigen::MatrixXd& R) const {
+  const auto m = static_cast<Eigen::Index>(ids.size());
+  if (y.size() != 3 * m || R.rows() != 3 * m || R.cols() != 3 * m)
+    return Status::Error("CI fusion: y and R must have 3 rows per landmark");
   if (!y.allFinite() || !R.allFinite()) return Status::Error("CI fusion: non-finite peer estimate");
   std::vector<const StateVariable*> vars;
   for (int64_t id : ids) {
@@ -72,21 +89,30 @@ Status CiUpdater::apply(SlamState& state, LandmarkBook& book, const std::vector<
       return Status::Error("CI fusion: landmark " + std::to_string(id) + " is not in the state");
     vars.push_back(v);
   }
-  // ω1 = 1 gives all the weight to the local estimate: nothing changes (eq. 6.2).
-  if (omega1 >= 1.0) return Status::Ok();
-  const double omega2 = 1.0 - omega1;
-  // P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H  ⇔  scale the prior by 1/ω1, then an EKF update with R/ω2
-  // (docs/cooperation.md). H selects the landmarks, the residual is y − p_L.
+  return vars;
+}
+
+Status CiUpdater::update(SlamState& state, LandmarkBook& book, const std::vector<int64_t>& ids,
+                         const Eigen::VectorXd& y, const Eigen::MatrixXd& R, double prior_scale,
+                         double r_scale) const {
+  const auto m = static_cast<Eigen::Index>(ids.size());
+  Expected<std::vector<const StateVariable*>> checked = validate(state, ids, y, R);
+  if (!checked.ok()) return checked.status();
+  if (m == 0) return Status::Ok();
+  const std::vector<const StateVariable*>& vars = checked.value();
+  // H selects the landmarks, the residual is y − p_L.
   Eigen::VectorXd r(3 * m);
   for (Eigen::Index i = 0; i < m; ++i)
     r.segment<3>(3 * i) = y.segment<3>(3 * i) - state.value(*vars[static_cast<size_t>(i)]);
-  if (Status s =
-          CovarianceHelper::scaleCovariance(state, book.variablesIn(state, vehicle_), 1.0 / omega1);
-      !s.ok())
-    return s;
+  if (prior_scale != 1.0) {
+    if (Status s = CovarianceHelper::scaleCovariance(state, book.variablesIn(state, vehicle_),
+                                                     prior_scale);
+        !s.ok())
+      return s;
+  }
   MeasurementBatch batch;
   batch.reset(state.size(), static_cast<int>(3 * m));
-  const int g = batch.addObservation(r, R / omega2);
+  const int g = batch.addObservation(r, r_scale * R);
   for (Eigen::Index i = 0; i < m; ++i) {
     Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3 * m, 3);
     H.block<3, 3>(3 * i, 0).setIdentity();

@@ -35,4 +35,10 @@ Status VisualInertialSlam::fuseCovarianceIntersection(const std::vector<int64_t>
   return ci_updater_.apply(state_, book_, ids, y, R, omega1);
 }
 
+Status VisualInertialSlam::fuseIndependent(const std::vector<int64_t>& ids,
+                                           const Eigen::VectorXd& y, const Eigen::MatrixXd& R) {
+  if (!initialized_) return Status::Error("peer fusion: filter not initialised");
+  return ci_updater_.applyIndependent(state_, book_, ids, y, R);
+}
+
 }  // namespace cvslam

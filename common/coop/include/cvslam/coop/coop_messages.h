@@ -56,6 +56,9 @@ struct SharedLandmarks {
   CoopHeader header;
   int to_agent = 0;
   double vehicle_cov_trace = 0.0;  ///< sender's vehicle position covariance trace [m²]
+  /// Provenance: the agents whose information these estimates hold (the sender and every peer
+  /// it has fused, transitively), ascending; empty: unknown (treated as correlated).
+  std::vector<int> informed_by;
   std::vector<SharedLandmark> landmarks;
 };
 

@@ -12,10 +12,18 @@
 //   4. the sender answers with positions, covariances, descriptors and its vehicle-covariance
 //      trace (SharedLandmarks on UAV<i>/SHARED);
 //   5. the receiver confirms each by descriptor distance (when both have descriptors) and a
-//      χ² Mahalanobis gate on the two estimates, then fuses all confirmed landmarks by
-//      covariance intersection as ONE CI-consistent filter update (the CI updater,
-//      slam/ci_updater.h, which also chooses ω1); with both_ways it also returns its
-//      own (pre-fusion) estimates of the confirmed landmarks, which the sender fuses.
+//      χ² gate on the two estimates, tests the confirmed set jointly (a χ²(3m) gate and the
+//      peer's innovation test over time, peer_consistency.h), then fuses it as ONE filter
+//      update (slam/ci_updater.h): the EKF update when the provenance lists of the two
+//      estimates are disjoint (they share no information, so they are independent),
+//      covariance intersection otherwise (ω1 from the covariances fused); with both_ways it
+//      also returns its own (pre-fusion) estimates of the confirmed landmarks, which the
+//      sender fuses.
+// Provenance: each agent keeps the set of agents whose information its state holds (itself,
+// and the lists of everything it fused); SharedLandmarks carry it. Every gate uses a
+// covariance that bounds the true one: P_own + P_peer for independent estimates, the CI bound
+// (filter/covariance_intersection.h ciBoundedNis) otherwise, and for the peer's landmarks
+// jointly blockdiag(m·P_i) (the message carries marginals only).
 // Inbound messages are validated when they arrive and queued; afterFrame applies those older
 // than the frame (epoch semantics, docs/cooperation.md). Stale, duplicated and reordered
 // messages are dropped and counted. Everything is deterministic in the message order.
@@ -30,6 +38,7 @@
 #include "cvslam/camera/stereo_observation.h"
 #include "cvslam/coop/coop_messages.h"
 #include "cvslam/coop/feature_ellipsoid.h"
+#include "cvslam/coop/peer_consistency.h"
 #include "cvslam/coop/request_timeout.h"
 #include "cvslam/core/status.h"
 #include "cvslam/filter/covariance_intersection.h"
@@ -84,6 +93,12 @@ struct DcCooperationOptions {
   /// Fuse only when the CI update shrinks the trace of the vehicle position covariance
   /// (otherwise it only inflates the local state; not fusing is always consistent).
   bool require_vehicle_gain = true;
+  /// Fuse estimates whose provenance is disjoint from the own state's with the EKF update (they
+  /// are independent); false: always covariance intersection (the thesis).
+  bool use_provenance = true;
+  /// The innovation test over time of each peer (YAML consistency_window,
+  /// consistency_probability).
+  PeerConsistencyOptions consistency;
   int max_queued_messages = 1000;
   /// Peers tracked at most; summaries of further agents are dropped (rejected_too_many_peers),
   /// so that a flood of forged agent ids cannot grow the state without bound.
@@ -113,6 +128,9 @@ struct DcCooperationStatistics {
   int64_t shared_not_in_state = 0;    ///< shared landmarks no longer in the local state
   int64_t fusion_failures = 0;        ///< CI updates the filter refused
   int64_t skipped_no_gain = 0;        ///< confirmed sets not fused (require_vehicle_gain)
+  int64_t fused_independent = 0;      ///< exchanges fused by the EKF update (provenance)
+  int64_t rejected_joint_gate = 0;    ///< confirmed sets failing the joint χ²(3m) gate
+  int64_t peer_down_weighted = 0;     ///< exchanges whose R was scaled (peer_consistency.h)
   int64_t request_timeouts = 0;
   int64_t peer_restarts = 0;
   int64_t peer_timeouts = 0;
@@ -143,6 +161,10 @@ struct CoopEvent {
   double omega1 = 1.0;          ///< kFused: weight of the own estimate
   int not_in_state = 0;         ///< kFused: landmarks no longer in the local state
   bool no_gain = false;         ///< kFused: not fused (require_vehicle_gain)
+  bool independent = false;     ///< kFused: by the EKF update (disjoint provenance)
+  double nis = 0.0;             ///< kFused: joint NIS of the confirmed set
+  int nis_dof = 0;              ///< kFused: its degrees of freedom (3 per landmark)
+  double r_scale = 1.0;         ///< kFused: scale of the peer's R (peer_consistency.h)
 };
 
 class DcCooperation {
@@ -178,6 +200,7 @@ class DcCooperation {
     int64_t request_sent_us = 0;
     std::vector<uint32_t> requested;  ///< indices of the pending request (ascending)
     RequestTimeout timeout;           ///< how long to wait for its answer
+    PeerConsistency consistency;      ///< its innovation test over time
   };
   using Inbound = std::variant<CoopSummary, FeatureIndexList, SharedRequest, SharedLandmarks>;
 
@@ -199,13 +222,16 @@ class DcCooperation {
   /// Step 5: confirms the shared landmarks by descriptor distance and the χ² gate, counting
   /// the rejections in *e and the statistics.
   std::vector<ConfirmedPair> confirm(const SharedLandmarks& m,
-                                     const std::vector<StateLandmark>& local, CoopEvent* e);
+                                     const std::vector<StateLandmark>& local, bool independent,
+                                     CoopEvent* e);
   /// Fuses the confirmed landmarks with the CI updater (slam/ci_updater.h), returning the own
   /// estimates with both_ways; false when the filter refused (no event is recorded then).
   bool fuseConfirmed(const SharedLandmarks& m, const std::vector<ConfirmedPair>& pairs,
                      const std::vector<StateLandmark>& local, bool answers_request,
                      VisualInertialSlam& slam, int64_t now_us, CoopOutbox* out, CoopEvent* e);
   CoopHeader nextHeader(int stream, int64_t t_us);
+  /// Estimates with this provenance share no information with the own state.
+  bool independentOf(const std::vector<int>& informed_by) const;
 
   int self_;
   DcCooperationOptions o_;
@@ -217,6 +243,7 @@ class DcCooperation {
   int64_t last_index_us_ = -1;
   DcCooperationStatistics stats_;
   std::vector<CoopEvent> events_;
+  std::vector<int> informed_by_;  ///< provenance of the own state, ascending
 };
 
 }  // namespace cvslam::coop

@@ -57,6 +57,15 @@ double optimalVehicleCiOmega(const Eigen::MatrixXd& P_pp, const Eigen::MatrixXd&
                              const Eigen::MatrixXd& P_LL, const Eigen::MatrixXd& R,
                              double omega_min, double tolerance = 1e-6);
 
+/// Normalised squared distance of d = x1 − x2 for two estimates with covariances P1, P2 and
+/// UNKNOWN cross-covariance: for every ω ∈ (0, 1), cov(d) ≤ P1/ω + P2/(1 − ω) (the CI bound),
+/// so dᵀ cov(d)⁻¹ d ≥ max_ω dᵀ (P1/ω + P2/(1 − ω))⁻¹ d, which this returns (maximised over
+/// `steps` − 1 interior ω, each a valid lower bound). A χ² gate on it rejects a consistent pair
+/// at most as often as its probability says, whatever the correlation (scalar case:
+/// d² / (σ1 + σ2)² instead of the independent d² / (σ1² + σ2²)).
+double ciBoundedNis(const Eigen::VectorXd& d, const Eigen::MatrixXd& P1, const Eigen::MatrixXd& P2,
+                    int steps = 20);
+
 struct CiFusion {
   Eigen::VectorXd x;
   Eigen::MatrixXd P;

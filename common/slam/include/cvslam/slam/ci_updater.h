@@ -3,7 +3,7 @@
 // landmarks (thesis §6.6.4, eq. 6.2 on the joint state; docs/cooperation.md), and the choice of
 // the weight ω1 of the own estimate (filter/covariance_intersection.h).
 //
-// The update: P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H, i.e. the prior of the vehicle's map (its block and
+// The update: P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H (ω1 = ω2 = 1 for independent estimates), i.e. the prior of the vehicle's map (its block and
 // its landmarks, landmark_book.h) is scaled by 1/ω1 and the peer's stacked estimates y enter as
 // a measurement with covariance R/ω2, ω2 = 1 − ω1, so the vehicle and its other landmarks are
 // corrected through their correlations. In a state holding several vehicles only that
@@ -63,9 +63,25 @@ class CiUpdater {
   Status apply(SlamState& state, LandmarkBook& book, const std::vector<int64_t>& ids,
                const Eigen::VectorXd& y, const Eigen::MatrixXd& R, double omega1) const;
 
+  /// The same update for estimates KNOWN to be independent of the state (no information in
+  /// common, dc_cooperation.h "provenance"): P⁻¹ ← P⁻¹ + Hᵀ R⁻¹ H, the EKF update, nothing
+  /// scaled. R must bound the covariance of y.
+  Status applyIndependent(SlamState& state, LandmarkBook& book, const std::vector<int64_t>& ids,
+                          const Eigen::VectorXd& y, const Eigen::MatrixXd& R) const;
+
   const VariableKey& vehicle() const { return vehicle_; }
 
  private:
+  /// The landmarks' variables; an error on a size mismatch, non-finite input or unknown id.
+  Expected<std::vector<const StateVariable*>> validate(const SlamState& state,
+                                                       const std::vector<int64_t>& ids,
+                                                       const Eigen::VectorXd& y,
+                                                       const Eigen::MatrixXd& R) const;
+  /// Scales the vehicle's map prior by prior_scale, then the EKF update with r_scale·R.
+  Status update(SlamState& state, LandmarkBook& book, const std::vector<int64_t>& ids,
+                const Eigen::VectorXd& y, const Eigen::MatrixXd& R, double prior_scale,
+                double r_scale) const;
+
   VariableKey vehicle_;
 };
 

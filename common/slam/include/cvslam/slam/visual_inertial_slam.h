@@ -139,6 +139,10 @@ class VisualInertialSlam {
   /// (ci_updater.h) on this filter's state and landmark book. omega1 ∈ (0, 1]; 1 = no-op.
   Status fuseCovarianceIntersection(const std::vector<int64_t>& ids, const Eigen::VectorXd& y,
                                     const Eigen::MatrixXd& R, double omega1);
+  /// The EKF update with a peer's estimates known to be independent of this filter's
+  /// (CiUpdater::applyIndependent); R bounds their covariance.
+  Status fuseIndependent(const std::vector<int64_t>& ids, const Eigen::VectorXd& y,
+                         const Eigen::MatrixXd& R);
   /// The CI updater of this filter's vehicle (its ω choice reads state()).
   const CiUpdater& ciUpdater() const { return ci_updater_; }
   const LandmarkBook& landmarkBook() const { return book_; }
