@@ -16,12 +16,12 @@ Status CcTeamLink::open(const std::string& run_dir, const RunInfo& info,
   for (std::size_t i = 0; i < run.agentCount(); ++i) {
     const int id = run.agentId(i);
     const AgentFilterSetup& setup = run.setup(i);
-    // §6.3.1: the ground station knows every UAV's initial pose (the agent's own start).
-    if (Status s = filter_.addVehicle(id, run.slam(i).camera(), setup.t0_us, setup.x0, setup.P0,
-                                      &setup.options.ins);
-        !s.ok()) {
-      return s;
-    }
+    const VisualInertialSlam& slam = run.slam(i);
+    // §6.3.1: the ground station knows every UAV's initial pose: the agent's own start, as
+    // cvslam_agent sends it (transport/cc_link.h onStart). Added before the UAV's first batch,
+    // as the ground-station process adds it when that POSE arrives (same state layout).
+    starts_[id] = {slam.time(), slam.vehicleState(), slam.vehicleCovariance(), &setup.options.ins,
+                   &slam.camera()};
     builders_.emplace(id, coop::CcBatchBuilder(id));
   }
   return recorder_.open(run_dir, info);
@@ -57,6 +57,12 @@ Status CcTeamLink::afterFrame(int id, const AgentPipeline& agent, const Vector9d
     return recorder->addFrame(agent, truth, std::numeric_limits<double>::quiet_NaN(), nullptr);
   }
   const coop::CcObservationBatch& batch = *received;
+  if (auto start = starts_.find(id); start != starts_.end()) {
+    const Start& s = start->second;
+    if (Status st = filter_.addVehicle(id, *s.camera, s.t_us, s.x_v, s.P_v, s.ins); !st.ok())
+      return st;
+    starts_.erase(start);
+  }
   coop::CcStepReport report;
   // A rejected batch is counted by the filter; the agent then records its own estimate.
   const Status step = filter_.processBatch(batch, &report);

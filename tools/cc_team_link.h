@@ -46,6 +46,15 @@ class CcTeamLink {
   coop::CcTeamFilter filter_;
   coop::GroundStationRecorder recorder_;
   std::map<int, coop::CcBatchBuilder> builders_;
+  /// Each UAV's start, given to the filter before its first batch.
+  struct Start {
+    int64_t t_us;
+    Eigen::VectorXd x_v;
+    Eigen::MatrixXd P_v;
+    const InsPropagatorOptions* ins;
+    const StereoCamera* camera;
+  };
+  std::map<int, Start> starts_;
   std::map<int, int64_t> bytes_sent_;
 };
 

@@ -24,7 +24,8 @@ namespace {
 // A 25 m-radius circle at 10 m over the `aerial` world's building-free centre, 3 m/s, 10 Hz
 // stereo with the thesis camera (320×240, α = 560, b = 0.2 m, looking down). The IMU has
 // initial biases so that dead reckoning drifts by metres in 15 s.
-sim::Scenario imageScenario(double duration, uint64_t seed) {
+/// perturb: the initial estimate sampled around the truth (the default of every scenario).
+sim::Scenario imageScenario(double duration, uint64_t seed, bool perturb = true) {
   const std::string yaml =
       "name: test_images\nseed: " + std::to_string(seed) +
       "\nduration: " + std::to_string(duration) +
@@ -34,7 +35,8 @@ sim::Scenario imageScenario(double duration, uint64_t seed) {
       "    trajectory: {kind: circle, centre: [0.0, 0.0], radius: 25.0, altitude: 10.0, "
       "speed: 3.0, heading: velocity, tilt: bank}\n"
       "    imu: {accel_bias: [0.05, -0.04, 0.03], gyro_bias: [0.001, -0.001, 0.0005]}\n"
-      "    camera_rate_hz: 10.0\n";
+      "    camera_rate_hz: 10.0\n" +
+      (perturb ? std::string() : std::string("    initial_uncertainty: {perturb: false}\n"));
   auto s = sim::Scenario::fromString(yaml, "test.yaml");
   EXPECT_TRUE(s.ok()) << s.status().message();
   return *s;
@@ -123,7 +125,10 @@ TEST(ImageSlam, AdaptiveSiftEndToEndOnRenderedCircle) {
 }
 
 TEST(ImageSlam, OrbPrecisionAndDeterminismOnRenderedCircle) {
-  const sim::Scenario scenario = imageScenario(8.0, 12);
+  // Started at the truth: the ATE bound below asks whether vision holds the IMU's drift over
+  // 8 s; the unobservable initial position and yaw error (0.1 m, 1°: 0.35 m at 20 m from the
+  // start) would be most of an 8 s ATE. AdaptiveSiftEndToEnd runs from a perturbed start.
+  const sim::Scenario scenario = imageScenario(8.0, 12, false);
   ImageRun a;
   runImages(scenario, vision::DetectorType::kOrb, &a);
   ASSERT_EQ(a.frames, 81);

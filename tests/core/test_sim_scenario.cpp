@@ -218,6 +218,9 @@ TEST(SimSimulator, InitialEstimateIsTruthOrASampleAroundIt) {
   auto sc = Scenario::loadFile(scenarioPath("single_circle.yaml"));
   ASSERT_TRUE(sc.ok());
   sc->duration = 1.0;
+  // Perturbed by default (an estimator never starts at the truth); exact with perturb: false.
+  EXPECT_TRUE(sc->agents[0].initial.perturb);
+  sc->agents[0].initial.perturb = false;
   auto exact = Simulator::create(*sc);
   ASSERT_TRUE(exact.ok());
   const GroundTruth truth = exact->agent(0).truth(0);

@@ -114,12 +114,15 @@ inline void fill(cvslam::shared_request_t& m) {
 inline void fill(cvslam::shared_landmarks_t& m) {
   setHeader(m.header, 9000);
   m.vehicle_cov_trace = 0.7;
+  m.informed_by = {1, 2};
   for (int i = 0; i < 4; ++i) {
     m.index.push_back(i * 3);
     m.position.push_back({1.0 * i, 2.0, -3.0});
     m.covariance.push_back({0.1, 0.01, 0.0, 0.2, 0.02, 0.3});
     m.descriptors.push_back(bytes(16, static_cast<uint8_t>(i)));
   }
+  for (int k = 0; k < 4 * 3 / 2; ++k)  // (0,1) (0,2) (0,3) (1,2) (1,3) (2,3)
+    m.cross_covariance.push_back({0.01 * k, 0.0, 0.0, 0.0, 0.01, 0.0, 0.0, 0.0, 0.01});
 }
 inline void fill(cvslam::observation_batch_t& m) {
   setHeader(m.header, 10000);
@@ -221,7 +224,7 @@ inline CountField firstCount(const cvslam::shared_request_t*) {
   return {28, 2};
 }
 inline CountField firstCount(const cvslam::shared_landmarks_t*) {
-  return {36, 4};
+  return {36, 2};  // num_informed_by
 }
 inline CountField firstCount(const cvslam::observation_batch_t*) {
   return {28, 10};

@@ -68,13 +68,24 @@ TEST(CoopConvert, SharedLandmarksRoundTrip) {
   C << 0.04, 0.01, -0.002, 0.01, 0.09, 0.003, -0.002, 0.003, 0.16;
   s.landmarks.push_back({11u, {1, 2, 3}, C, {1, 2, 3, 4}});
   s.landmarks.push_back({0xfffffff0u, {-4, 5, -6}, 2.0 * C, {9, 8, 7, 6}});
+  s.informed_by = {2, 5};
+  s.joint_covariance = Eigen::MatrixXd::Zero(6, 6);
+  s.joint_covariance.topLeftCorner<3, 3>() = C;
+  s.joint_covariance.bottomRightCorner<3, 3>() = 2.0 * C;
+  Eigen::Matrix3d X;  // not symmetric: the block (0,1) and its transpose (1,0)
+  X << 0.01, 0.002, 0.0, -0.001, 0.02, 0.003, 0.0, 0.0, 0.03;
+  s.joint_covariance.topRightCorner<3, 3>() = X;
+  s.joint_covariance.bottomLeftCorner<3, 3>() = X.transpose();
   Expected<cvslam::shared_landmarks_t> m = toMessage(s);
   ASSERT_TRUE(m.ok()) << m.status().message();
   EXPECT_EQ(m->descriptor_length, 4);
+  EXPECT_EQ(m->num_cross, 1);
   const coop::SharedLandmarks b = fromMessage(throughWire(*m), 1);
   ASSERT_EQ(b.landmarks.size(), 2u);
   EXPECT_EQ(b.to_agent, 1);
   EXPECT_EQ(b.vehicle_cov_trace, 1.25);
+  EXPECT_EQ(b.informed_by, s.informed_by);
+  EXPECT_EQ(b.joint_covariance, s.joint_covariance);
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_EQ(b.landmarks[i].index, s.landmarks[i].index);
     EXPECT_EQ(b.landmarks[i].p_LinN, s.landmarks[i].p_LinN);
@@ -86,6 +97,15 @@ TEST(CoopConvert, SharedLandmarksRoundTrip) {
   const coop::SharedLandmarks nd = fromMessage(throughWire(*toMessage(s)), 1);
   EXPECT_EQ(nd.landmarks.size(), 2u);
   EXPECT_TRUE(nd.landmarks[0].descriptor.empty());
+  // Marginals only: no cross blocks on the wire, no joint covariance after it.
+  s.joint_covariance.resize(0, 0);
+  cvslam::shared_landmarks_t marginal = *toMessage(s);
+  EXPECT_EQ(marginal.num_cross, 0);
+  EXPECT_EQ(fromMessage(throughWire(marginal), 1).joint_covariance.size(), 0);
+  // A cross-block count that is neither 0 nor m(m−1)/2 is refused.
+  marginal.cross_covariance.assign(2, std::vector<double>(9, 0.0));
+  marginal.num_cross = 2;
+  EXPECT_FALSE(encodeMessage(marginal).ok());
 }
 
 TEST(CoopConvert, InvalidMessagesAreRefused) {

@@ -112,6 +112,16 @@ Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& s) {
     m.covariance.push_back(upperTriangle(l.covariance));
     m.descriptors.push_back(same_length ? l.descriptor : std::vector<uint8_t>{});
   }
+  const auto n = static_cast<Eigen::Index>(s.landmarks.size());
+  if (n >= 2 && s.joint_covariance.rows() == 3 * n && s.joint_covariance.cols() == 3 * n) {
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (Eigen::Index j = i + 1; j < n; ++j) {
+        std::vector<double> block(9);
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) block[3 * r + c] = s.joint_covariance(3 * i + r, 3 * j + c);
+        m.cross_covariance.push_back(std::move(block));
+      }
+  }
   return finalized(std::move(m));
 }
 
@@ -129,6 +139,21 @@ coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks_t& m, int to_ag
     l.p_LinN = Eigen::Vector3d(m.position[i][0], m.position[i][1], m.position[i][2]);
     l.covariance = fromUpperTriangle(m.covariance[i]);
     if (i < m.descriptors.size()) l.descriptor = m.descriptors[i];
+  }
+  const auto n = static_cast<Eigen::Index>(s.landmarks.size());
+  if (n >= 2 && m.cross_covariance.size() == static_cast<std::size_t>(n * (n - 1) / 2)) {
+    s.joint_covariance.resize(3 * n, 3 * n);
+    std::size_t row = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      s.joint_covariance.block<3, 3>(3 * i, 3 * i) = s.landmarks[static_cast<std::size_t>(i)].covariance;
+      for (Eigen::Index j = i + 1; j < n; ++j, ++row) {
+        Eigen::Matrix3d block;
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) block(r, c) = m.cross_covariance[row][3 * r + c];
+        s.joint_covariance.block<3, 3>(3 * i, 3 * j) = block;
+        s.joint_covariance.block<3, 3>(3 * j, 3 * i) = block.transpose();
+      }
+    }
   }
   return s;
 }

@@ -133,6 +133,8 @@ Status finalize(cvslam::shared_landmarks_t& msg) {
       .rows("position", msg.position, 3)
       .rows("covariance", msg.covariance, 6)
       .commonRows("descriptors", msg.descriptors, msg.descriptor_length)
+      .leading("cross_covariance", msg.cross_covariance, msg.num_cross)
+      .rows("cross_covariance", msg.cross_covariance, 9)
       .status();
 }
 

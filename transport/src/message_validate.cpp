@@ -191,6 +191,11 @@ Status validate(const cvslam::shared_landmarks_t& msg) {
       .count("index", msg.num_landmarks, msg.index)
       .rows("position", msg.num_landmarks, msg.position, 3)
       .rows("covariance", msg.num_landmarks, msg.covariance, 6)
+      .rows("cross_covariance", msg.num_cross, msg.cross_covariance, 9)
+      .require(msg.num_cross == 0 ||
+                   int64_t{msg.num_cross} * 2 == int64_t{msg.num_landmarks} * (msg.num_landmarks - 1),
+               "num_cross is neither 0 nor num_landmarks·(num_landmarks−1)/2")
+      .finite("cross_covariance", msg.cross_covariance)
       .rows("descriptors", msg.num_landmarks, msg.descriptors, msg.descriptor_length)
       .require(msg.descriptor_length >= 0, "descriptor_length is negative")
       .finite("position", msg.position)

@@ -137,6 +137,8 @@ Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::shar
   int32_t sources = 0, n = 0, descriptor_length = 0;
   r.header().skip(kF64).count(sources).array(sources, kI32);
   r.count(n).array(n, kI32 + 3 * kF64 + 6 * kF64);
+  int32_t cross = 0;
+  r.count(cross).array(cross, 9 * kF64);
   r.count(descriptor_length).array(n, static_cast<std::size_t>(descriptor_length));
   return r.finish();
 }

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <iterator>
 #include <limits>
@@ -123,8 +124,23 @@ bool DcCooperation::onShared(const SharedLandmarks& m) {
     ok = eig.eigenvalues().minCoeff() >= o_.min_landmark_variance_m2 &&
          eig.eigenvalues().maxCoeff() <= o_.max_landmark_variance_m2;
   }
+  if (ok && m.joint_covariance.size() > 0) ok = validJointCovariance(m);
   if (!ok) return ++stats_.rejected_invalid, false;
   return enqueue(m);
+}
+
+bool DcCooperation::validJointCovariance(const SharedLandmarks& m) const {
+  const Eigen::MatrixXd& J = m.joint_covariance;
+  const auto n = static_cast<Eigen::Index>(m.landmarks.size());
+  if (J.rows() != 3 * n || J.cols() != 3 * n || !J.allFinite()) return false;
+  const double scale = J.cwiseAbs().maxCoeff();
+  if ((J - J.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * scale) return false;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if ((J.block<3, 3>(3 * i, 3 * i) - m.landmarks[static_cast<std::size_t>(i)].covariance)
+            .cwiseAbs()
+            .maxCoeff() > kSymmetryTolerance * scale)
+      return false;
+  return Eigen::LLT<Eigen::MatrixXd>(J).info() == Eigen::Success;
 }
 
 bool DcCooperation::admit(int stream, const CoopHeader& h, int64_t now_us) {
@@ -226,11 +242,17 @@ void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSl
   s.to_agent = m.header.agent_id;
   s.vehicle_cov_trace = vehiclePositionTrace(slam);
   s.informed_by = informed_by_;
+  std::vector<VariableKey> keys;
   for (const StateLandmark& l : slam.stateLandmarks()) {
     if (static_cast<int>(s.landmarks.size()) >= o_.max_landmarks_per_message) break;
     if (!std::binary_search(wanted.begin(), wanted.end(), l.index)) continue;
     s.landmarks.push_back({l.index, l.p_LinN, l.covariance, l.descriptor});
+    keys.push_back(VariableKey::landmark(static_cast<uint64_t>(l.id)));
   }
+  // The joint covariance, so that the receiver need not bound the correlations.
+  if (Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), keys);
+      J.ok() && s.landmarks.size() >= 2)
+    s.joint_covariance = std::move(J.value());
   ++stats_.shared_sent;
   events_.push_back({now_us, CoopEventKind::kSharedSent, s.to_agent,
                      static_cast<int>(s.landmarks.size()), 0, 0, 0, 1.0});
@@ -316,11 +338,12 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
   const int j = m.header.agent_id;
   const auto n = static_cast<Eigen::Index>(pairs.size());
   const bool independent = o_.use_provenance && independentOf(m.informed_by);
-  // The peer's estimates, and the bound on their stacked covariance: the message carries
-  // marginals P_i only, and for ANY joint covariance with those diagonal blocks,
-  // Σ ≤ blockdiag(m·P_i) (covariance intersection of the m blocks with equal weights 1/m), so
-  // blockdiag(m·P_i) is consistent whatever the correlations between the peer's landmarks
-  // (they share its vehicle error).
+  // The peer's estimates and their joint covariance R: the sender's own when the message has it
+  // (the confirmed landmarks' blocks of it), else a bound. With marginals P_i only, for ANY
+  // joint covariance with those diagonal blocks Σ ≤ blockdiag(m·P_i) (covariance intersection
+  // of the m blocks with equal weights 1/m), so blockdiag(m·P_i) is consistent whatever the
+  // correlations between the peer's landmarks (they share its vehicle error).
+  const bool joint = m.joint_covariance.rows() == 3 * static_cast<Eigen::Index>(m.landmarks.size());
   CiPeerEstimates peer;
   peer.y.resize(3 * n);
   peer.R = Eigen::MatrixXd::Zero(3 * n, 3 * n);
@@ -334,7 +357,12 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
     keys.push_back(VariableKey::landmark(static_cast<uint64_t>(l.id)));
     peer.y.segment<3>(3 * k) = pr.peer->p_LinN;
     d.segment<3>(3 * k) = pr.peer->p_LinN - l.p_LinN;
-    peer.R.block<3, 3>(3 * k, 3 * k) = static_cast<double>(n) * pr.peer->covariance;
+    if (!joint) peer.R.block<3, 3>(3 * k, 3 * k) = static_cast<double>(n) * pr.peer->covariance;
+    for (Eigen::Index c = 0; joint && c < n; ++c) {
+      const auto row = 3 * (pr.peer - m.landmarks.data());
+      const auto col = 3 * (pairs[static_cast<std::size_t>(c)].peer - m.landmarks.data());
+      peer.R.block<3, 3>(3 * k, 3 * c) = m.joint_covariance.block<3, 3>(row, col);
+    }
   }
   // The set jointly, against the own joint covariance P1 of the landmarks: the NIS with bounds
   // on every unknown covariance is at most χ²(3m)-distributed for a consistent peer.
@@ -356,6 +384,7 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
     back.to_agent = j;
     back.vehicle_cov_trace = vehiclePositionTrace(slam);
     back.informed_by = informed_by_;
+    if (n >= 2) back.joint_covariance = P1.value();
     for (const ConfirmedPair& pr : pairs) {
       const StateLandmark& l = local[pr.local];
       back.landmarks.push_back({pr.peer->index, l.p_LinN, l.covariance, l.descriptor});
@@ -374,29 +403,28 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
     peer.R *= e->r_scale;
     ++stats_.peer_down_weighted;
   }
-  Status fused = Status::Ok();
-  if (independent) {
-    fused = slam.fuseIndependent(peer.ids, peer.y, peer.R);
-    if (fused.ok()) ++stats_.fused_independent;
-  } else {
-    // ω1 from the covariances actually fused (R, not the marginals it bounds).
-    peer.landmark_trace = peer.R.trace();
-    const Expected<CiChoice> ci =
-        slam.ciUpdater().choose(slam.state(), peer, {o_.ci_method, o_.min_omega});
-    if (!ci.ok()) {
-      ++stats_.fusion_failures;
-      return false;
-    }
-    e->omega1 = ci->omega1;
-    // When the peer's landmarks would not even shrink the bound on the vehicle position, the
-    // CI update only inflates the local state; not fusing is always consistent.
-    if (o_.require_vehicle_gain && !ci->vehicle_gain) {
-      ++stats_.skipped_no_gain;
-      e->no_gain = true;
-      return true;
-    }
-    fused = slam.fuseCovarianceIntersection(peer.ids, peer.y, peer.R, ci->omega1);
+  // ω1 from the covariances actually fused (R, not the marginals it bounds).
+  peer.landmark_trace = peer.R.trace();
+  const Expected<CiChoice> ci =
+      slam.ciUpdater().choose(slam.state(), peer, {o_.ci_method, o_.min_omega, independent});
+  if (!ci.ok()) {
+    ++stats_.fusion_failures;
+    return false;
   }
+  e->omega1 = ci->omega1;
+  // When the peer's landmarks would not shrink the bound on the vehicle position by at least
+  // min_vehicle_gain, the update is not worth its risk: a CI update inflates the local state by
+  // 1/ω1, and any update trusts the peer's covariance. Not fusing is always consistent.
+  const double gain = 1.0 - ci->fused_vehicle_trace / std::max(ci->own_vehicle_trace, 1e-300);
+  if ((!independent && std::getenv("NOCI")) || (o_.require_vehicle_gain && (!ci->vehicle_gain || gain < o_.min_vehicle_gain))) {
+    ++stats_.skipped_no_gain;
+    e->no_gain = true;
+    return true;
+  }
+  const Status fused = independent
+                           ? slam.fuseIndependent(peer.ids, peer.y, peer.R)
+                           : slam.fuseCovarianceIntersection(peer.ids, peer.y, peer.R, ci->omega1);
+  if (fused.ok() && independent) ++stats_.fused_independent;
   if (!fused.ok()) {
     ++stats_.fusion_failures;
     return false;

@@ -7,6 +7,7 @@
 #include "cvslam/filter/covariance_helper.h"
 #include "cvslam/filter/measurement_batch.h"
 #include "cvslam/filter/update_policy.h"
+#include "cvslam/slam/loop_closer.h"
 
 namespace cvslam {
 
@@ -27,6 +28,16 @@ Expected<CiChoice> CiUpdater::choose(const SlamState& state, const CiPeerEstimat
   const Eigen::MatrixXd& R = peer.R;
   const double own_trace = P1.trace();
   const double own_vehicle = P_pp.trace();
+  CiChoice out;
+  out.own_vehicle_trace = own_vehicle;
+  if (weighting.independent) {
+    // The EKF update: P_pp − P_pL (P_LL + R)⁻¹ P_Lp.
+    out.omega1 = 1.0;
+    out.fused_vehicle_trace =
+        own_vehicle - (P_pL * (P1 + R).ldlt().solve(P_pL.transpose())).trace();
+    out.vehicle_gain = out.fused_vehicle_trace < own_vehicle;
+    return out;
+  }
   const double peer_trace = peer.landmark_trace;
   double w = 1.0;
   const double nn = static_cast<double>(n);
@@ -46,13 +57,11 @@ Expected<CiChoice> CiUpdater::choose(const SlamState& state, const CiPeerEstimat
       w = optimalVehicleCiOmega(P_pp, P_pL, P1, R, weighting.min_omega);
       break;
   }
-  CiChoice out;
   out.omega1 = std::clamp(w, weighting.min_omega, 1.0);
-  out.own_vehicle_trace = own_vehicle;
   // CI on the joint state inflates everything by 1/ω1; when the peer's landmarks would not even
   // shrink the bound on the vehicle position, fusing only loses information.
-  out.vehicle_gain =
-      out.omega1 < 1.0 && jointCiVehiclePositionTrace(P_pp, P_pL, P1, R, out.omega1) < own_vehicle;
+  out.fused_vehicle_trace = jointCiVehiclePositionTrace(P_pp, P_pL, P1, R, out.omega1);
+  out.vehicle_gain = out.omega1 < 1.0 && out.fused_vehicle_trace < own_vehicle;
   return out;
 }
 
@@ -118,14 +127,15 @@ Status CiUpdater::update(SlamState& state, LandmarkBook& book, const std::vector
     H.block<3, 3>(3 * i, 0).setIdentity();
     batch.setJacobian(g, *vars[static_cast<size_t>(i)], H);
   }
+  const Eigen::VectorXd mean_before = state.mean();
   UpdateReport report;
   if (Status s = CovarianceHelper::update(state, batch, UpdatePolicy::ekf(), &report); !s.ok())
     return s;
   // The peer's landmarks can move the vehicle and, through it, the whole local map by far more
   // than the stereo updates do (metres when a drifted UAV meets an accurate one). First-
-  // estimates Jacobians linearised at the old landmark positions would then pair the new
-  // vehicle with the old map; restart them at the fused means, as loop closing does.
-  book.restartFirstEstimates(state);
+  // estimates Jacobians linearised at the old positions would then pair the new vehicle with
+  // the old map; they follow the correction, as after a loop closure (loop_closer.h).
+  followCorrection(state, mean_before, vehicle_, &book);
   return Status::Ok();
 }
 

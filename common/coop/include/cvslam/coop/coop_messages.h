@@ -60,6 +60,10 @@ struct SharedLandmarks {
   /// it has fused, transitively), ascending; empty: unknown (treated as correlated).
   std::vector<int> informed_by;
   std::vector<SharedLandmark> landmarks;
+  /// The sender's JOINT covariance of the landmarks (3m × 3m, in their order; its diagonal
+  /// blocks are the landmarks' covariances); empty: marginals only, and the receiver bounds the
+  /// joint by blockdiag(m·P_i).
+  Eigen::MatrixXd joint_covariance;
 };
 
 /// What one afterFrame emits.

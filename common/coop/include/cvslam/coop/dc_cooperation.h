@@ -93,6 +93,9 @@ struct DcCooperationOptions {
   /// Fuse only when the CI update shrinks the trace of the vehicle position covariance
   /// (otherwise it only inflates the local state; not fusing is always consistent).
   bool require_vehicle_gain = true;
+  /// ... by at least this fraction of the trace: an accurate UAV does not take a marginal
+  /// gain, which would expose it to a peer's errors for almost nothing.
+  double min_vehicle_gain = 0.0;
   /// Fuse estimates whose provenance is disjoint from the own state's with the EKF update (they
   /// are independent); false: always covariance intersection (the thesis).
   bool use_provenance = true;
@@ -230,6 +233,9 @@ class DcCooperation {
                      const std::vector<StateLandmark>& local, bool answers_request,
                      VisualInertialSlam& slam, int64_t now_us, CoopOutbox* out, CoopEvent* e);
   CoopHeader nextHeader(int stream, int64_t t_us);
+  /// A received joint covariance is 3m × 3m, finite, symmetric, positive definite, and its
+  /// diagonal blocks are the landmarks' covariances.
+  bool validJointCovariance(const SharedLandmarks& m) const;
   /// Estimates with this provenance share no information with the own state.
   bool independentOf(const std::vector<int>& informed_by) const;
 

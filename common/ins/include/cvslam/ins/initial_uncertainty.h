@@ -19,7 +19,7 @@ struct InitialUncertainty {
   Eigen::Vector3d position_sigma = Eigen::Vector3d::Constant(0.1);           ///< [m], NED
   Eigen::Vector3d velocity_sigma = Eigen::Vector3d::Constant(0.1);           ///< [m/s], body
   Eigen::Vector3d attitude_sigma = Eigen::Vector3d::Constant(M_PI / 180.0);  ///< [rad] φ θ ψ
-  bool perturb = false;  ///< true: the initial estimate handed out is sampled from this
+  bool perturb = true;  ///< true: the initial estimate handed out is sampled from this
 
   Status load(const ConfigNode& node);  ///< reads attitude_sigma_deg in degrees
 };

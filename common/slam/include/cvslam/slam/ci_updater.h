@@ -31,6 +31,8 @@ namespace cvslam {
 struct CiWeighting {
   CiMethod method = CiMethod::kAdaptive;
   double min_omega = 0.05;  ///< smallest ω1: ω1 → 0 would scale the local prior by 1/ω1 → ∞
+  /// The peer's estimates are independent of the state (applyIndependent): no ω to choose.
+  bool independent = false;
 };
 
 /// A peer's estimates of landmarks of the vehicle's map.
@@ -47,6 +49,7 @@ struct CiChoice {
   double omega1 = 1.0;             ///< weight of the own estimate, in [min_omega, 1]
   double own_vehicle_trace = 0.0;  ///< trace of the own vehicle position covariance [m²]
   bool vehicle_gain = false;       ///< ω1 < 1 and the update shrinks that trace
+  double fused_vehicle_trace = 0.0;  ///< that trace after the update [m²]
 };
 
 class CiUpdater {
