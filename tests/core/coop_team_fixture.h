@@ -21,10 +21,14 @@ namespace cvslam::cooptest {
 /// UAV1: accurate start. UAV2: 10° behind on the same 25 m circle (≈ 1.5 s later over the same
 /// ground), its initial position 1σ = 1.5 m, sampled (perturb) — its map starts offset.
 /// `offset_start` false: UAV2 starts at a known pose too (thesis §6.3.1), like UAV1.
-inline std::string twoUavScenario(double duration, uint64_t seed, bool offset_start = true) {
+/// offset_start: UAV2 starts 1.5 m off (1σ); exact_starts: both estimates start at the truth
+/// (perturb: false; otherwise they are sampled from the default 0.1 m / 1° uncertainty).
+inline std::string twoUavScenario(double duration, uint64_t seed, bool offset_start = true,
+                                  bool exact_starts = false) {
   const std::string common =
       "    camera_rate_hz: 10.0\n"
       "    pixel_noise: {kind: gaussian, sigma_px: 0.5}\n";
+  const std::string exact = exact_starts ? "    initial_uncertainty: {perturb: false}\n" : "";
   return "name: coop_pair\nseed: " + std::to_string(seed) +
          "\nduration: " + std::to_string(duration) +
          "\nworld: {relief_amplitude: 1.0, landmark_density: 0.5, margin: 30.0}\n"
@@ -32,14 +36,14 @@ inline std::string twoUavScenario(double duration, uint64_t seed, bool offset_st
          "  - id: 1\n"
          "    trajectory: {kind: circle, centre: [0.0, 0.0], radius: 25.0, altitude: 10.0, "
          "speed: 3.0, heading: velocity, tilt: bank}\n" +
-         common +
+         common + exact +
          "  - id: 2\n"
          "    trajectory: {kind: circle, centre: [0.0, 0.0], radius: 25.0, altitude: 10.0, "
          "speed: 3.0, heading: velocity, tilt: bank, start_angle_deg: -10.0}\n" +
          std::string(
              offset_start
                  ? "    initial_uncertainty: {position_sigma: [1.5, 1.5, 0.5], perturb: true}\n"
-                 : "") +
+                 : exact) +
          common;
 }
 

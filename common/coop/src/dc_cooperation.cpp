@@ -3,7 +3,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <functional>
 #include <iterator>
 #include <limits>
@@ -416,7 +415,7 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
   // min_vehicle_gain, the update is not worth its risk: a CI update inflates the local state by
   // 1/ω1, and any update trusts the peer's covariance. Not fusing is always consistent.
   const double gain = 1.0 - ci->fused_vehicle_trace / std::max(ci->own_vehicle_trace, 1e-300);
-  if ((!independent && std::getenv("NOCI")) || (o_.require_vehicle_gain && (!ci->vehicle_gain || gain < o_.min_vehicle_gain))) {
+  if (o_.require_vehicle_gain && (!ci->vehicle_gain || gain < o_.min_vehicle_gain)) {
     ++stats_.skipped_no_gain;
     e->no_gain = true;
     return true;
