@@ -208,5 +208,31 @@ TEST(DcCooperation, MalformedProvenanceAndJointCovarianceAreRejected) {
   EXPECT_EQ(c.statistics().rejected_invalid, 7);
 }
 
+TEST(DcCooperation, OverConfidentPeerIsDownWeightedAndCounted) {
+  // UAV2 claims covariances 100× (σ 10×) smaller than its filter's: UAV1's innovation test
+  // over time must notice and scale UAV2's R, and must leave an honest UAV2 alone. (It reacts
+  // after a window of evidence: the joint gate and CI bound the damage before that; UAV1's
+  // final error is printed, 0.36 m forged vs 0.23 m honest, 0.31 m without the test.)
+  auto forge = [](int64_t, cooptest::Envelope e) {
+    if (e.shared && e.from == 2) {
+      for (coop::SharedLandmark& l : e.shared->landmarks) l.covariance *= 0.01;
+      e.shared->joint_covariance *= 0.01;
+    }
+    return std::vector<cooptest::Envelope>{e};
+  };
+  cooptest::TeamOptions tested, untested, honest;
+  tested.transport = untested.transport = forge;
+  untested.coop.consistency.window = 0;
+  const cooptest::TeamResult t = cooptest::runTeam(12.0, 5, tested);
+  const cooptest::TeamResult u = cooptest::runTeam(12.0, 5, untested);
+  const cooptest::TeamResult h = cooptest::runTeam(12.0, 5, honest);
+  ASSERT_TRUE(t.ok && u.ok && h.ok);
+  EXPECT_GT(t.stats[0].peer_down_weighted, 0);
+  EXPECT_EQ(u.stats[0].peer_down_weighted, 0);
+  EXPECT_EQ(h.stats[0].peer_down_weighted, 0) << "an honest peer is not down-weighted";
+  std::printf("UAV1 final error: honest %.3f m, forged tested %.3f m, forged untested %.3f m\n",
+              h.final_vehicle_error[0], t.final_vehicle_error[0], u.final_vehicle_error[0]);
+}
+
 }  // namespace
 }  // namespace cvslam

@@ -411,11 +411,10 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
     return false;
   }
   e->omega1 = ci->omega1;
-  // When the peer's landmarks would not shrink the bound on the vehicle position by at least
-  // min_vehicle_gain, the update is not worth its risk: a CI update inflates the local state by
-  // 1/ω1, and any update trusts the peer's covariance. Not fusing is always consistent.
-  const double gain = 1.0 - ci->fused_vehicle_trace / std::max(ci->own_vehicle_trace, 1e-300);
-  if (o_.require_vehicle_gain && (!ci->vehicle_gain || gain < o_.min_vehicle_gain)) {
+  // When the peer's landmarks would not shrink the bound on the vehicle position, the CI update
+  // only inflates the local state (an independent update always shrinks it). Not fusing is
+  // always consistent.
+  if (o_.require_vehicle_gain && !ci->vehicle_gain) {
     ++stats_.skipped_no_gain;
     e->no_gain = true;
     return true;

@@ -55,7 +55,6 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.get("min_landmark_variance_m2", min_landmark_variance_m2);
   node.get("min_omega", min_omega);
   node.get("require_vehicle_gain", require_vehicle_gain);
-  node.get("min_vehicle_gain", min_vehicle_gain);
   node.get("use_provenance", use_provenance);
   node.get("consistency_window", consistency.window);
   node.get("consistency_probability", consistency.probability);
@@ -81,8 +80,6 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
              "max_landmark_variance_m2",
              "need 0 < min_landmark_variance_m2 < max_landmark_variance_m2");
   node.check(min_omega > 0.0 && min_omega < 1.0, "min_omega", "must be in (0, 1)");
-  node.check(min_vehicle_gain >= 0.0 && min_vehicle_gain < 1.0, "min_vehicle_gain",
-             "must be in [0, 1)");
   node.check(consistency.window >= 0, "consistency_window", "must be ≥ 0 (0: no test)");
   node.check(consistency.probability > 0.0 && consistency.probability < 1.0,
              "consistency_probability", "must be in (0, 1)");

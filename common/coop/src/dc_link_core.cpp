@@ -69,16 +69,18 @@ Status DcLinkCore::afterFrame(int64_t t_us, VisualInertialSlam& slam, CoopOutbox
 
 std::string DcLinkCore::report(double duration_s) const {
   const DcCooperationStatistics& s = dc_.statistics();
-  char buf[768];
+  char buf[1024];
   std::snprintf(
       buf, sizeof(buf),
-      "UAV%d (%s CI) cooperation: peers %d, exchanges %lld, landmarks fused %lld, requests "
-      "sent %lld, shared sent %lld; rejected: invalid %lld, gate %lld, descriptor %lld, not in "
+      "UAV%d (%s CI) cooperation: peers %d, exchanges %lld (independent %lld), landmarks fused "
+      "%lld, requests sent %lld, shared sent %lld; not fused: no gain %lld, down-weighted %lld; "
+      "rejected: invalid %lld, gate %lld, joint gate %lld, descriptor %lld, not in "
       "state %lld, stale %lld, duplicate %lld, reordered %lld, unknown peer %lld; peer "
       "restarts %lld, peer timeouts %lld, request timeouts %lld",
       id(), ciMethodName(dc_.options().ci_method).c_str(), s.peers_known, ll(s.exchanges_completed),
-      ll(s.landmarks_fused), ll(s.requests_sent), ll(s.shared_sent), ll(s.rejected_invalid),
-      ll(s.rejected_gate), ll(s.rejected_descriptor), ll(s.shared_not_in_state),
+      ll(s.fused_independent), ll(s.landmarks_fused), ll(s.requests_sent), ll(s.shared_sent),
+      ll(s.skipped_no_gain), ll(s.peer_down_weighted), ll(s.rejected_invalid), ll(s.rejected_gate),
+      ll(s.rejected_joint_gate), ll(s.rejected_descriptor), ll(s.shared_not_in_state),
       ll(s.rejected_stale), ll(s.rejected_duplicate), ll(s.rejected_reordered),
       ll(s.rejected_unknown_peer), ll(s.peer_restarts), ll(s.peer_timeouts),
       ll(s.request_timeouts));

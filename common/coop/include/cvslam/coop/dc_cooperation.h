@@ -93,9 +93,6 @@ struct DcCooperationOptions {
   /// Fuse only when the CI update shrinks the trace of the vehicle position covariance
   /// (otherwise it only inflates the local state; not fusing is always consistent).
   bool require_vehicle_gain = true;
-  /// ... by at least this fraction of the trace: an accurate UAV does not take a marginal
-  /// gain, which would expose it to a peer's errors for almost nothing.
-  double min_vehicle_gain = 0.0;
   /// Fuse estimates whose provenance is disjoint from the own state's with the EKF update (they
   /// are independent); false: always covariance intersection (the thesis).
   bool use_provenance = true;
