@@ -36,7 +36,7 @@ TEST(CiBoundedNis, ScalarCaseIsTheSumOfTheStandardDeviations) {
   b << 0.36;
   const double exact = 1.3 * 1.3 / std::pow(0.2 + 0.6, 2);
   EXPECT_NEAR(ciBoundedNis(d, a, b, 200), exact, 1e-4 * exact);
-  EXPECT_LE(ciBoundedNis(d, a, b), exact * (1.0 + 1e-12));  // every ω is a lower bound
+  EXPECT_LE(ciBoundedNis(d, a, b), exact * (1.0 + 1e-12));      // every ω is a lower bound
   EXPECT_LT(ciBoundedNis(d, a, b), 1.3 * 1.3 / (0.04 + 0.36));  // looser than independence
 }
 
@@ -125,10 +125,10 @@ TEST(CiUpdater, IndependentUpdateIsTheInformationFormFusion) {
   const Eigen::MatrixXd P_fused = *CovarianceHelper::marginalCovariance(fused.state(), keys);
   EXPECT_LT((P_fused - P_post).cwiseAbs().maxCoeff(), 1e-9 * P.cwiseAbs().maxCoeff());
   for (int i = 0; i < 3; ++i)
-    EXPECT_LT((fused.stateLandmarks()[static_cast<std::size_t>(i)].p_LinN -
-               x_post.segment<3>(3 * i))
-                  .norm(),
-              1e-6);
+    EXPECT_LT(
+        (fused.stateLandmarks()[static_cast<std::size_t>(i)].p_LinN - x_post.segment<3>(3 * i))
+            .norm(),
+        1e-6);
   // Information only adds: the whole covariance shrinks (P − P⁺ ⪰ 0).
   const Eigen::MatrixXd shrink = slam.state().covariance() - fused.state().covariance();
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (shrink + shrink.transpose()))

@@ -13,9 +13,9 @@
 
 #include "cvslam/io/config_node.h"
 #include "cvslam/sim/scenario.h"
-#include "cvslam/slam/map_prediction.h"
 #include "cvslam/simrun/rendered_sensing.h"
 #include "cvslam/simrun/simulated_team_run.h"
+#include "cvslam/slam/map_prediction.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
 
 namespace cvslam {

@@ -145,7 +145,8 @@ coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks_t& m, int to_ag
     s.joint_covariance.resize(3 * n, 3 * n);
     std::size_t row = 0;
     for (Eigen::Index i = 0; i < n; ++i) {
-      s.joint_covariance.block<3, 3>(3 * i, 3 * i) = s.landmarks[static_cast<std::size_t>(i)].covariance;
+      s.joint_covariance.block<3, 3>(3 * i, 3 * i) =
+          s.landmarks[static_cast<std::size_t>(i)].covariance;
       for (Eigen::Index j = i + 1; j < n; ++j, ++row) {
         Eigen::Matrix3d block;
         for (int r = 0; r < 3; ++r)

@@ -192,8 +192,8 @@ Status validate(const cvslam::shared_landmarks_t& msg) {
       .rows("position", msg.num_landmarks, msg.position, 3)
       .rows("covariance", msg.num_landmarks, msg.covariance, 6)
       .rows("cross_covariance", msg.num_cross, msg.cross_covariance, 9)
-      .require(msg.num_cross == 0 ||
-                   int64_t{msg.num_cross} * 2 == int64_t{msg.num_landmarks} * (msg.num_landmarks - 1),
+      .require(msg.num_cross == 0 || int64_t{msg.num_cross} * 2 ==
+                                         int64_t{msg.num_landmarks} * (msg.num_landmarks - 1),
                "num_cross is neither 0 nor num_landmarks·(num_landmarks−1)/2")
       .finite("cross_covariance", msg.cross_covariance)
       .rows("descriptors", msg.num_landmarks, msg.descriptors, msg.descriptor_length)

@@ -3,11 +3,11 @@
 // landmarks (thesis §6.6.4, eq. 6.2 on the joint state; docs/cooperation.md), and the choice of
 // the weight ω1 of the own estimate (filter/covariance_intersection.h).
 //
-// The update: P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H (ω1 = ω2 = 1 for independent estimates), i.e. the prior of the vehicle's map (its block and
-// its landmarks, landmark_book.h) is scaled by 1/ω1 and the peer's stacked estimates y enter as
-// a measurement with covariance R/ω2, ω2 = 1 − ω1, so the vehicle and its other landmarks are
-// corrected through their correlations. In a state holding several vehicles only that
-// vehicle's map is scaled (CovarianceHelper::scaleCovariance over its variables).
+// The update: P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H (ω1 = ω2 = 1 for independent estimates), i.e. the prior of
+// the vehicle's map (its block and its landmarks, landmark_book.h) is scaled by 1/ω1 and the peer's
+// stacked estimates y enter as a measurement with covariance R/ω2, ω2 = 1 − ω1, so the vehicle and
+// its other landmarks are corrected through their correlations. In a state holding several vehicles
+// only that vehicle's map is scaled (CovarianceHelper::scaleCovariance over its variables).
 //
 // The weight: adaptive (eq. 6.5 with per-landmark mean traces and both vehicles' position
 // covariance traces), fast (eq. 6.4), optimal_trace / optimal_determinant (of the fused
@@ -46,9 +46,9 @@ struct CiPeerEstimates {
 
 /// The chosen weight and what it does to the vehicle.
 struct CiChoice {
-  double omega1 = 1.0;             ///< weight of the own estimate, in [min_omega, 1]
-  double own_vehicle_trace = 0.0;  ///< trace of the own vehicle position covariance [m²]
-  bool vehicle_gain = false;       ///< ω1 < 1 and the update shrinks that trace
+  double omega1 = 1.0;               ///< weight of the own estimate, in [min_omega, 1]
+  double own_vehicle_trace = 0.0;    ///< trace of the own vehicle position covariance [m²]
+  bool vehicle_gain = false;         ///< ω1 < 1 and the update shrinks that trace
   double fused_vehicle_trace = 0.0;  ///< that trace after the update [m²]
 };
 
