@@ -283,7 +283,8 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
   e.count = static_cast<int>(m.landmarks.size());
   const bool independent = o_.use_provenance && independentOf(m.informed_by);
   const std::vector<ConfirmedPair> pairs = confirm(m, local, independent, &e);
-  if (!pairs.empty() && !fuseConfirmed(m, pairs, local, answers_request, slam, now_us, out, &e))
+  if (!pairs.empty() &&
+      !fuseConfirmed(m, pairs, local, answers_request, independent, slam, now_us, out, &e))
     return;
   events_.push_back(e);
 }
@@ -332,11 +333,10 @@ std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
 
 bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<ConfirmedPair>& pairs,
                                   const std::vector<StateLandmark>& local, bool answers_request,
-                                  VisualInertialSlam& slam, int64_t now_us, CoopOutbox* out,
-                                  CoopEvent* e) {
+                                  bool independent, VisualInertialSlam& slam, int64_t now_us,
+                                  CoopOutbox* out, CoopEvent* e) {
   const int j = m.header.agent_id;
   const auto n = static_cast<Eigen::Index>(pairs.size());
-  const bool independent = o_.use_provenance && independentOf(m.informed_by);
   // The peer's estimates and their joint covariance R: the sender's own when the message has it
   // (the confirmed landmarks' blocks of it), else a bound. With marginals P_i only, for ANY
   // joint covariance with those diagonal blocks Σ ≤ blockdiag(m·P_i) (covariance intersection

@@ -224,11 +224,13 @@ class DcCooperation {
   std::vector<ConfirmedPair> confirm(const SharedLandmarks& m,
                                      const std::vector<StateLandmark>& local, bool independent,
                                      CoopEvent* e);
-  /// Fuses the confirmed landmarks with the CI updater (slam/ci_updater.h), returning the own
-  /// estimates with both_ways; false when the filter refused (no event is recorded then).
+  /// Tests the confirmed landmarks jointly and fuses them (slam/ci_updater.h: the EKF update
+  /// when `independent`, CI otherwise), returning the own estimates with both_ways; false when
+  /// the filter refused (no event is recorded then).
   bool fuseConfirmed(const SharedLandmarks& m, const std::vector<ConfirmedPair>& pairs,
                      const std::vector<StateLandmark>& local, bool answers_request,
-                     VisualInertialSlam& slam, int64_t now_us, CoopOutbox* out, CoopEvent* e);
+                     bool independent, VisualInertialSlam& slam, int64_t now_us, CoopOutbox* out,
+                     CoopEvent* e);
   CoopHeader nextHeader(int stream, int64_t t_us);
   /// A received joint covariance is 3m × 3m, finite, symmetric, positive definite, and its
   /// diagonal blocks are the landmarks' covariances.
