@@ -19,7 +19,7 @@ namespace cvslam::transport::testing {
 using AllMessageTypes =
     ::testing::Types<cvslam::imu_t, cvslam::stereo_image_t, cvslam::stereo_features_t,
                      cvslam::pose_t, cvslam::agent_state_t, cvslam::agent_summary_t,
-                     cvslam::feature_index_t, cvslam::shared_request_t, cvslam::shared_landmarks_t,
+                     cvslam::feature_index_t, cvslam::shared_request_t, cvslam::shared_landmarks2_t,
                      cvslam::observation_batch_t, cvslam::gs_state_t, cvslam::map_t,
                      cvslam::agent_map_t, cvslam::status_t>;
 
@@ -111,7 +111,7 @@ inline void fill(cvslam::shared_request_t& m) {
   setHeader(m.header, 8000);
   m.index = {5, 13};
 }
-inline void fill(cvslam::shared_landmarks_t& m) {
+inline void fill(cvslam::shared_landmarks2_t& m) {
   setHeader(m.header, 9000);
   m.vehicle_cov_trace = 0.7;
   m.informed_by = {1, 2};
@@ -223,7 +223,7 @@ inline CountField firstCount(const cvslam::feature_index_t*) {
 inline CountField firstCount(const cvslam::shared_request_t*) {
   return {28, 2};
 }
-inline CountField firstCount(const cvslam::shared_landmarks_t*) {
+inline CountField firstCount(const cvslam::shared_landmarks2_t*) {
   return {36, 2};  // num_informed_by
 }
 inline CountField firstCount(const cvslam::observation_batch_t*) {
@@ -280,7 +280,7 @@ inline void poison(cvslam::feature_index_t& m) {
 inline void poison(cvslam::shared_request_t& m) {
   m.header.seq = -5;
 }
-inline void poison(cvslam::shared_landmarks_t& m) {
+inline void poison(cvslam::shared_landmarks2_t& m) {
   m.position[1][2] = std::nan("");
 }
 inline void poison(cvslam::observation_batch_t& m) {

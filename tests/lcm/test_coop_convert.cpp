@@ -76,7 +76,7 @@ TEST(CoopConvert, SharedLandmarksRoundTrip) {
   X << 0.01, 0.002, 0.0, -0.001, 0.02, 0.003, 0.0, 0.0, 0.03;
   s.joint_covariance.topRightCorner<3, 3>() = X;
   s.joint_covariance.bottomLeftCorner<3, 3>() = X.transpose();
-  Expected<cvslam::shared_landmarks_t> m = toMessage(s);
+  Expected<cvslam::shared_landmarks2_t> m = toMessage(s);
   ASSERT_TRUE(m.ok()) << m.status().message();
   EXPECT_EQ(m->descriptor_length, 4);
   EXPECT_EQ(m->num_cross, 1);
@@ -99,7 +99,7 @@ TEST(CoopConvert, SharedLandmarksRoundTrip) {
   EXPECT_TRUE(nd.landmarks[0].descriptor.empty());
   // Marginals only: no cross blocks on the wire, no joint covariance after it.
   s.joint_covariance.resize(0, 0);
-  cvslam::shared_landmarks_t marginal = *toMessage(s);
+  cvslam::shared_landmarks2_t marginal = *toMessage(s);
   EXPECT_EQ(marginal.num_cross, 0);
   EXPECT_EQ(fromMessage(throughWire(marginal), 1).joint_covariance.size(), 0);
   // A cross-block count that is neither 0 nor m(m−1)/2 is refused.
@@ -113,13 +113,13 @@ TEST(CoopConvert, InvalidMessagesAreRefused) {
   s.header = {2, 0, 0};
   s.landmarks.push_back({1u, {1, 2, 3}, Eigen::Matrix3d::Identity(), {1, 2}});
   s.landmarks.push_back({2u, {1, 2, 3}, Eigen::Matrix3d::Identity(), {1, 2, 3}});
-  Expected<cvslam::shared_landmarks_t> mixed = toMessage(s);
+  Expected<cvslam::shared_landmarks2_t> mixed = toMessage(s);
   ASSERT_TRUE(mixed.ok());
   EXPECT_EQ(mixed->descriptor_length, 0) << "descriptors of different lengths are left out";
   EXPECT_EQ(fromMessage(throughWire(*mixed), 1).landmarks.size(), 2u);
   s.landmarks.pop_back();
   s.landmarks[0].p_LinN.x() = NAN;
-  Expected<cvslam::shared_landmarks_t> m = toMessage(s);
+  Expected<cvslam::shared_landmarks2_t> m = toMessage(s);
   ASSERT_TRUE(m.ok());  // counts are fine; validation refuses the NaN
   EXPECT_FALSE(encodeMessage(*m).ok());
 
@@ -137,7 +137,7 @@ TEST(CoopConvert, InvalidMessagesAreRefused) {
   ASSERT_TRUE(bytes.ok());
   std::vector<uint8_t> cut(bytes->begin(), bytes->end() - 4);
   EXPECT_FALSE(decodeMessage<cvslam::feature_index_t>(cut.data(), cut.size()).ok());
-  EXPECT_FALSE(decodeMessage<cvslam::shared_landmarks_t>(bytes->data(), bytes->size()).ok());
+  EXPECT_FALSE(decodeMessage<cvslam::shared_landmarks2_t>(bytes->data(), bytes->size()).ok());
 }
 
 }  // namespace

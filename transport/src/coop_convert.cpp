@@ -96,8 +96,8 @@ coop::SharedRequest fromMessage(const cvslam::shared_request_t& m, int to_agent)
   return r;
 }
 
-Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& s) {
-  cvslam::shared_landmarks_t m{};
+Expected<cvslam::shared_landmarks2_t> toMessage(const coop::SharedLandmarks& s) {
+  cvslam::shared_landmarks2_t m{};
   m.header = toHeader(s.header);
   m.vehicle_cov_trace = s.vehicle_cov_trace;
   m.informed_by.assign(s.informed_by.begin(), s.informed_by.end());
@@ -125,7 +125,7 @@ Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& s) {
   return finalized(std::move(m));
 }
 
-coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks_t& m, int to_agent) {
+coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks2_t& m, int to_agent) {
   coop::SharedLandmarks s;
   s.header = fromHeader(m.header);
   s.to_agent = to_agent;

@@ -1,6 +1,6 @@
 #pragma once
 // The 3×3 landmark covariance on the wire as its upper triangle xx xy xz yy yz zz
-// (shared_landmarks_t.lcm, map_t.lcm): one layout for every converter.
+// (shared_landmarks2_t.lcm, map_t.lcm): one layout for every converter.
 #include <Eigen/Core>
 #include <vector>
 

@@ -28,7 +28,7 @@ Status DcLink::subscribe(LcmBus& bus) {
   if (!s.ok()) return s;
   s = bus.subscribe<cvslam::shared_request_t>(channels::sharedRequest(self), handler);
   if (!s.ok()) return s;
-  return bus.subscribe<cvslam::shared_landmarks_t>(channels::shared(self), handler);
+  return bus.subscribe<cvslam::shared_landmarks2_t>(channels::shared(self), handler);
 }
 
 void DcLink::drainInbound() {

@@ -26,7 +26,8 @@ const std::vector<std::pair<int64_t, const char*>>& knownTypes() {
       entry<cvslam::map_t>(),
       entry<cvslam::observation_batch_t>(),
       entry<cvslam::pose_t>(),
-      entry<cvslam::shared_landmarks_t>(),
+      entry<cvslam::shared_landmarks_t>(),  // superseded; in logs recorded before v2
+      entry<cvslam::shared_landmarks2_t>(),
       entry<cvslam::shared_request_t>(),
       entry<cvslam::status_t>(),
       entry<cvslam::stereo_features_t>(),

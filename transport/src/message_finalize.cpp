@@ -126,7 +126,7 @@ Status finalize(cvslam::shared_request_t& msg) {
   return CountSetter().leading("index", msg.index, msg.num_indices).status();
 }
 
-Status finalize(cvslam::shared_landmarks_t& msg) {
+Status finalize(cvslam::shared_landmarks2_t& msg) {
   return CountSetter()
       .leading("informed_by", msg.informed_by, msg.num_informed_by)
       .leading("index", msg.index, msg.num_landmarks)

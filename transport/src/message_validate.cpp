@@ -184,7 +184,7 @@ Status validate(const cvslam::shared_request_t& msg) {
   return Checker(msg.header).count("index", msg.num_indices, msg.index).status();
 }
 
-Status validate(const cvslam::shared_landmarks_t& msg) {
+Status validate(const cvslam::shared_landmarks2_t& msg) {
   return Checker(msg.header)
       .finite("vehicle_cov_trace", msg.vehicle_cov_trace)
       .count("informed_by", msg.num_informed_by, msg.informed_by)

@@ -144,8 +144,8 @@ Status ViewNode::subscribe() {
           });
         });
     if (s.ok())
-      s = bus.subscribe<cvslam::shared_landmarks_t>(
-          channels::shared(j), [this, j](const cvslam::shared_landmarks_t& m) {
+      s = bus.subscribe<cvslam::shared_landmarks2_t>(
+          channels::shared(j), [this, j](const cvslam::shared_landmarks2_t& m) {
             const std::size_t bytes = static_cast<std::size_t>(m.getEncodedSize());
             const double wall = now();
             locked([&] {

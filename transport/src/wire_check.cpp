@@ -132,7 +132,7 @@ Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::shar
   return r.finish();
 }
 
-Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::shared_landmarks_t*) {
+Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::shared_landmarks2_t*) {
   WireReader r(body, size);
   int32_t sources = 0, n = 0, descriptor_length = 0;
   r.header().skip(kF64).count(sources).array(sources, kI32);

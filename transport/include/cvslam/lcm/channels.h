@@ -21,7 +21,7 @@ enum class Stream {
   kPose,         ///< UAV<id>/POSE        agent_state_t
   kIndex,        ///< UAV<id>/INDEX       feature_index_t
   kSharedReq,    ///< UAV<id>/SHARED_REQ  shared_request_t (directed to id)
-  kShared,       ///< UAV<id>/SHARED      shared_landmarks_t (directed to id)
+  kShared,       ///< UAV<id>/SHARED      shared_landmarks2_t (directed to id)
   kObs,          ///< UAV<id>/OBS         observation_batch_t
   kGsState,      ///< UAV<id>/GS_STATE    gs_state_t (directed to id)
   kStatus,       ///< UAV<id>/STATUS      status_t

@@ -2,7 +2,7 @@
 // Conversions between the core's cooperation messages (coop/coop_messages.h) and their
 // lcmtypes (docs/architecture.md; thesis §6.6): CoopSummary ↔ agent_summary_t (the per-channel
 // counters are left empty for the caller to fill), FeatureIndexList ↔ feature_index_t,
-// SharedRequest ↔ shared_request_t and SharedLandmarks ↔ shared_landmarks_t. The directed
+// SharedRequest ↔ shared_request_t and SharedLandmarks ↔ shared_landmarks2_t. The directed
 // messages do not carry their addressee: it is the agent whose channel they travel on, so
 // fromMessage() takes it. toMessage() finalizes the count fields; received messages must come
 // through decodeMessage() (codec.h), which validates them, before fromMessage().
@@ -29,8 +29,8 @@ coop::SharedRequest fromMessage(const cvslam::shared_request_t& msg, int to_agen
 
 /// The message has one descriptor length: if the landmarks' descriptors differ in length,
 /// they are all left out.
-Expected<cvslam::shared_landmarks_t> toMessage(const coop::SharedLandmarks& shared);
-coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks_t& msg, int to_agent);
+Expected<cvslam::shared_landmarks2_t> toMessage(const coop::SharedLandmarks& shared);
+coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks2_t& msg, int to_agent);
 
 /// Converts each message of an outbox to its lcmtype, in a fixed order (summary, index,
 /// requests, shared landmarks), and calls `visit(channel, stream, to_agent, message)` with the

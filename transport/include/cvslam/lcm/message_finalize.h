@@ -19,7 +19,7 @@ Status finalize(cvslam::agent_state_t& msg);
 Status finalize(cvslam::agent_summary_t& msg);
 Status finalize(cvslam::feature_index_t& msg);
 Status finalize(cvslam::shared_request_t& msg);
-Status finalize(cvslam::shared_landmarks_t& msg);
+Status finalize(cvslam::shared_landmarks2_t& msg);
 Status finalize(cvslam::observation_batch_t& msg);
 Status finalize(cvslam::gs_state_t& msg);
 Status finalize(cvslam::map_t& msg);

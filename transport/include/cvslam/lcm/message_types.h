@@ -11,6 +11,7 @@
 #include "cvslam/map_t.hpp"
 #include "cvslam/observation_batch_t.hpp"
 #include "cvslam/pose_t.hpp"
+#include "cvslam/shared_landmarks2_t.hpp"
 #include "cvslam/shared_landmarks_t.hpp"
 #include "cvslam/shared_request_t.hpp"
 #include "cvslam/status_t.hpp"

@@ -19,7 +19,7 @@ Status validate(const cvslam::agent_state_t& msg);
 Status validate(const cvslam::agent_summary_t& msg);
 Status validate(const cvslam::feature_index_t& msg);
 Status validate(const cvslam::shared_request_t& msg);
-Status validate(const cvslam::shared_landmarks_t& msg);
+Status validate(const cvslam::shared_landmarks2_t& msg);
 Status validate(const cvslam::observation_batch_t& msg);
 Status validate(const cvslam::gs_state_t& msg);
 Status validate(const cvslam::map_t& msg);

@@ -29,7 +29,7 @@ Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agen
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agent_summary_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::feature_index_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::shared_request_t*);
-Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::shared_landmarks_t*);
+Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::shared_landmarks2_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::observation_batch_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::gs_state_t*);
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::map_t*);

@@ -1,7 +1,7 @@
 #pragma once
 // The four cooperation messages of DC-VSLAM (thesis §6.6.3, §6.6.5; docs/conventions.md,
 // docs/architecture.md) as plain structs mirroring the lcmtypes agent_summary_t, feature_index_t,
-// shared_request_t and shared_landmarks_t. The core produces and consumes these;
+// shared_request_t and shared_landmarks2_t. The core produces and consumes these;
 // transport/coop_convert.h converts them to and from LCM. header.seq is numbered per stream by
 // DcCooperation.
 
