@@ -1,7 +1,7 @@
-// VisualInertialSlam::fuseCovarianceIntersection (docs/cooperation.md): the CI-consistent update on a
-// small feature-level filter whose start was offset. Fusing accurate external estimates of
-// its landmarks keeps the joint covariance PSD, moves the vehicle towards the truth through
-// the vehicle–landmark correlations, and ω1 = 1 changes nothing.
+// VisualInertialSlam::fuseCovarianceIntersection (docs/cooperation.md): the CI-consistent update on
+// a small feature-level filter whose start was offset. Fusing accurate external estimates of its
+// landmarks keeps the joint covariance PSD, moves the vehicle towards the truth through the
+// vehicle–landmark correlations, and ω1 = 1 changes nothing.
 
 #include <gtest/gtest.h>
 
@@ -13,13 +13,10 @@ namespace cvslam {
 namespace {
 
 TEST(CoopSlamFusion, CiUpdateCorrectsVehicleThroughCorrelations) {
-  auto sc = sim::Scenario::fromString(cooptest::twoUavScenario(6.0, 5), "pair.yaml");
-  ASSERT_TRUE(sc.ok());
-  auto run = SimulatedTeamRun::create(*sc, VisualInertialSlamOptions{});
-  ASSERT_TRUE(run.ok());
-  ASSERT_TRUE((*run)->run({}).ok());
-  const VisualInertialSlam& slam2 = (*run)->slam(1);  // the agent with the offset start
-  const Eigen::Vector3d p_true = (*run)->simulator().agent(1).truth(slam2.time()).p_BinN;
+  const std::unique_ptr<SimulatedTeamRun> run = cooptest::flyPairAlone(6.0, 5);
+  ASSERT_NE(run, nullptr);
+  const VisualInertialSlam& slam2 = run->slam(1);  // the agent with the offset start
+  const Eigen::Vector3d p_true = run->simulator().agent(1).truth(slam2.time()).p_BinN;
   const double err_before = (slam2.vehicleState().head<3>() - p_true).norm();
   ASSERT_GT(err_before, 0.3) << "fixture: agent 2 should start offset";
 
@@ -27,7 +24,7 @@ TEST(CoopSlamFusion, CiUpdateCorrectsVehicleThroughCorrelations) {
   std::vector<Eigen::Vector3d> truth;
   for (const StateLandmark& l : slam2.stateLandmarks()) {
     Eigen::Vector3d p;
-    if (!(*run)->sensing(1).landmarkTruth(l.id, &p)) continue;
+    if (!run->sensing(1).landmarkTruth(l.id, &p)) continue;
     ids.push_back(l.id);
     truth.push_back(p);
     if (ids.size() == 6) break;

@@ -89,12 +89,9 @@ TEST(PeerConsistency, ConsistentPeerKeepsItsWeightOverConfidentOneIsScaled) {
 }
 
 TEST(CiUpdater, IndependentUpdateIsTheInformationFormFusion) {
-  auto sc = sim::Scenario::fromString(cooptest::twoUavScenario(6.0, 5), "pair.yaml");
-  ASSERT_TRUE(sc.ok());
-  auto run = SimulatedTeamRun::create(*sc, VisualInertialSlamOptions{});
-  ASSERT_TRUE(run.ok());
-  ASSERT_TRUE((*run)->run({}).ok());
-  const VisualInertialSlam& slam = (*run)->slam(1);
+  const std::unique_ptr<SimulatedTeamRun> run = cooptest::flyPairAlone(6.0, 5);
+  ASSERT_NE(run, nullptr);
+  const VisualInertialSlam& slam = run->slam(1);
   std::vector<int64_t> ids;
   std::vector<VariableKey> keys;
   for (const StateLandmark& l : slam.stateLandmarks()) {

@@ -256,7 +256,6 @@ TEST_F(TwoVehiclesInOneState, EveryModelGivesEachVehicleItsSingleVehicleResult) 
           for (Eigen::Index k = 0; k < n; ++k) {
             peer.ids.push_back(v.first_id + k);
             peer.y.segment<3>(3 * k) = v.landmarks[static_cast<std::size_t>(k)];
-            peer.landmark_trace += 0.03;
           }
           peer.vehicle_trace = 0.01;
           const Expected<CiChoice> c = m.ci.choose(s, peer, CiWeighting{});
@@ -305,8 +304,6 @@ TEST(LandmarkBook, RecordsPendingLoopsAndTheVehicleMap) {
   EXPECT_EQ(mine[0], VariableKey::vehicle(1));
   EXPECT_EQ(mine[1], VariableKey::landmark(7));
   EXPECT_EQ(book.variablesIn(s, VariableKey::vehicle(2)).size(), 1u);
-  book.restartFirstEstimates(s);
-  EXPECT_EQ(book.find(7)->first_estimate, Eigen::Vector3d(9, 8, 7));
   book.clear();
   EXPECT_EQ(book.find(7), nullptr);
   EXPECT_EQ(book.vehicleYawDirection().size(), 0);
@@ -328,7 +325,6 @@ TEST(CiUpdater, ChoosesTheWeightOfEachMethod) {
   peer.ids = {4};
   peer.y = Eigen::Vector3d(1.1, 2.0, 2.9);
   peer.R = Eigen::Matrix3d::Identity() * 0.1;
-  peer.landmark_trace = 0.3;
   peer.vehicle_trace = 0.05;
   const CiUpdater ci(VariableKey::vehicle(3));
   const double own_landmark = 3 * (0.2 + 0.1), own_vehicle = 3 * 0.2;

@@ -24,6 +24,10 @@ Expected<Msg> finalized(Msg msg) {
   return msg;
 }
 
+/// A cross-covariance block on the wire: 9 doubles, row-major (shared_landmarks2_t.lcm).
+using RowMajor3 = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
+using ConstRowMajor3 = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
+
 std::vector<int32_t> toWire(const std::vector<uint32_t>& indices) {
   std::vector<int32_t> out;
   out.reserve(indices.size());
@@ -117,8 +121,7 @@ Expected<cvslam::shared_landmarks2_t> toMessage(const coop::SharedLandmarks& s) 
     for (Eigen::Index i = 0; i < n; ++i)
       for (Eigen::Index j = i + 1; j < n; ++j) {
         std::vector<double> block(9);
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) block[3 * r + c] = s.joint_covariance(3 * i + r, 3 * j + c);
+        RowMajor3(block.data()) = s.joint_covariance.block<3, 3>(3 * i, 3 * j);
         m.cross_covariance.push_back(std::move(block));
       }
   }
@@ -148,9 +151,7 @@ coop::SharedLandmarks fromMessage(const cvslam::shared_landmarks2_t& m, int to_a
       s.joint_covariance.block<3, 3>(3 * i, 3 * i) =
           s.landmarks[static_cast<std::size_t>(i)].covariance;
       for (Eigen::Index j = i + 1; j < n; ++j, ++row) {
-        Eigen::Matrix3d block;
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) block(r, c) = m.cross_covariance[row][3 * r + c];
+        const Eigen::Matrix3d block = ConstRowMajor3(m.cross_covariance[row].data());
         s.joint_covariance.block<3, 3>(3 * i, 3 * j) = block;
         s.joint_covariance.block<3, 3>(3 * j, 3 * i) = block.transpose();
       }

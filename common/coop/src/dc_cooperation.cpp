@@ -402,8 +402,6 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
     peer.R *= e->r_scale;
     ++stats_.peer_down_weighted;
   }
-  // ω1 from the covariances actually fused (R, not the marginals it bounds).
-  peer.landmark_trace = peer.R.trace();
   const Expected<CiChoice> ci =
       slam.ciUpdater().choose(slam.state(), peer, {o_.ci_method, o_.min_omega, independent});
   if (!ci.ok()) {

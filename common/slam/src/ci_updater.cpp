@@ -33,12 +33,11 @@ Expected<CiChoice> CiUpdater::choose(const SlamState& state, const CiPeerEstimat
   if (weighting.independent) {
     // The EKF update: P_pp − P_pL (P_LL + R)⁻¹ P_Lp.
     out.omega1 = 1.0;
-    out.fused_vehicle_trace =
-        own_vehicle - (P_pL * (P1 + R).ldlt().solve(P_pL.transpose())).trace();
-    out.vehicle_gain = out.fused_vehicle_trace < own_vehicle;
+    out.vehicle_gain = (P_pL * (P1 + R).ldlt().solve(P_pL.transpose())).trace() > 0.0;
     return out;
   }
-  const double peer_trace = peer.landmark_trace;
+  // The weights read the covariance the update fuses, R (not the marginals it may bound).
+  const double peer_trace = R.trace();
   double w = 1.0;
   const double nn = static_cast<double>(n);
   switch (weighting.method) {
@@ -60,8 +59,8 @@ Expected<CiChoice> CiUpdater::choose(const SlamState& state, const CiPeerEstimat
   out.omega1 = std::clamp(w, weighting.min_omega, 1.0);
   // CI on the joint state inflates everything by 1/ω1; when the peer's landmarks would not even
   // shrink the bound on the vehicle position, fusing only loses information.
-  out.fused_vehicle_trace = jointCiVehiclePositionTrace(P_pp, P_pL, P1, R, out.omega1);
-  out.vehicle_gain = out.omega1 < 1.0 && out.fused_vehicle_trace < own_vehicle;
+  out.vehicle_gain =
+      out.omega1 < 1.0 && jointCiVehiclePositionTrace(P_pp, P_pL, P1, R, out.omega1) < own_vehicle;
   return out;
 }
 

@@ -43,14 +43,6 @@ std::vector<VariableKey> LandmarkBook::variablesIn(const SlamState& state,
   return out;
 }
 
-void LandmarkBook::restartFirstEstimates(const SlamState& state) {
-  for (const StateVariable& v : state.variables()) {
-    if (v.key.kind != VariableKey::Kind::kLandmark) continue;
-    if (LandmarkBookEntry* r = find(static_cast<int64_t>(v.key.id)))
-      r->first_estimate = state.value(v);
-  }
-}
-
 void LandmarkBook::markPendingLoop(int64_t landmark_id, int64_t since_us) {
   pending_loop_.emplace(landmark_id, since_us);
 }

@@ -37,19 +37,17 @@ struct CiWeighting {
 
 /// A peer's estimates of landmarks of the vehicle's map.
 struct CiPeerEstimates {
-  std::vector<int64_t> ids;     ///< local landmark ids, all in the state
-  Eigen::VectorXd y;            ///< peer's positions, 3 per landmark in the order of ids [m]
-  Eigen::MatrixXd R;            ///< bound on the covariance of y [m²]
-  double landmark_trace = 0.0;  ///< Σ trace of the peer's landmark covariances [m²]
-  double vehicle_trace = 0.0;   ///< trace of the peer's vehicle position covariance [m²]
+  std::vector<int64_t> ids;    ///< local landmark ids, all in the state
+  Eigen::VectorXd y;           ///< peer's positions, 3 per landmark in the order of ids [m]
+  Eigen::MatrixXd R;           ///< bound on the covariance of y [m²]
+  double vehicle_trace = 0.0;  ///< trace of the peer's vehicle position covariance [m²]
 };
 
 /// The chosen weight and what it does to the vehicle.
 struct CiChoice {
-  double omega1 = 1.0;               ///< weight of the own estimate, in [min_omega, 1]
-  double own_vehicle_trace = 0.0;    ///< trace of the own vehicle position covariance [m²]
-  bool vehicle_gain = false;         ///< ω1 < 1 and the update shrinks that trace
-  double fused_vehicle_trace = 0.0;  ///< that trace after the update [m²]
+  double omega1 = 1.0;             ///< weight of the own estimate, in [min_omega, 1]
+  double own_vehicle_trace = 0.0;  ///< trace of the own vehicle position covariance [m²]
+  bool vehicle_gain = false;       ///< the update shrinks that trace
 };
 
 class CiUpdater {

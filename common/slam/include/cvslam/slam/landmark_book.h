@@ -55,9 +55,6 @@ class LandmarkBook {
   /// The variables of this vehicle's map in `state`, in state order: the vehicle and the
   /// landmarks of the book.
   std::vector<VariableKey> variablesIn(const SlamState& state, const VariableKey& vehicle) const;
-  /// Restarts the first estimates of the book's landmarks at their current means (after an
-  /// update that moved the whole map, e.g. covariance intersection).
-  void restartFirstEstimates(const SlamState& state);
 
   /// u_v of the vehicle (observability_constraint.h).
   const Eigen::VectorXd& vehicleYawDirection() const { return vehicle_yaw_direction_; }
