@@ -82,35 +82,37 @@ inline void deliver(coop::DcCooperation& to, const Envelope& e) {
   if (e.shared) to.onShared(*e.shared);
 }
 
-/// The pair's own filters flown for `duration` s without cooperation (for tests of one fusion
-/// on UAV2's filter, whose start is offset); nullptr, with a test failure, if it cannot run.
-inline std::unique_ptr<SimulatedTeamRun> flyPairAlone(double duration, uint64_t seed) {
-  auto sc = sim::Scenario::fromString(twoUavScenario(duration, seed), "pair.yaml");
+/// The pair's filters, not yet flown; nullptr, with a test failure, if they cannot be built.
+inline std::unique_ptr<SimulatedTeamRun> createPair(double duration, uint64_t seed) {
+  auto sc = sim::Scenario::fromString(twoUavScenario(duration, seed), "coop_pair.yaml");
   EXPECT_TRUE(sc.ok()) << sc.status().message();
   if (!sc.ok()) return nullptr;
   auto run = SimulatedTeamRun::create(*sc, VisualInertialSlamOptions{});
   EXPECT_TRUE(run.ok()) << run.status().message();
-  if (!run.ok()) return nullptr;
-  const Status s = (*run)->run({});
+  return run.ok() ? std::move(*run) : nullptr;
+}
+
+/// The pair's own filters flown for `duration` s without cooperation (for tests of one fusion
+/// on UAV2's filter, whose start is offset); nullptr, with a test failure, if it cannot run.
+inline std::unique_ptr<SimulatedTeamRun> flyPairAlone(double duration, uint64_t seed) {
+  std::unique_ptr<SimulatedTeamRun> run = createPair(duration, seed);
+  if (run == nullptr) return nullptr;
+  const Status s = run->run({});
   EXPECT_TRUE(s.ok()) << s.message();
-  return s.ok() ? std::move(*run) : nullptr;
+  return s.ok() ? std::move(run) : nullptr;
 }
 
 inline TeamResult runTeam(double duration, uint64_t seed, const TeamOptions& opt) {
   TeamResult out;
-  auto sc = sim::Scenario::fromString(twoUavScenario(duration, seed), "coop_pair.yaml");
-  EXPECT_TRUE(sc.ok()) << sc.status().message();
-  if (!sc.ok()) return out;
-  auto run = SimulatedTeamRun::create(*sc, VisualInertialSlamOptions{});
-  EXPECT_TRUE(run.ok()) << run.status().message();
-  if (!run.ok()) return out;
+  const std::unique_ptr<SimulatedTeamRun> run = createPair(duration, seed);
+  if (run == nullptr) return out;
   coop::DcCooperationOptions co = opt.coop;
   co.true_ids = true;
   std::unique_ptr<coop::DcCooperation> agents[2] = {
       std::make_unique<coop::DcCooperation>(1, co, 1001),
       std::make_unique<coop::DcCooperation>(2, co, 2001)};
   bool restarted = false;
-  Status s = (*run)->run([&](const SimulatedFrame& f) {
+  Status s = run->run([&](const SimulatedFrame& f) {
     const int self = f.agent_id - 1, peer = 1 - self;
     if (!opt.cooperate) return Status::Ok();
     if (self == 1 && opt.restart_at_us >= 0 && f.t_us >= opt.restart_at_us && !restarted) {
@@ -146,15 +148,15 @@ inline TeamResult runTeam(double duration, uint64_t seed, const TeamOptions& opt
   for (int i = 0; i < 2; ++i) {
     out.stats[i] = agents[i]->statistics();
     out.events[i] = agents[i]->takeEvents();
-    const VisualInertialSlam& slam = (*run)->slam(static_cast<std::size_t>(i));
+    const VisualInertialSlam& slam = run->slam(static_cast<std::size_t>(i));
     const sim::GroundTruth truth =
-        (*run)->simulator().agent(static_cast<std::size_t>(i)).truth(slam.time());
+        run->simulator().agent(static_cast<std::size_t>(i)).truth(slam.time());
     out.final_vehicle_error[i] = (slam.vehicleState().head<3>() - truth.p_BinN).norm();
     double sum = 0.0;
     int n = 0;
     for (const StateLandmark& l : slam.stateLandmarks()) {
       Eigen::Vector3d p;
-      if (!(*run)->sensing(static_cast<std::size_t>(i)).landmarkTruth(l.id, &p)) continue;
+      if (!run->sensing(static_cast<std::size_t>(i)).landmarkTruth(l.id, &p)) continue;
       sum += (l.p_LinN - p).norm();
       ++n;
     }
