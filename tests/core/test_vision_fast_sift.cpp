@@ -102,18 +102,28 @@ StereoFrontEndOptions fastOptions(double f, double baseline, double min_depth) {
 
 // The fast front end on a real image shifted by a known disparity field (as
 // test_vision_stereo.cpp): a match is right within 1 px in disparity and row.
-TEST(VisionFastSift, FrontEndPrecisionAgainstKnownDisparity) {
-  const cv::Mat left = realLeft(20);
-  ASSERT_FALSE(left.empty());
-  auto disparity = [&](double v) { return 6.0 + 30.0 * v / left.rows; };
+double knownDisparity(double v, int rows) {
+  return 6.0 + 30.0 * v / rows;
+}
+
+// The right image of `left` under knownDisparity().
+cv::Mat shiftedRight(const cv::Mat& left) {
   cv::Mat map_x(left.size(), CV_32F), map_y(left.size(), CV_32F);
   for (int v = 0; v < left.rows; ++v)
     for (int u = 0; u < left.cols; ++u) {
-      map_x.at<float>(v, u) = static_cast<float>(u + disparity(v));
+      map_x.at<float>(v, u) = static_cast<float>(u + knownDisparity(v, left.rows));
       map_y.at<float>(v, u) = static_cast<float>(v);
     }
   cv::Mat right;
   cv::remap(left, right, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
+  return right;
+}
+
+TEST(VisionFastSift, FrontEndPrecisionAgainstKnownDisparity) {
+  const cv::Mat left = realLeft(20);
+  ASSERT_FALSE(left.empty());
+  auto disparity = [&](double v) { return knownDisparity(v, left.rows); };
+  const cv::Mat right = shiftedRight(left);
   auto fe = StereoFrontEnd::create(fastOptions(450.0, 0.11, 1.0), nullptr);
   ASSERT_TRUE(fe.ok()) << fe.status().message();
   std::vector<StereoObservation> obs;
@@ -130,6 +140,53 @@ TEST(VisionFastSift, FrontEndPrecisionAgainstKnownDisparity) {
   EXPECT_GE(precision, 0.99);
   for (std::size_t i = 0; i < fe->lastFrame().left.size(); ++i)  // described: matched only
     EXPECT_EQ(fe->lastFrame().matches[i].left, static_cast<int>(i));
+}
+
+// max_observations keeps the matches inside priority regions (where the map predicts a
+// landmark) before better-scored ones elsewhere, and describes only the kept ones.
+TEST(VisionFastSift, MaxObservationsKeepsPriorityRegionsFirst) {
+  const cv::Mat left = realLeft(20);
+  ASSERT_FALSE(left.empty());
+  const cv::Mat right = shiftedRight(left);
+  auto all = StereoFrontEnd::create(fastOptions(450.0, 0.11, 1.0), nullptr);
+  ASSERT_TRUE(all.ok()) << all.status().message();
+  std::vector<StereoObservation> every;
+  ASSERT_TRUE(all->process(left, right, &every).ok());
+  ASSERT_GE(every.size(), 150u);
+  // The ten worst-scored matches (largest 1 − ZNCC) are the ones a plain cap drops first.
+  std::vector<StereoMatch> by_score = all->lastFrame().matches;
+  std::sort(by_score.begin(), by_score.end(),
+            [](const StereoMatch& a, const StereoMatch& b) { return a.distance > b.distance; });
+  std::vector<PriorityRegion> regions;
+  for (std::size_t k = 0; k < 10; ++k) {
+    const cv::Point2f p =
+        all->lastFrame().left.keypoints[static_cast<std::size_t>(by_score[k].left)].pt;
+    regions.push_back({p, cv::Point2f(1.0f, 1.0f)});
+  }
+  auto keptCount = [&](const std::vector<StereoObservation>& obs) {
+    int found = 0;
+    for (const PriorityRegion& r : regions)
+      for (const StereoObservation& o : obs)
+        if (std::abs(o.z(0) - r.center.x) < 1e-3 && std::abs(o.z(1) - r.center.y) < 1e-3) {
+          ++found;
+          break;
+        }
+    return found;
+  };
+  StereoFrontEndOptions capped = fastOptions(450.0, 0.11, 1.0);
+  capped.max_observations = 40;
+  auto fe = StereoFrontEnd::create(capped, nullptr);
+  ASSERT_TRUE(fe.ok()) << fe.status().message();
+  std::vector<StereoObservation> obs;
+  ASSERT_TRUE(fe->process(left, right, &obs).ok());
+  EXPECT_EQ(obs.size(), 40u);
+  EXPECT_LE(keptCount(obs), 1);  // without regions the worst are dropped
+  ASSERT_TRUE(fe->process(left, right, &obs, &regions).ok());
+  EXPECT_EQ(obs.size(), 40u);
+  EXPECT_EQ(fe->lastFrame().left.descriptors.rows, 40);  // the rest were not described
+  EXPECT_EQ(keptCount(obs), 10);
+  EXPECT_GE(fe->lastFrame().prioritised, 10);
+  EXPECT_GT(fe->lastFrame().timings.describe_ms, 0.0);
 }
 
 // The real rectified EuRoC pairs (as VisionStereoReal): rows aligned, depths plausible.

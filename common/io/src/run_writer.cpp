@@ -162,6 +162,27 @@ Status writeRunStats(const std::string& path, int agent_id, const RunStats& stat
     root["bytes_sent_per_s"] = std::move(rates);
   }
   root["frames"] = std::move(frames);
+  if (!stats.stage_ms.empty()) {
+    Json stages = Json::object();
+    for (const auto& [stage, samples] : stats.stage_ms) {
+      if (samples.empty()) continue;
+      std::vector<double> v = samples;
+      std::sort(v.begin(), v.end());
+      const auto at = [&v](double q) {
+        return v[std::min(v.size() - 1,
+                          static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+      };
+      double sum = 0.0;
+      for (double x : v) sum += x;
+      Json s = Json::object();
+      s["frames"] = static_cast<int64_t>(v.size());
+      s["mean"] = sum / static_cast<double>(v.size());
+      s["median"] = at(0.5);
+      s["p95"] = at(0.95);
+      stages[stage] = std::move(s);
+    }
+    root["stage_ms"] = std::move(stages);
+  }
   return writeJsonFile(path, root);
 }
 

@@ -10,7 +10,8 @@ namespace cvslam {
 namespace {
 
 /// Pixel of a point in N in a rendered camera image; empty behind the camera.
-std::optional<Eigen::Vector2d> projectInto(const render::RenderedImage& image, const Eigen::Vector3d& p_N) {
+std::optional<Eigen::Vector2d> projectInto(const render::RenderedImage& image,
+                                           const Eigen::Vector3d& p_N) {
   const Eigen::Vector3d p_C = image.R_NtoC * (p_N - image.p_CinN);
   if (p_C.z() <= 1e-9) return std::nullopt;
   const render::PinholeIntrinsics& k = image.intrinsics;
@@ -54,9 +55,9 @@ double RenderedSensingStats::disparityRms() const {
              : std::numeric_limits<double>::quiet_NaN();
 }
 
-RenderedSensing::RenderedSensing(std::shared_ptr<const render::World> world, const StereoCamera& camera,
-                                 const render::RenderOptions& render, VisualSlamPipeline pipeline,
-                                 const RenderedSensingOptions& options)
+RenderedSensing::RenderedSensing(std::shared_ptr<const render::World> world,
+                                 const StereoCamera& camera, const render::RenderOptions& render,
+                                 VisualSlamPipeline pipeline, const RenderedSensingOptions& options)
     : renderer_(std::move(world), camera, render), pipeline_(std::move(pipeline)), o_(options) {}
 
 Status RenderedSensing::processFrame(const sim::SimEvent& event, VisualInertialSlam& slam,
@@ -75,6 +76,10 @@ Status RenderedSensing::processFrame(const sim::SimEvent& event, VisualInertialS
   ++stats_.frames;
   stats_.observations += static_cast<long>(result_.frame.observations.size());
   stats_.front_end_ms += result_.front_end_ms;
+  stats_.front_end.detect_ms += result_.front_end.detect_ms;
+  stats_.front_end.stereo_ms += result_.front_end.stereo_ms;
+  stats_.front_end.describe_ms += result_.front_end.describe_ms;
+  stats_.front_end.index_ms += result_.front_end.index_ms;
   stats_.association_ms += result_.association_ms;
   stats_.filter_ms += result_.filter_ms;
   checkFrame(slam);

@@ -49,7 +49,15 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
               << ',' << r.association.candidates_gated << ',' << r.association.associated << ','
               << r.initialised.size() << ',' << r.front_end_ms << ',' << r.association_ms << ','
               << r.filter_ms << ',' << r.loop.candidates << ',' << r.loop.inliers << '\n';
+    writer_->addStageTime("front_end", r.front_end_ms);
+    writer_->addStageTime("front_end.detect", r.front_end.detect_ms);
+    writer_->addStageTime("front_end.stereo", r.front_end.stereo_ms);
+    writer_->addStageTime("front_end.describe", r.front_end.describe_ms);
+    writer_->addStageTime("front_end.index", r.front_end.index_ms);
+    writer_->addStageTime("association", r.association_ms);
+    writer_->addStageTime("filter", r.filter_ms);
   }
+  writer_->addStageTime("frame", f.time_ms);
   const Eigen::VectorXd x = adopted != nullptr ? adopted->x_v : slam.vehicleState();
   const Eigen::MatrixXd P = adopted != nullptr ? adopted->P_v : slam.vehicleCovariance();
   if (Status s = writer_->addState(t, x.head<9>(), P.topLeftCorner<9, 9>()); !s.ok()) return s;

@@ -156,13 +156,10 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
                          std::to_string(c.width) + "×" + std::to_string(c.height));
   }
 
-  // 1. Front end: features of both images, stereo matches → observations (type 3).
+  // 1. Predicted observations of the map at t_us (propagates the filter to t_us). They come
+  // first so that the front end, when it keeps only max_observations, keeps the keypoints the
+  // association and the confirmation will look for.
   auto t0 = std::chrono::steady_clock::now();
-  if (Status s = front_end_.process(left, right, &r.frame.observations); !s.ok()) return s;
-  r.front_end_ms = msSince(t0);
-
-  // 2. Predicted observations of the map at t_us (propagates the filter to t_us).
-  t0 = std::chrono::steady_clock::now();
   if (Status s = predictMapObservations(slam, t_us, o_.prediction, &predicted_); !s.ok()) {
     return s;
   }
@@ -172,7 +169,19 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
     gated_.push_back({p.landmark_id, p.z, p.S, *p.descriptor});
   }
   r.predictions = static_cast<int>(gated_.size());
+  if (o_.front_end.max_observations > 0) priorityRegions(slam);
+  double prediction_ms = msSince(t0);
 
+  // 2. Front end: features of both images, stereo matches → observations (type 3).
+  t0 = std::chrono::steady_clock::now();
+  if (Status s = front_end_.process(left, right, &r.frame.observations, &priority_); !s.ok()) {
+    return s;
+  }
+  r.front_end_ms = msSince(t0);
+  r.front_end = front_end_.lastFrame().timings;
+  r.prioritised = front_end_.lastFrame().prioritised;
+
+  t0 = std::chrono::steady_clock::now();
   // 3. Association by descriptor and Mahalanobis gate (type 1), fresh ids for the rest.
   if (Status s =
           vision::associateToMap(gated_, o_.association, &r.frame.observations, &r.association);
@@ -200,7 +209,7 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
     filter_frame_.observations.push_back(r.frame.observations[i]);
     filter_index_.push_back(i);
   }
-  r.association_ms = msSince(t0);
+  r.association_ms = prediction_ms + msSince(t0);
 
   // 4. The filter; a fresh id that is now in the state was initialised by this frame.
   t0 = std::chrono::steady_clock::now();
@@ -215,6 +224,30 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
   }
   if (o_.confirm_new) rememberUnmapped(slam, r);
   return Status::Ok();
+}
+
+void VisualSlamPipeline::priorityRegions(const VisualInertialSlam& slam) {
+  priority_.clear();
+  // The association's gate on [u_L v_L] alone: |Δu| ≤ √(χ²·S_uu) holds for every z inside the
+  // 4-D Mahalanobis gate.
+  const double chi2 = o_.association.gate_chi2;
+  for (const vision::LandmarkPrediction& p : gated_) {
+    priority_.push_back({cv::Point2f(static_cast<float>(p.z(0)), static_cast<float>(p.z(1))),
+                         cv::Point2f(static_cast<float>(std::sqrt(chi2 * p.S(0, 0))),
+                                     static_cast<float>(std::sqrt(chi2 * p.S(1, 1))))});
+  }
+  if (!o_.confirm_new) return;
+  // The previous frame's unmapped points where the filter's motion puts them (confirmNew).
+  const StereoCamera& camera = slam.camera();
+  const vehicle_model::Pose x = slam.vehiclePose();
+  const auto gate = static_cast<float>(o_.confirm_gate_px);
+  for (const PreviousPoint& q : previous_) {
+    const Eigen::Vector3d p_C = camera.landmarkInCamera(x, q.p_LinN);
+    if (p_C.z() <= camera.options().min_depth) continue;
+    const Eigen::Vector4d z = camera.project(p_C);
+    priority_.push_back(
+        {cv::Point2f(static_cast<float>(z(0)), static_cast<float>(z(1))), cv::Point2f(gate, gate)});
+  }
 }
 
 vision::MatchNorm VisualSlamPipeline::descriptorNorm() const {

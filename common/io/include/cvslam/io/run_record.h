@@ -65,6 +65,9 @@ struct RunStats {
   /// them; stats.json: bytes_sent_per_stream and their rates bytes_sent_per_s.
   std::map<std::string, int64_t> bytes_sent_per_stream;
   std::vector<FrameStats> frames;
+  /// Per-frame time of each processing stage [ms] ("front_end.detect", …, "filter"), when
+  /// the driver times them; stats.json: stage_ms {stage: {frames, mean, median, p95}}.
+  std::map<std::string, std::vector<double>> stage_ms;
 };
 
 /// Run-wide facts written once by the driver (cvslam_run, the agents' launcher).

@@ -42,6 +42,8 @@ class AgentRunWriter {
   /// Dead-reckoning (INS-only) state: one pose in ins_trajectory.tum (opened on first use).
   Status addInsState(double t, const Vector9d& x_ins);
   void addFrame(const FrameStats& frame) { stats_.frames.push_back(frame); }
+  /// One frame's time in one processing stage [ms] (RunStats::stage_ms).
+  void addStageTime(const std::string& stage, double ms) { stats_.stage_ms[stage].push_back(ms); }
   void addBytesSent(int64_t bytes) { stats_.bytes_sent += bytes; }
   /// Counts `bytes` in the total and in the stream's own count (stats.json).
   void addBytesSent(const std::string& stream, int64_t bytes) {

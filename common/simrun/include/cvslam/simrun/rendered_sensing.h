@@ -49,6 +49,7 @@ struct RenderedSensingStats {
   double reobservation_error_sq_sum = 0.0;
   double render_ms = 0.0;
   double front_end_ms = 0.0;
+  vision::FrontEndTimings front_end;  ///< front_end_ms by stage (sums)
   double association_ms = 0.0;
   double filter_ms = 0.0;
 

@@ -102,7 +102,9 @@ struct VisualFrameResult {
   vision::AssociationStats association;  ///< gate candidates and type-1 observations
   LoopDetection loop;                    ///< the archive query, if one ran
   std::vector<std::pair<std::size_t, int64_t>> initialised;  ///< (observation, new landmark)
-  double front_end_ms = 0.0;    ///< detection, description, stereo matching [ms]
+  double front_end_ms = 0.0;          ///< detection, description, stereo matching [ms]
+  vision::FrontEndTimings front_end;  ///< front_end_ms by stage
+  int prioritised = 0;          ///< observations kept under max_observations for a priority region
   double association_ms = 0.0;  ///< prediction and association [ms]
   double filter_ms = 0.0;       ///< VisualInertialSlam::processFrame [ms]
 };
@@ -143,6 +145,9 @@ class VisualSlamPipeline {
   /// Marks the unassociated observations confirmed by the previous frame (fresh ids).
   void confirmNew(const VisualInertialSlam& slam, std::vector<StereoObservation>* observations,
                   int* confirmed);
+  /// priority_: where the map predicts a landmark (association gate) and where the previous
+  /// frame's unmapped points are expected (confirmation gate), for max_observations.
+  void priorityRegions(const VisualInertialSlam& slam);
   /// Keeps this frame's unmapped stereo matches, triangulated, for the next confirmation.
   void rememberUnmapped(const VisualInertialSlam& slam, const VisualFrameResult& result);
 
@@ -159,6 +164,7 @@ class VisualSlamPipeline {
   vision::StereoFrontEnd front_end_;
   std::vector<PredictedObservation> predicted_;    // reused every frame
   std::vector<vision::LandmarkPrediction> gated_;  // reused every frame
+  std::vector<vision::PriorityRegion> priority_;   // reused every frame
   AppearanceLoopDetector loop_detector_;
   bool feature_index_ = false;  // observations carry visual words (a vocabulary is loaded)
   int64_t frames_ = 0;
