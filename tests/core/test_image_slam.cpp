@@ -104,10 +104,7 @@ void runImages(const sim::Scenario& scenario, vision::DetectorType detector, Ima
       st.filter_ms / std::max(st.frames, 1L), st.render_ms / std::max(st.frames, 1L));
 }
 
-TEST(ImageSlam, AdaptiveSiftEndToEndOnRenderedCircle) {
-  // The shipped default: adaptive SIFT (§4.2.5).
-  ImageRun a;
-  runImages(imageScenario(15.0, 11), vision::DetectorType::kAdaptiveSift, &a);
+void expectEndToEnd(const ImageRun& a, double max_landmark_rms) {
   ASSERT_EQ(a.frames, 151);
   const RenderedSensingStats& st = a.stats;
   EXPECT_GT(st.observations / st.frames, 100) << "too few stereo observations per frame";
@@ -118,10 +115,31 @@ TEST(ImageSlam, AdaptiveSiftEndToEndOnRenderedCircle) {
   // Every landmark of the map has its true point (the renderer saw a surface there).
   EXPECT_GT(a.landmarks, 100);
   EXPECT_EQ(a.landmarks_with_truth, a.landmarks);
-  EXPECT_LT(a.landmark_error_rms, 0.3);
+  EXPECT_LT(a.landmark_error_rms, max_landmark_rms);
+  // … and no worse than the vehicle's own drift (no association errors in the map).
+  EXPECT_LT(a.landmark_error_rms, 1.2 * a.ate);
   // Vision keeps the biased IMU in check: far better than dead reckoning.
   EXPECT_GT(a.ins_ate, 2.0);
   EXPECT_LT(a.ate, 0.05 * a.ins_ate) << "ATE " << a.ate << " m, INS-only " << a.ins_ate << " m";
+}
+
+TEST(ImageSlam, FastSiftEndToEndOnRenderedCircle) {
+  // The shipped default: fast SIFT (§4.2.5 on our scale space), 150 matches described.
+  ImageRun a;
+  runImages(imageScenario(15.0, 11), vision::DetectorType::kFastSift, &a);
+  // Measured: ATE 0.36 m, map 0.37 m (the reference below: 0.30 / 0.30 m). On this 15 s circle
+  // the reference is ahead; on thesis_loop's 210 s fast SIFT closes the loop that the
+  // reference misses (docs/image_sensing.md).
+  expectEndToEnd(a, 0.45);
+  // The cap keeps what the association looks for: most observations near a prediction.
+  EXPECT_LE(a.stats.observations, 150L * a.frames);
+}
+
+TEST(ImageSlam, AdaptiveSiftEndToEndOnRenderedCircle) {
+  // The OpenCV-based reference: adaptive SIFT (§4.2.5).
+  ImageRun a;
+  runImages(imageScenario(15.0, 11), vision::DetectorType::kAdaptiveSift, &a);
+  expectEndToEnd(a, 0.3);
 }
 
 TEST(ImageSlam, OrbPrecisionAndDeterminismOnRenderedCircle) {
@@ -351,7 +369,8 @@ TEST(ImageSlam, ShippedFrontendConfigLoads) {
   ASSERT_TRUE(cfg.ok());
   VisualFrontEndOptions o;
   EXPECT_TRUE(o.load(cfg->child("frontend")).ok()) << cfg->status().message();
-  EXPECT_EQ(o.front_end.detector.type, vision::DetectorType::kAdaptiveSift);
+  EXPECT_EQ(o.front_end.detector.type, vision::DetectorType::kFastSift);
+  EXPECT_EQ(o.front_end.detector.fast_sift.describe_budget, 150);
   EXPECT_TRUE(o.loop_detection.enabled);
   EXPECT_EQ(o.loop_detection.min_inliers, 6);
   EXPECT_EQ(o.tracked_landmarks, 0);

@@ -187,6 +187,16 @@ TEST(VisionFastSift, MaxObservationsKeepsPriorityRegionsFirst) {
   EXPECT_EQ(keptCount(obs), 10);
   EXPECT_GE(fe->lastFrame().prioritised, 10);
   EXPECT_GT(fe->lastFrame().timings.describe_ms, 0.0);
+  // fast_sift's describe_budget caps the same way.
+  StereoFrontEndOptions budget = fastOptions(450.0, 0.11, 1.0);
+  budget.detector.fast_sift.describe_budget = 40;
+  auto fb = StereoFrontEnd::create(budget, nullptr);
+  ASSERT_TRUE(fb.ok()) << fb.status().message();
+  EXPECT_EQ(fb->keptMatches(), 40);
+  std::vector<StereoObservation> obs_budget;
+  ASSERT_TRUE(fb->process(left, right, &obs_budget, &regions).ok());
+  ASSERT_EQ(obs_budget.size(), obs.size());
+  for (std::size_t i = 0; i < obs.size(); ++i) EXPECT_EQ(obs_budget[i].z, obs[i].z);
 }
 
 // The real rectified EuRoC pairs (as VisionStereoReal): rows aligned, depths plausible.
@@ -223,7 +233,8 @@ TEST(VisionFastSift, OptionsLoadAndErrors) {
   auto cfg = ConfigNode::fromString(
       "front_end:\n"
       "  detector: {type: fast_sift,\n"
-      "             fast_sift: {grid_cols: 4, grid_rows: 3, max_octaves: 5, max_base_side: 300}}\n"
+      "             fast_sift: {grid_cols: 4, grid_rows: 3, max_octaves: 5, max_base_side: 300,\n"
+      "                         describe_budget: 120}}\n"
       "  row_search: {patch_radius: 4, min_zncc: 0.9, uniqueness: 0.5, min_patch_std: 1.0}\n",
       "f.yaml");
   ASSERT_TRUE(cfg.ok());
@@ -234,6 +245,7 @@ TEST(VisionFastSift, OptionsLoadAndErrors) {
   EXPECT_EQ(o.detector.fast_sift.grid_cols, 4);
   EXPECT_EQ(o.detector.fast_sift.max_octaves, 5);
   EXPECT_EQ(o.detector.fast_sift.max_base_side, 300);
+  EXPECT_EQ(o.detector.fast_sift.describe_budget, 120);
   EXPECT_DOUBLE_EQ(o.detector.fast_sift.baseScale(cv::Size(600, 400)), 0.5);
   EXPECT_DOUBLE_EQ(o.detector.fast_sift.baseScale(cv::Size(300, 200)), 1.0);
   EXPECT_EQ(o.row_search.patch_radius, 4);
@@ -241,7 +253,8 @@ TEST(VisionFastSift, OptionsLoadAndErrors) {
   for (const char* bad : {"{row_search: {patch_radius: 0}}", "{row_search: {uniqueness: 1.5}}",
                           "{detector: {fast_sift: {grid_cols: 4, grid_rows: 0}}}",
                           "{detector: {fast_sift: {max_octaves: 0}}}",
-                          "{detector: {fast_sift: {max_base_side: 10}}}"}) {
+                          "{detector: {fast_sift: {max_base_side: 10}}}",
+                          "{detector: {fast_sift: {describe_budget: -1}}}"}) {
     auto c = ConfigNode::fromString(std::string("front_end: ") + bad, "f.yaml");
     ASSERT_TRUE(c.ok());
     StereoFrontEndOptions x;

@@ -522,6 +522,10 @@ std::string AgentNode::report() const {
                 static_cast<long long>(late_), static_cast<long long>(before_start_),
                 static_cast<long long>(errors_));
   std::string r = buf;
+  if (recorder_.isOpen()) {
+    const std::string stages = stageTimesLine(recorder_.writer().stats());
+    if (!stages.empty()) r += "\n  " + stages;
+  }
   if (o_.auth_key) {
     std::snprintf(buf, sizeof(buf),
                   "; authentication refused: unsigned %lld, forged %lld, replayed %lld",

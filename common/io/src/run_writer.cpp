@@ -123,6 +123,44 @@ Status writeLandmarksFile(const std::string& path, const std::vector<LandmarkRec
   return out ? Status::Ok() : Status::Error(path + ": write failed");
 }
 
+StageTimeSummary summariseStageTimes(const std::vector<double>& samples_ms) {
+  StageTimeSummary t;
+  if (samples_ms.empty()) return t;
+  std::vector<double> v = samples_ms;
+  std::sort(v.begin(), v.end());
+  const auto at = [&v](double q) {
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+  };
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  t.frames = static_cast<int64_t>(v.size());
+  t.mean = sum / static_cast<double>(v.size());
+  t.median = at(0.5);
+  t.p95 = at(0.95);
+  return t;
+}
+
+std::string stageTimesLine(const RunStats& stats) {
+  const auto median = [&stats](const char* stage) {
+    const auto it = stats.stage_ms.find(stage);
+    return it == stats.stage_ms.end() ? std::numeric_limits<double>::quiet_NaN()
+                                      : summariseStageTimes(it->second).median;
+  };
+  if (stats.stage_ms.find("frame") == stats.stage_ms.end()) return "";
+  char buf[320];
+  if (stats.stage_ms.find("front_end") == stats.stage_ms.end()) {
+    std::snprintf(buf, sizeof(buf), "frame median %.2f ms", median("frame"));
+    return buf;
+  }
+  std::snprintf(buf, sizeof(buf),
+                "frame median %.2f ms: front end %.2f (detect %.2f, stereo %.2f, describe %.2f, "
+                "index %.2f), association %.2f, filter %.2f",
+                median("frame"), median("front_end"), median("front_end.detect"),
+                median("front_end.stereo"), median("front_end.describe"),
+                median("front_end.index"), median("association"), median("filter"));
+  return buf;
+}
+
 Status writeRunStats(const std::string& path, int agent_id, const RunStats& stats) {
   Json frames = Json::object();
   std::vector<double> t, ms, sigma;
@@ -166,19 +204,12 @@ Status writeRunStats(const std::string& path, int agent_id, const RunStats& stat
     Json stages = Json::object();
     for (const auto& [stage, samples] : stats.stage_ms) {
       if (samples.empty()) continue;
-      std::vector<double> v = samples;
-      std::sort(v.begin(), v.end());
-      const auto at = [&v](double q) {
-        return v[std::min(v.size() - 1,
-                          static_cast<std::size_t>(q * static_cast<double>(v.size())))];
-      };
-      double sum = 0.0;
-      for (double x : v) sum += x;
+      const StageTimeSummary st = summariseStageTimes(samples);
       Json s = Json::object();
-      s["frames"] = static_cast<int64_t>(v.size());
-      s["mean"] = sum / static_cast<double>(v.size());
-      s["median"] = at(0.5);
-      s["p95"] = at(0.95);
+      s["frames"] = st.frames;
+      s["mean"] = st.mean;
+      s["median"] = st.median;
+      s["p95"] = st.p95;
       stages[stage] = std::move(s);
     }
     root["stage_ms"] = std::move(stages);

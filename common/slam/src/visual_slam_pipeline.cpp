@@ -169,7 +169,7 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
     gated_.push_back({p.landmark_id, p.z, p.S, *p.descriptor});
   }
   r.predictions = static_cast<int>(gated_.size());
-  if (o_.front_end.max_observations > 0) priorityRegions(slam);
+  if (front_end_.keptMatches() > 0) priorityRegions(slam);
   double prediction_ms = msSince(t0);
 
   // 2. Front end: features of both images, stereo matches → observations (type 3).

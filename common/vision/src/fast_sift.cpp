@@ -13,10 +13,12 @@ Status FastSiftOptions::load(const ConfigNode& node) {
   node.get("grid_rows", grid_rows);
   node.get("max_octaves", max_octaves);
   node.get("max_base_side", max_base_side);
+  node.get("describe_budget", describe_budget);
   node.check(grid_cols >= 0 && grid_rows >= 0 && (grid_cols == 0) == (grid_rows == 0), "grid_cols",
              "grid must be 0 × 0 (off) or positive in both directions");
   node.check(max_octaves >= 1, "max_octaves", "must be >= 1");
   node.check(max_base_side == 0 || max_base_side >= 64, "max_base_side", "must be 0 or >= 64");
+  node.check(describe_budget >= 0, "describe_budget", "must be >= 0");
   return node.status();
 }
 

@@ -72,8 +72,16 @@ bool StereoFrontEnd::prioritised(const cv::Point2f& p) const {
                static_cast<std::size_t>(col)] != 0;
 }
 
+int StereoFrontEnd::keptMatches() const {
+  if (!fast_sift_) return o_.max_observations;
+  const int budget = o_.detector.fast_sift.describe_budget;
+  if (budget == 0) return o_.max_observations;
+  return o_.max_observations == 0 ? budget : std::min(budget, o_.max_observations);
+}
+
 template <typename Better>
-void StereoFrontEnd::rank(std::size_t n, const std::vector<cv::Point2f>& left_px, Better better) {
+void StereoFrontEnd::rank(std::size_t n, const std::vector<cv::Point2f>& left_px, int cap,
+                          Better better) {
   order_.resize(n);
   for (std::size_t i = 0; i < n; ++i) order_[i] = i;
   std::vector<uint8_t>& in_region = rank_in_region_;
@@ -83,7 +91,7 @@ void StereoFrontEnd::rank(std::size_t n, const std::vector<cv::Point2f>& left_px
     if (in_region[a] != in_region[b]) return in_region[a] > in_region[b];
     return better(a, b);
   });
-  const std::size_t kept = std::min(n, static_cast<std::size_t>(o_.max_observations));
+  const std::size_t kept = std::min(n, static_cast<std::size_t>(cap));
   frame_.prioritised = 0;
   for (std::size_t k = 0; k < kept; ++k) frame_.prioritised += in_region[order_[k]];
   order_.resize(kept);
@@ -102,7 +110,7 @@ Status StereoFrontEnd::matchDescribed(const cv::Mat& left, const cv::Mat& right)
     rank_px_.resize(m.size());
     for (std::size_t i = 0; i < m.size(); ++i)
       rank_px_[i] = frame_.left.keypoints[static_cast<std::size_t>(m[i].left)].pt;
-    rank(m.size(), rank_px_,
+    rank(m.size(), rank_px_, o_.max_observations,
          [&m](std::size_t a, std::size_t b) { return m[a].distance < m[b].distance; });
     std::vector<StereoMatch> kept;
     kept.reserve(order_.size());
@@ -125,11 +133,12 @@ Status StereoFrontEnd::matchAlongRows(const cv::Mat& left, const cv::Mat& right)
   frame_.left_detected = detected.size();
   row_search_->search(left, right, detected, o_.stereo, o_.row_search, &row_matches_);
   // max_observations applies before the descriptors are computed: the rest are not described.
-  if (o_.max_observations > 0 && static_cast<int>(row_matches_.size()) > o_.max_observations) {
+  const int cap = keptMatches();
+  if (cap > 0 && static_cast<int>(row_matches_.size()) > cap) {
     rank_px_.resize(row_matches_.size());
     for (std::size_t i = 0; i < row_matches_.size(); ++i)
       rank_px_[i] = detected[static_cast<std::size_t>(row_matches_[i].left)].pt;
-    rank(row_matches_.size(), rank_px_, [this](std::size_t a, std::size_t b) {
+    rank(row_matches_.size(), rank_px_, cap, [this](std::size_t a, std::size_t b) {
       return row_matches_[a].score > row_matches_[b].score;
     });
     std::sort(order_.begin(), order_.end());  // keypoint order, as without the cap
@@ -172,7 +181,7 @@ Status StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
   frame_.prioritised = 0;
   if (left.size() != right.size())
     return Status::Error("front end: left and right images differ in size");
-  if (o_.max_observations > 0) markPriority(left.size(), priority);
+  if (keptMatches() > 0) markPriority(left.size(), priority);
   const Status matched = fast_sift_ ? matchAlongRows(left, right) : matchDescribed(left, right);
   if (!matched.ok()) return matched;
   const auto t0 = std::chrono::steady_clock::now();

@@ -57,6 +57,7 @@ class AgentRunRecorder {
   Status close();
 
   AgentRunWriter& writer() { return *writer_; }
+  const AgentRunWriter& writer() const { return *writer_; }
 
  private:
   Status openFrontend();

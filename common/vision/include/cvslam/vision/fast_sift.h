@@ -29,6 +29,11 @@ struct FastSiftOptions {
   /// (the scales a large image needs: the finest octave of a 752×480 image holds most of the
   /// detection cost); 0 = always the input resolution.
   int max_base_side = 512;
+  /// The stereo front end describes at most this many of its matches per frame (0 = all, or
+  /// the front end's max_observations when that is smaller): those in a priority region first
+  /// (where the map predicts a landmark, stereo_front_end.h), then by ZNCC. A descriptor costs
+  /// ≈ 22 µs, most of the front end's time; the others are neither described nor observed.
+  int describe_budget = 0;
 
   /// Base pixels per input pixel for an image of `size` (max_base_side; ≤ 1).
   double baseScale(cv::Size size) const;

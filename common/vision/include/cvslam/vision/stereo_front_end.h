@@ -29,7 +29,7 @@ struct StereoFrontEndOptions {
   StereoMatchOptions stereo;    ///< disparity window, VD band, criterion, DistRatio
   RowSearchOptions row_search;  ///< fast_sift: the right image searched along the row
   /// Keep the best N stereo matches (0 = all): those in a priority region first, then by match
-  /// quality. With fast_sift the others are never described, which is where its time goes.
+  /// quality (fast_sift: detector.fast_sift.describe_budget too).
   int max_observations = 0;
 
   Status load(const ConfigNode& node);
@@ -71,13 +71,16 @@ class StereoFrontEnd {
                                          std::shared_ptr<const Vocabulary> vocabulary);
 
   /// Processes one rectified grey stereo pair into observations (type kNew, landmark −1).
-  /// `priority` (may be null) decides which matches max_observations keeps first.
+  /// `priority` (may be null) decides which matches max_observations (or fast_sift's
+  /// describe_budget) keeps first.
   Status process(const cv::Mat& left, const cv::Mat& right,
                  std::vector<StereoObservation>* observations,
                  const std::vector<PriorityRegion>* priority = nullptr);
 
   const StereoFrontEndFrame& lastFrame() const { return frame_; }
   const StereoFrontEndOptions& options() const { return o_; }
+  /// How many matches a frame keeps (max_observations, or fast_sift's describe_budget; 0 = all).
+  int keptMatches() const;
 
  private:
   StereoFrontEnd() = default;
@@ -93,10 +96,10 @@ class StereoFrontEnd {
   /// Marks the priority regions on a coarse grid of the left image (mask_).
   void markPriority(cv::Size image, const std::vector<PriorityRegion>* priority);
   bool prioritised(const cv::Point2f& left_px) const;
-  /// Indices of `n` items of which max_observations keeps the first: prioritised before
-  /// the rest, each group by `better`.
+  /// order_: the `cap` of `n` items kept, prioritised before the rest, each group by
+  /// `better`.
   template <typename Better>
-  void rank(std::size_t n, const std::vector<cv::Point2f>& left_px, Better better);
+  void rank(std::size_t n, const std::vector<cv::Point2f>& left_px, int cap, Better better);
 
   std::vector<uint8_t> mask_;  ///< priority mask, one cell per kMaskCell² pixels
   int mask_cols_ = 0, mask_rows_ = 0;
