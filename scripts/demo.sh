@@ -11,8 +11,9 @@
 #
 # --view: watch each run in a browser (cvslam_view; the URL is printed, default port 8088).
 # --rate R: the replay paces the sensors at R × real time instead of lockstep (R = 1: the team
-#   as it would fly); the demo then also prints, per agent, the frames it processed, the frames
-#   and messages it dropped, and the latency from a frame's arrival to its pose (median, p95).
+#   as it would fly). Each agent's closing line (printed in either pacing) gives the frames it
+#   processed, the messages and frames it dropped, the latency from a frame's arrival to its
+#   pose (median, p95) and the median time of each stage.
 #
 # Detector: the configuration's (config/agent.yaml: fast_sift, our adaptive SIFT of thesis
 # §4.2.5, ≈ 10 ms per 320×240 pair). --detector adaptive_sift is the OpenCV-based reference
@@ -66,8 +67,6 @@ for mode in dc single; do
   "$ROOT/scripts/launch.sh" --scenario "$SCENARIO" --mode "$mode" --sensing "$SENSING" \
     "${pacing[@]}" --lcm-url "$URL" --build "$BUILD" --out "$OUT/$mode" "${extra[@]}" "${agent_args[@]}" "${VIEW_ARGS[@]}"
   echo "   $(( $(date +%s) - start )) s; load average after the run: $(cut -d' ' -f1-3 /proc/loadavg)"
-  # Real-time figures: each agent's exit line (frames, latency, dropped messages and frames).
-  [ -n "$RATE" ] && grep -h -A1 "frames, latency" "$OUT/$mode"/logs/*.out 2>/dev/null | sed 's/^/   /' || true
   "$BUILD/tools/cvslam_eval" --run "$OUT/$mode" --summary-json "$OUT/$mode/summary.json" >/dev/null
 done
 

@@ -137,11 +137,11 @@ double threadCpuMs() {
 
 // fast_sift against the reference (adaptive SIFT, shipped defaults) in the same run, pair by
 // pair alternately: counters are the medians of the thread CPU time per pair [ms] and their
-// ratio (speedup).
+// ratio (speedup). Args: size752, budget (fast_sift's describe_budget; config/agent.yaml: 150).
 void fastVsReference(benchmark::State& state) {
   const Pair p = pairOrSkip(state);
   if (p.left.empty()) return;
-  auto fast = makeFrontEnd(p, DetectorType::kFastSift, true);
+  auto fast = makeFrontEnd(p, DetectorType::kFastSift, true, static_cast<int>(state.range(1)));
   auto ref = makeFrontEnd(p, DetectorType::kAdaptiveSift, true);
   if (!fast.ok() || !ref.ok()) {
     state.SkipWithError("front end creation failed");
@@ -166,8 +166,8 @@ void fastVsReference(benchmark::State& state) {
 }
 
 BENCHMARK(fastVsReference)
-    ->ArgNames({"size752"})
-    ->DenseRange(0, 1)
+    ->ArgNames({"size752", "budget"})
+    ->ArgsProduct({{0, 1}, {0, 150}})
     ->Iterations(11)
     ->Unit(benchmark::kMillisecond);
 
@@ -307,6 +307,8 @@ BENCHMARK(renderedSequence)
     ->ArgsProduct({{3, 0}, {0, 1}, {0}})
     ->Args({3, 0, 300})
     ->Args({3, 1, 200})
+    ->Args({3, 0, 150})
+    ->Args({3, 1, 150})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

@@ -250,11 +250,11 @@ TEST(VisionFastSift, OptionsLoadAndErrors) {
   EXPECT_DOUBLE_EQ(o.detector.fast_sift.baseScale(cv::Size(300, 200)), 1.0);
   EXPECT_EQ(o.row_search.patch_radius, 4);
   EXPECT_DOUBLE_EQ(o.row_search.uniqueness, 0.5);
-  for (const char* bad : {"{row_search: {patch_radius: 0}}", "{row_search: {uniqueness: 1.5}}",
-                          "{detector: {fast_sift: {grid_cols: 4, grid_rows: 0}}}",
-                          "{detector: {fast_sift: {max_octaves: 0}}}",
-                          "{detector: {fast_sift: {max_base_side: 10}}}",
-                          "{detector: {fast_sift: {describe_budget: -1}}}"}) {
+  for (const char* bad :
+       {"{row_search: {patch_radius: 0}}", "{row_search: {uniqueness: 1.5}}",
+        "{detector: {fast_sift: {grid_cols: 4, grid_rows: 0}}}",
+        "{detector: {fast_sift: {max_octaves: 0}}}", "{detector: {fast_sift: {max_base_side: 10}}}",
+        "{detector: {fast_sift: {describe_budget: -1}}}"}) {
     auto c = ConfigNode::fromString(std::string("front_end: ") + bad, "f.yaml");
     ASSERT_TRUE(c.ok());
     StereoFrontEndOptions x;

@@ -156,8 +156,8 @@ std::string stageTimesLine(const RunStats& stats) {
                 "frame median %.2f ms: front end %.2f (detect %.2f, stereo %.2f, describe %.2f, "
                 "index %.2f), association %.2f, filter %.2f",
                 median("frame"), median("front_end"), median("front_end.detect"),
-                median("front_end.stereo"), median("front_end.describe"),
-                median("front_end.index"), median("association"), median("filter"));
+                median("front_end.stereo"), median("front_end.describe"), median("front_end.index"),
+                median("association"), median("filter"));
   return buf;
 }
 
