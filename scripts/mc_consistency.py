@@ -15,7 +15,8 @@ Method (Bar-Shalom, Li & Kirubarajan, "Estimation with applications to tracking"
 thesis §5.7.3). The error of run r at time t is e = x̂ − x (9 states: position NED, body
 velocity, ZYX Euler roll pitch yaw; angle errors wrapped to (−π, π]); rows of states.csv and
 truth.csv are matched by t rounded to 1e-4 s. For each state group g of d states
-(position 3, velocity 3, tilt = roll+pitch 2, yaw 1, vehicle 9) the NEES of a run is
+(position 3, velocity 3, tilt = roll+pitch 2, yaw 1, vehicle 9; with bias states, from
+agent_<id>/biases.csv: accelerometer bias 3, gyro bias 3) the NEES of a run is
 ε_g = e_gᵀ P_gg⁻¹ e_g with P_gg the group's block of the recorded covariance (a step whose
 block is not positive definite is left out). The ensemble NEES at t is the mean of ε_g over
 the N runs; if the filter is consistent, N·ε̄_g ~ χ²(N·d), so ε̄_g lies in the two-sided 95 %
@@ -32,6 +33,9 @@ Monte-Carlo ensemble the window is the N runs at the same t instead of steps in 
     co_i(t) = √(mean_r σ_i,r(t)²) / √(mean_r e_i,r(t)²),   Rco_i = min over t of co_i(t),
 where steps with an ensemble RMS error below 1e-9 (e.g. t = 0, where every run starts on the
 truth) are skipped, as metrics.cpp does.
+
+The final map's landmark NEES (landmarks.csv: estimate, the diagonal of its covariance, the true
+point) is reported per agent as the mean over landmarks and runs (3 expected).
 
 Writes DIR/consistency.md (a table per agent, printed too), DIR/consistency.csv (the time
 series: per agent and t, the runs used, ε̄ and band per group, co per state) and
@@ -53,10 +57,13 @@ import sys
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-STATES = ['x', 'y', 'z', 'u', 'v', 'w', 'roll', 'pitch', 'yaw']
+VEHICLE = ['x', 'y', 'z', 'u', 'v', 'w', 'roll', 'pitch', 'yaw']
+BIASES = ['ba_x', 'ba_y', 'ba_z', 'bg_x', 'bg_y', 'bg_z']
+STATES = VEHICLE + BIASES
 ANGLES = (6, 7, 8)
 GROUPS = [('position', slice(0, 3)), ('velocity', slice(3, 6)), ('tilt', slice(6, 8)),
-          ('yaw', slice(8, 9)), ('vehicle', slice(0, 9))]
+          ('yaw', slice(8, 9)), ('vehicle', slice(0, 9)), ('accel bias', slice(9, 12)),
+          ('gyro bias', slice(12, 15))]
 Z_975 = 1.959963984540054
 MIN_TRUE_SIGMA = 1e-9
 
@@ -163,12 +170,14 @@ def read_csv_rows(path):
         return {round(float(r['t']), 4): r for r in csv.DictReader(f)}
 
 
-def covariance(row):
-    """The 9x9 covariance of a states.csv row (variances and upper-triangle covariances)."""
-    P = np.zeros((9, 9))
-    for i in range(9):
-        P[i, i] = float(row['var_' + STATES[i]])
-        for j in range(i + 1, 9):
+def covariance(row, names):
+    """The covariance of a states.csv (or biases.csv) row of the states `names`: variances
+    and upper-triangle covariances cov_i_j (absent: 0)."""
+    n = len(names)
+    P = np.zeros((n, n))
+    for i in range(n):
+        P[i, i] = float(row['var_' + names[i]])
+        for j in range(i + 1, n):
             c = row.get(f'cov_{i}_{j}')
             if c not in (None, ''):
                 P[i, j] = P[j, i] = float(c)
@@ -180,6 +189,9 @@ def group_nees(e, P):
     out = []
     for _, sl in GROUPS:
         es, Ps = e[sl], P[sl, sl]
+        if not np.all(np.isfinite(es)):
+            out.append(math.nan)
+            continue
         try:
             L = np.linalg.cholesky(Ps)
         except np.linalg.LinAlgError:
@@ -191,20 +203,53 @@ def group_nees(e, P):
 
 
 def read_agent_run(folder):
-    """{t: (nees per group [5], error [9], variance [9])} of one agent of one run."""
+    """{t: (nees per group, error [15], variance [15])} of one agent of one run. The bias
+    entries come from biases.csv (estimate, covariance and true_* columns); NaN when the run
+    has no bias states or no true biases (their groups' NEES is then NaN)."""
     states = read_csv_rows(os.path.join(folder, 'states.csv'))
     truth = read_csv_rows(os.path.join(folder, 'truth.csv'))
+    bias_path = os.path.join(folder, 'biases.csv')
+    biases = read_csv_rows(bias_path) if os.path.isfile(bias_path) else {}
     out = {}
     for t, r in states.items():
         g = truth.get(t)
         if g is None:
             continue
-        e = np.array([float(r[n]) - float(g[n]) for n in STATES])
+        e = np.full(len(STATES), math.nan)
+        e[:9] = [float(r[n]) - float(g[n]) for n in VEHICLE]
         for k in ANGLES:
             e[k] = math.remainder(e[k], 2 * math.pi)
-        P = covariance(r)
+        P = np.zeros((len(STATES), len(STATES)))
+        P[:9, :9] = covariance(r, VEHICLE)
+        b = biases.get(t)
+        if b is not None:
+            e[9:] = [float(b[n]) - float(b['true_' + n]) for n in BIASES]
+            P[9:, 9:] = covariance(b, BIASES)
         out[t] = (group_nees(e, P), e, np.diag(P).copy())
     return out
+
+
+def read_map_nees(folder):
+    """(mean NEES, landmarks) of the final map of one agent of one run: landmarks.csv rows with
+    a true position, e = p̂ − p, NEES = Σ_xyz e²/var (the file has the diagonal of each
+    landmark's covariance only); None without such rows."""
+    path = os.path.join(folder, 'landmarks.csv')
+    if not os.path.isfile(path):
+        return None
+    values = []
+    with open(path, newline='') as f:
+        for r in csv.DictReader(f):
+            if r.get('true_x') in (None, '', 'nan'):
+                continue
+            nees = 0.0
+            for a in 'xyz':
+                var = float(r['var_' + a])
+                if not var > 0.0:
+                    break
+                nees += (float(r[a]) - float(r['true_' + a])) ** 2 / var
+            else:
+                values.append(nees)
+    return (float(np.mean(values)), len(values)) if values else None
 
 
 # ---------------------------------------------------------------- ensemble statistics
@@ -229,10 +274,11 @@ def ensemble_series(runs):
     times = sorted(set.intersection(*(set(r) for r in runs)))
     T, G = len(times), len(GROUPS)
     nees, n = np.full((T, G), math.nan), np.zeros((T, G), dtype=int)
-    lo, hi, co = np.full((T, G), math.nan), np.full((T, G), math.nan), np.full((T, 9), math.nan)
+    S = len(STATES)
+    lo, hi, co = np.full((T, G), math.nan), np.full((T, G), math.nan), np.full((T, S), math.nan)
     for k, t in enumerate(times):
         eps = np.array([r[t][0] for r in runs])          # runs x groups
-        err = np.array([r[t][1] for r in runs])          # runs x 9
+        err = np.array([r[t][1] for r in runs])          # runs x states
         var = np.array([r[t][2] for r in runs])
         for g, (_, sl) in enumerate(GROUPS):
             valid = eps[:, g][np.isfinite(eps[:, g])]
@@ -242,7 +288,7 @@ def ensemble_series(runs):
                 lo[k, g], hi[k, g] = mean_nees_band(len(valid), sl.stop - sl.start)
         rms_err = np.sqrt(np.mean(err ** 2, axis=0))
         sigma = np.sqrt(np.mean(np.maximum(var, 0.0), axis=0))
-        ok = rms_err >= MIN_TRUE_SIGMA
+        ok = np.isfinite(rms_err) & (rms_err >= MIN_TRUE_SIGMA)
         co[k, ok] = sigma[ok] / rms_err[ok]
     return {'t': np.array(times), 'nees': nees, 'n': n, 'lo': lo, 'hi': hi, 'co': co}
 
@@ -264,7 +310,7 @@ def summarise(series):
                      'in': 100.0 * inside.sum() / steps, 'above': 100.0 * above.sum() / steps})
     co = series['co']
     rco = [float(np.nanmin(co[:, s])) if np.isfinite(co[:, s]).any() else math.nan
-           for s in range(9)]
+           for s in range(len(STATES))]
     return rows, rco
 
 
@@ -277,17 +323,26 @@ def markdown(args, n_runs, results):
              'Mean NEES over runs at each time stamp against the two-sided χ² 95 % band of the '
              'mean of N runs; mean = time average; Rco_i = min over t of '
              '√(mean σ_i²)/√(mean e_i²) over the runs (scripts/mc_consistency.py).', '']
-    for agent, (rows, rco) in results.items():
+    for agent, (rows, rco, map_nees) in results.items():
         lines += [f'## UAV{agent}', '',
                   '| group | dof | mean NEES | 95 % band | % of time in band | % above band |',
                   '|---|---:|---:|---|---:|---:|']
         for r in rows:
+            if not math.isfinite(r['mean']):
+                continue  # no such states in these runs (no bias states or true biases)
             lines.append(f"| {r['group']} | {r['dof']} | {r['mean']:.3f} | "
                          f"[{r['band'][0]:.3f}, {r['band'][1]:.3f}] | {r['in']:.1f} | "
                          f"{r['above']:.1f} |")
-        lines += ['', '| Rco | ' + ' | '.join(STATES) + ' |',
-                  '|---|' + '---:|' * 9,
-                  '| Rco | ' + ' | '.join(f'{v:.3f}' for v in rco) + ' |', '']
+        shown = [i for i, v in enumerate(rco) if i < 9 or math.isfinite(v)]
+        lines += ['', '| Rco | ' + ' | '.join(STATES[i] for i in shown) + ' |',
+                  '|---|' + '---:|' * len(shown),
+                  '| Rco | ' + ' | '.join(f'{rco[i]:.3f}' for i in shown) + ' |', '']
+        if map_nees:
+            means = [m for m, _ in map_nees]
+            lines += [f'Final map, landmark NEES (3 dof; diagonal of each landmark covariance, '
+                      f'landmarks.csv): mean {np.mean(means):.2f} over {len(means)} runs '
+                      f'(per run {min(means):.2f}–{max(means):.2f}; '
+                      f'{np.mean([n for _, n in map_nees]):.0f} landmarks per run).', '']
     return '\n'.join(lines)
 
 
@@ -314,7 +369,7 @@ def plot_agent(path, agent, series, n_runs):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(len(GROUPS), 1, sharex=True, figsize=(8, 11))
+    fig, axes = plt.subplots(len(GROUPS), 1, sharex=True, figsize=(8, 14))
     t = series['t']
     for g, (ax, (name, sl)) in enumerate(zip(axes, GROUPS)):
         x = np.where(series['nees'][:, g] > 0, series['nees'][:, g], np.nan)
@@ -336,8 +391,9 @@ def plot_agent(path, agent, series, n_runs):
 # ---------------------------------------------------------------- analysis driver
 
 def load_runs(args, seeds):
-    """{agent id: [per-run dict]} over the complete runs of the seeds."""
-    per_agent, used = {}, 0
+    """{agent id: [per-run dict]}, {agent id: [final-map NEES]} and the number of complete
+    runs of the seeds."""
+    per_agent, maps, used = {}, {}, 0
     for s in seeds:
         folder = os.path.join(args.out, 'runs', f'seed_{s}')
         if not run_complete(folder):
@@ -345,14 +401,18 @@ def load_runs(args, seeds):
         with open(os.path.join(folder, 'run.json')) as f:
             agents = json.load(f)['agents']
         for a in agents:
-            per_agent.setdefault(a, []).append(read_agent_run(os.path.join(folder, f'agent_{a}')))
+            agent_dir = os.path.join(folder, f'agent_{a}')
+            per_agent.setdefault(a, []).append(read_agent_run(agent_dir))
+            m = read_map_nees(agent_dir)
+            if m is not None:
+                maps.setdefault(a, []).append(m)
         used += 1
-    return per_agent, used
+    return per_agent, maps, used
 
 
 def analyse(args, seeds):
     """Reads the runs, writes consistency.md/.csv and the plots; returns the exit status."""
-    per_agent, n_runs = load_runs(args, seeds)
+    per_agent, maps, n_runs = load_runs(args, seeds)
     if n_runs == 0:
         print(f'mc_consistency: no complete run of seeds {args.seeds} under '
               f'{os.path.join(args.out, "runs")}', file=sys.stderr)
@@ -365,7 +425,7 @@ def analyse(args, seeds):
                   file=sys.stderr)
             return 1
         all_series[agent] = series
-        results[agent] = summarise(series)
+        results[agent] = summarise(series) + (maps.get(agent, []),)
         plot_agent(os.path.join(args.out, f'nees_agent{agent}.png'), agent, series, len(runs))
     text = markdown(args, n_runs, results)
     with open(os.path.join(args.out, 'consistency.md'), 'w') as f:

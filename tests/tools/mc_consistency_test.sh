@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # scripts/mc_consistency.py end to end: team3_aerial, seeds 1-3, 8 s, two at a time. Checks:
 # consistency.md, consistency.csv and a NEES plot per UAV exist, the table has a finite mean
-# NEES per group for each of the 3 UAVs, a second call resumes (runs nothing), and a bad seed
+# NEES per group (the bias groups too: the shipped filter has bias states) and a final-map
+# landmark NEES for each of the 3 UAVs, a second call resumes (runs nothing), and a bad seed
 # range or a missing binary exits non-zero with a one-line error.
 #   tests/tools/mc_consistency_test.sh SOURCE_DIR BUILD_DIR OUT_DIR
 set -uo pipefail
@@ -27,11 +28,15 @@ agents = dict(zip(sections[0::2], sections[1::2]))
 ok = sorted(agents) == ['1', '2', '3']
 for a, body in sorted(agents.items()):
     means = {m.group(1): float(m.group(2)) for m in
-             re.finditer(r'^\| (position|velocity|tilt|yaw|vehicle) \| \d \| ([^ |]+) \|', body, re.M)}
-    if len(means) != 5 or not all(math.isfinite(v) for v in means.values()):
+             re.finditer(r'^\| (position|velocity|tilt|yaw|vehicle|accel bias|gyro bias) \| \d \| '
+                         r'([^ |]+) \|', body, re.M)}
+    if len(means) != 7 or not all(math.isfinite(v) for v in means.values()):
         print(f'UAV{a}: no finite mean NEES per group: {means}'); ok = False
     if not re.search(r'^\| Rco \| [0-9.]', body, re.M):
         print(f'UAV{a}: no Rco row'); ok = False
+    m = re.search(r'^Final map, landmark NEES .*: mean ([0-9.]+) over 3 runs', body, re.M)
+    if not m or not float(m.group(1)) > 0:
+        print(f'UAV{a}: no final-map landmark NEES'); ok = False
 if not ok:
     print(text)
 sys.exit(0 if ok else 1)

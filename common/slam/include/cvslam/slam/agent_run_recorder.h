@@ -4,7 +4,8 @@
 // cvslam_agent (one UAV as a process), so their records have the same layout: states.csv +
 // trajectory.tum (estimate), ins_trajectory.tum (dead reckoning), truth.csv (when the truth is
 // known), stats.json (per frame time, state size, landmarks, landmark σ; cvslam_agent adds latency
-// and bytes per stream), events.csv (per frame filter events) and, for images, frontend.csv.
+// and bytes per stream), events.csv (per frame filter events), for images frontend.csv, and with
+// bias states biases.csv (estimate, 6×6 covariance, the true biases when known).
 
 #include <Eigen/Core>
 #include <fstream>
@@ -48,6 +49,9 @@ class AgentRunRecorder {
   Status addFrame(const AgentPipeline& agent, const Vector9d* truth, double latency_ms,
                   const VehicleEstimate* adopted);
 
+  /// The true IMU biases [b_a (m/s²), b_g (rad/s)] at the next addFrame (simulation): they go
+  /// to that frame's row of biases.csv (NaN when not given).
+  void setBiasTruth(const Eigen::Matrix<double, 6, 1>& b) { bias_truth_ = b; }
   /// Writes landmarks.csv from the agent's map (active and archived landmarks).
   Status writeMap(const VisualInertialSlam& slam, const LandmarkTruth& truth);
 
@@ -61,9 +65,13 @@ class AgentRunRecorder {
 
  private:
   Status openFrontend();
+  /// One row of biases.csv (opened on first use) from a 15-entry vehicle estimate.
+  Status addBiases(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& P);
 
   std::unique_ptr<AgentRunWriter> writer_;
-  std::ofstream events_, frontend_;
+  std::ofstream events_, frontend_, biases_;
+  Eigen::Matrix<double, 6, 1> bias_truth_ =
+      Eigen::Matrix<double, 6, 1>::Constant(std::numeric_limits<double>::quiet_NaN());
   std::string dir_;
 };
 
