@@ -2,7 +2,8 @@
 """Monte-Carlo consistency of a scenario: NEES per state group against the χ² band, Rco per state.
 
     scripts/mc_consistency.py --scenario FILE --seeds FIRST-LAST --out DIR [--mode single|dc|cc]
-                              [--jobs 2] [--duration S] [--config FILE] [--build-dir build]
+                              [--sensing features|images] [--jobs 2] [--duration S]
+                              [--config FILE] [--build-dir build]
                               [--runs-only | --analyse-only]
 
 Runs `cvslam_run --seed N` for every seed N of the range (up to --jobs at a time) into
@@ -80,6 +81,8 @@ def parse_args(argv):
     p.add_argument('--seeds', required=True, help='seed range FIRST-LAST, e.g. 201-210')
     p.add_argument('--out', required=True, help='output folder (runs/ and the reports)')
     p.add_argument('--mode', default='single', choices=['single', 'dc', 'cc'])
+    p.add_argument('--sensing', default='features', choices=['features', 'images'],
+                   help='features (true ids) or images (rendered, through the front end)')
     p.add_argument('--jobs', type=int, default=2, help='parallel cvslam_run processes')
     p.add_argument('--duration', type=float, help='simulate only the first S seconds')
     p.add_argument('--config', help='agent configuration (default: config/agent.yaml)')
@@ -112,7 +115,8 @@ def run_complete(folder, args=None):
         agents = run['agents']
     except (OSError, ValueError, KeyError):
         return False
-    if args is not None and (run.get('mode') != args.mode or (
+    if args is not None and (run.get('mode') != args.mode or
+                             run.get('sensing', 'features') != args.sensing or (
             args.duration is not None and run.get('duration_s') != args.duration)):
         return False
     return bool(agents) and all(
@@ -126,7 +130,7 @@ def run_seed(args, exe, seed):
     tmp = final + '.tmp'
     shutil.rmtree(tmp, ignore_errors=True)
     cmd = [exe, '--scenario', args.scenario, '--out', tmp, '--seed', str(seed), '--quiet',
-           '--mode', args.mode]
+           '--mode', args.mode, '--sensing', args.sensing]
     if args.duration is not None:
         cmd += ['--duration', str(args.duration)]
     if args.config:
@@ -319,7 +323,7 @@ def summarise(series):
 def markdown(args, n_runs, results):
     """The consistency.md text: a NEES table and an Rco row per agent."""
     lines = [f'# Monte-Carlo consistency: {os.path.basename(args.scenario)}, mode {args.mode}, '
-             f'{n_runs} runs (seeds {args.seeds})', '',
+             f'{args.sensing}, {n_runs} runs (seeds {args.seeds})', '',
              'Mean NEES over runs at each time stamp against the two-sided χ² 95 % band of the '
              'mean of N runs; mean = time average; Rco_i = min over t of '
              '√(mean σ_i²)/√(mean e_i²) over the runs (scripts/mc_consistency.py).', '']
