@@ -4,6 +4,7 @@
 #include <limits>
 #include <vector>
 
+#include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/cc_convert.h"
 #include "cvslam/lcm/codec.h"
 
@@ -81,7 +82,7 @@ Status CcTeamLink::close(const coop::GroundStationRecorder::LandmarkTruth& truth
 
 void CcTeamLink::printSummary(std::FILE* out, double duration_s) const {
   const coop::CcTeamStatistics& st = filter_.statistics();
-  const coop::StepTimeSummary steps = coop::summariseStepTimes(st.step_ms);
+  const TimeSummary steps = summariseTimes(st.step_ms);
   std::fprintf(out,
                "  ground station: %ld batches (%ld rejected), step median %.2f ms, p95 %.2f ms, "
                "max %.2f ms, state size max %d, joint map %zu landmarks\n",

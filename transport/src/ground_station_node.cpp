@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "cvslam/io/config_node.h"
+#include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/cc_convert.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/sensor_convert.h"
@@ -387,7 +388,7 @@ Status GroundStationNode::run(const std::atomic<bool>& stop) {
 
 std::string GroundStationNode::report() const {
   const coop::CcTeamStatistics& st = filter_.statistics();
-  const coop::StepTimeSummary steps = coop::summariseStepTimes(st.step_ms);
+  const TimeSummary steps = summariseTimes(st.step_ms);
   std::string dropped;
   std::lock_guard<std::mutex> lock(inbox_mutex_);
   for (const auto& [reason, n] : dropped_)

@@ -3,30 +3,15 @@
 #include <algorithm>
 #include <filesystem>
 #include <memory>
-#include <numeric>
 
 #include "cvslam/io/json_file.h"
+#include "cvslam/io/run_writer.h"
 #include "cvslam/slam/agent_run_recorder.h"
 
 namespace cvslam::coop {
 
 GroundStationRecorder::GroundStationRecorder() = default;
 GroundStationRecorder::~GroundStationRecorder() = default;
-
-StepTimeSummary summariseStepTimes(std::vector<double> samples) {
-  StepTimeSummary s;
-  if (samples.empty()) return s;
-  std::sort(samples.begin(), samples.end());
-  const auto at = [&](double q) {
-    return samples[static_cast<std::size_t>(q * static_cast<double>(samples.size() - 1) + 0.5)];
-  };
-  s.median_ms = at(0.5);
-  s.p95_ms = at(0.95);
-  s.max_ms = samples.back();
-  s.mean_ms =
-      std::accumulate(samples.begin(), samples.end(), 0.0) / static_cast<double>(samples.size());
-  return s;
-}
 
 Status GroundStationRecorder::open(const std::string& run_dir, const RunInfo& info) {
   dir_ = run_dir + "/ground_station";
@@ -73,7 +58,7 @@ void GroundStationRecorder::addBytesReceived(const std::string& stream, int64_t 
 
 Status GroundStationRecorder::writeStats(const CcTeamFilter& filter) const {
   const CcTeamStatistics& st = filter.statistics();
-  const StepTimeSummary steps = summariseStepTimes(st.step_ms);
+  const TimeSummary steps = summariseTimes(st.step_ms);
   const double duration = have_time_ ? t_last_ - t_first_ : 0.0;
   Json root = Json::object();
   root["duration_s"] = duration;

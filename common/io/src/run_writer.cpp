@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <numeric>
 
 #include "cvslam/io/build_info.h"
 #include "cvslam/io/json_file.h"
@@ -20,16 +21,35 @@ void appendNumber(std::string& line, double x) {
   line += buf;
 }
 
-std::string stateHeader(bool with_covariance, bool full) {
+/// Column names of an estimate: the names, then var_<name> and, if `full`, cov_i_j (i < j).
+template <std::size_t N>
+std::string estimateHeader(const char* const (&names)[N], bool with_covariance, bool full) {
   std::string h = "t";
-  for (const char* n : kVehicleStateNames) h += std::string(",") + n;
+  for (const char* n : names) h += std::string(",") + n;
   if (!with_covariance) return h;
-  for (const char* n : kVehicleStateNames) h += std::string(",var_") + n;
+  for (const char* n : names) h += std::string(",var_") + n;
   if (full)
-    for (int i = 0; i < 9; ++i)
-      for (int j = i + 1; j < 9; ++j) h += ",cov_" + std::to_string(i) + "_" + std::to_string(j);
+    for (std::size_t i = 0; i < N; ++i)
+      for (std::size_t j = i + 1; j < N; ++j)
+        h += ",cov_" + std::to_string(i) + "_" + std::to_string(j);
   return h;
 }
+
+/// The row of estimateHeader: t, x, diag(P) and, if `full`, P's upper triangle.
+template <int N>
+std::string estimateRow(double t, const Eigen::Matrix<double, N, 1>& x,
+                        const Eigen::Matrix<double, N, N>& P, bool full) {
+  std::string line;
+  appendSeconds(line, t);
+  for (int i = 0; i < N; ++i) line += ',', appendNumber(line, x(i));
+  for (int i = 0; i < N; ++i) line += ',', appendNumber(line, P(i, i));
+  if (full)
+    for (int i = 0; i < N; ++i)
+      for (int j = i + 1; j < N; ++j) line += ',', appendNumber(line, P(i, j));
+  return line;
+}
+
+constexpr const char* kBiasNames[6] = {"ba_x", "ba_y", "ba_z", "bg_x", "bg_y", "bg_z"};
 
 }  // namespace
 
@@ -53,8 +73,8 @@ Status AgentRunWriter::open(const std::string& run_dir, int agent_id,
   states_.open(dir_ + "/states.csv", std::ios::trunc);
   truth_.open(dir_ + "/truth.csv", std::ios::trunc);
   if (!states_ || !truth_) return Status::Error(dir_ + ": cannot write states.csv / truth.csv");
-  states_ << stateHeader(true, options_.full_covariance) << '\n';
-  truth_ << stateHeader(false, false) << '\n';
+  states_ << estimateHeader(kVehicleStateNames, true, options_.full_covariance) << '\n';
+  truth_ << estimateHeader(kVehicleStateNames, false, false) << '\n';
   stats_ = RunStats{};
   have_time_ = false;
   open_ = true;
@@ -64,18 +84,27 @@ Status AgentRunWriter::open(const std::string& run_dir, int agent_id,
 Status AgentRunWriter::addState(double t, const Vector9d& x, const Matrix9d& P) {
   if (!open_) return Status::Error("AgentRunWriter: not open");
   if (Status s = trajectory_.add(tumPoseFromState(t, x)); !s.ok()) return s;
-  std::string line;
-  appendSeconds(line, t);
-  for (int i = 0; i < 9; ++i) line += ',', appendNumber(line, x(i));
-  for (int i = 0; i < 9; ++i) line += ',', appendNumber(line, P(i, i));
-  if (options_.full_covariance)
-    for (int i = 0; i < 9; ++i)
-      for (int j = i + 1; j < 9; ++j) line += ',', appendNumber(line, P(i, j));
-  states_ << line << '\n';
+  states_ << estimateRow<9>(t, x, P, options_.full_covariance) << '\n';
   if (!have_time_) t_first_ = t;
   t_last_ = t;
   have_time_ = true;
   return states_ ? Status::Ok() : Status::Error(dir_ + "/states.csv: write failed");
+}
+
+Status AgentRunWriter::addBiases(double t, const Vector6d& b, const Matrix6d& P,
+                                 const Vector6d& b_true) {
+  if (!open_) return Status::Error("AgentRunWriter: not open");
+  if (!biases_.is_open()) {
+    biases_.open(dir_ + "/biases.csv", std::ios::trunc);
+    if (!biases_) return Status::Error("cannot write " + dir_ + "/biases.csv");
+    biases_ << estimateHeader(kBiasNames, true, true);
+    for (const char* n : kBiasNames) biases_ << ",true_" << n;
+    biases_ << '\n';
+  }
+  std::string line = estimateRow<6>(t, b, P, true);
+  for (int i = 0; i < 6; ++i) line += ',', appendNumber(line, b_true(i));
+  biases_ << line << '\n';
+  return biases_ ? Status::Ok() : Status::Error(dir_ + "/biases.csv: write failed");
 }
 
 Status AgentRunWriter::addTruth(double t, const Vector9d& x_true) {
@@ -123,28 +152,26 @@ Status writeLandmarksFile(const std::string& path, const std::vector<LandmarkRec
   return out ? Status::Ok() : Status::Error(path + ": write failed");
 }
 
-StageTimeSummary summariseStageTimes(const std::vector<double>& samples_ms) {
-  StageTimeSummary t;
-  if (samples_ms.empty()) return t;
-  std::vector<double> v = samples_ms;
-  std::sort(v.begin(), v.end());
-  const auto at = [&v](double q) {
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+TimeSummary summariseTimes(std::vector<double> samples) {
+  TimeSummary s;
+  if (samples.empty()) return s;
+  std::sort(samples.begin(), samples.end());
+  const auto at = [&](double q) {
+    return samples[static_cast<std::size_t>(q * static_cast<double>(samples.size() - 1) + 0.5)];
   };
-  double sum = 0.0;
-  for (double x : v) sum += x;
-  t.frames = static_cast<int64_t>(v.size());
-  t.mean = sum / static_cast<double>(v.size());
-  t.median = at(0.5);
-  t.p95 = at(0.95);
-  return t;
+  s.median_ms = at(0.5);
+  s.p95_ms = at(0.95);
+  s.max_ms = samples.back();
+  s.mean_ms =
+      std::accumulate(samples.begin(), samples.end(), 0.0) / static_cast<double>(samples.size());
+  return s;
 }
 
 std::string stageTimesLine(const RunStats& stats) {
   const auto median = [&stats](const char* stage) {
     const auto it = stats.stage_ms.find(stage);
     return it == stats.stage_ms.end() ? std::numeric_limits<double>::quiet_NaN()
-                                      : summariseStageTimes(it->second).median;
+                                      : summariseTimes(it->second).median_ms;
   };
   if (stats.stage_ms.find("frame") == stats.stage_ms.end()) return "";
   char buf[320];
@@ -204,12 +231,12 @@ Status writeRunStats(const std::string& path, int agent_id, const RunStats& stat
     Json stages = Json::object();
     for (const auto& [stage, samples] : stats.stage_ms) {
       if (samples.empty()) continue;
-      const StageTimeSummary st = summariseStageTimes(samples);
+      const TimeSummary st = summariseTimes(samples);
       Json s = Json::object();
-      s["frames"] = st.frames;
-      s["mean"] = st.mean;
-      s["median"] = st.median;
-      s["p95"] = st.p95;
+      s["frames"] = static_cast<int64_t>(samples.size());
+      s["mean"] = st.mean_ms;
+      s["median"] = st.median_ms;
+      s["p95"] = st.p95_ms;
       stages[stage] = std::move(s);
     }
     root["stage_ms"] = std::move(stages);
@@ -232,6 +259,7 @@ Status AgentRunWriter::flush() {
   ins_.flush();
   states_.flush();
   truth_.flush();
+  if (biases_.is_open()) biases_.flush();
   if (!std::filesystem::exists(dir_ + "/landmarks.csv"))
     if (Status s = writeLandmarks({}); !s.ok()) return s;
   RunStats snapshot = stats_;
@@ -246,6 +274,7 @@ Status AgentRunWriter::close() {
   ins_.close();
   states_.close();
   truth_.close();
+  if (biases_.is_open()) biases_.close();
   if (stats_.duration_s <= 0.0) stats_.duration_s = durationSoFar();
   // A run that never wrote its map still leaves a valid (empty) landmarks.csv.
   if (!std::filesystem::exists(dir_ + "/landmarks.csv"))

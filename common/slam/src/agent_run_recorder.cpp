@@ -1,22 +1,11 @@
 #include "cvslam/slam/agent_run_recorder.h"
 
 #include <cmath>
-#include <cstdio>
 
+#include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/io/time_format.h"
 
 namespace cvslam {
-
-namespace {
-
-/// %.10g, as the writer's other CSV files.
-void appendNumber(std::string& line, double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.10g", x);
-  line += buf;
-}
-
-}  // namespace
 
 Status AgentRunRecorder::open(const std::string& run_dir, int agent_id, bool images) {
   writer_ = std::make_unique<AgentRunWriter>();
@@ -39,31 +28,6 @@ Status AgentRunRecorder::openFrontend() {
   frontend_ << "t,observations,predictions,gated_pairs,associated,initialised,front_end_ms,"
                "association_ms,filter_ms,loop_candidates,loop_inliers\n";
   return Status::Ok();
-}
-
-Status AgentRunRecorder::addBiases(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& P) {
-  constexpr int kFirst = 9;  // b_a, b_g after the 9 vehicle states (ins/vehicle_state_layout.h)
-  static const char* const kNames[6] = {"ba_x", "ba_y", "ba_z", "bg_x", "bg_y", "bg_z"};
-  if (!biases_.is_open()) {
-    biases_.open(dir_ + "/biases.csv", std::ios::trunc);
-    if (!biases_) return Status::Error("cannot write " + dir_ + "/biases.csv");
-    biases_ << 't';
-    for (const char* n : kNames) biases_ << ',' << n;
-    for (const char* n : kNames) biases_ << ",var_" << n;
-    for (int i = 0; i < 6; ++i)
-      for (int j = i + 1; j < 6; ++j) biases_ << ",cov_" << i << '_' << j;
-    for (const char* n : kNames) biases_ << ",true_" << n;
-    biases_ << '\n';
-  }
-  std::string line = formatSeconds(t);
-  for (int i = 0; i < 6; ++i) line += ',', appendNumber(line, x(kFirst + i));
-  for (int i = 0; i < 6; ++i) line += ',', appendNumber(line, P(kFirst + i, kFirst + i));
-  for (int i = 0; i < 6; ++i)
-    for (int j = i + 1; j < 6; ++j) line += ',', appendNumber(line, P(kFirst + i, kFirst + j));
-  for (int i = 0; i < 6; ++i) line += ',', appendNumber(line, bias_truth_(i));
-  bias_truth_.setConstant(std::numeric_limits<double>::quiet_NaN());
-  biases_ << line << '\n';
-  return biases_ ? Status::Ok() : Status::Error(dir_ + "/biases.csv: write failed");
 }
 
 Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* truth,
@@ -98,8 +62,13 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
   const Eigen::VectorXd x = adopted != nullptr ? adopted->x_v : slam.vehicleState();
   const Eigen::MatrixXd P = adopted != nullptr ? adopted->P_v : slam.vehicleCovariance();
   if (Status s = writer_->addState(t, x.head<9>(), P.topLeftCorner<9, 9>()); !s.ok()) return s;
-  if (x.size() >= 15 && P.rows() >= 15)
-    if (Status s = addBiases(t, x, P); !s.ok()) return s;
+  if (x.size() >= vehicle::size(true) && P.rows() >= vehicle::size(true)) {
+    const Status s =
+        writer_->addBiases(t, x.segment<6>(vehicle::kAccelBias),
+                           P.block<6, 6>(vehicle::kAccelBias, vehicle::kAccelBias), bias_truth_);
+    bias_truth_.setConstant(std::numeric_limits<double>::quiet_NaN());
+    if (!s.ok()) return s;
+  }
   if (truth != nullptr)
     if (Status s = writer_->addTruth(t, *truth); !s.ok()) return s;
   if (Status s = writer_->addInsState(t, agent.insState().head<9>()); !s.ok()) return s;
@@ -151,7 +120,6 @@ Status AgentRunRecorder::flush() {
   if (!writer_) return Status::Error("AgentRunRecorder: not open");
   events_.flush();
   if (frontend_.is_open()) frontend_.flush();
-  if (biases_.is_open()) biases_.flush();
   return writer_->flush();
 }
 
@@ -159,7 +127,6 @@ Status AgentRunRecorder::close() {
   if (!writer_) return Status::Ok();
   events_.close();
   if (frontend_.is_open()) frontend_.close();
-  if (biases_.is_open()) biases_.close();
   Status s = writer_->close();
   return s;
 }

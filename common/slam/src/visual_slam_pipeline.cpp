@@ -169,7 +169,8 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
     gated_.push_back({p.landmark_id, p.z, p.S, *p.descriptor});
   }
   r.predictions = static_cast<int>(gated_.size());
-  if (front_end_.keptMatches() > 0) priorityRegions(slam);
+  if (o_.confirm_new) expectPrevious(slam);
+  if (front_end_.keptMatches() > 0) priorityRegions();
   double prediction_ms = msSince(t0);
 
   // 2. Front end: features of both images, stereo matches → observations (type 3).
@@ -226,7 +227,20 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
   return Status::Ok();
 }
 
-void VisualSlamPipeline::priorityRegions(const VisualInertialSlam& slam) {
+void VisualSlamPipeline::expectPrevious(const VisualInertialSlam& slam) {
+  const StereoCamera& camera = slam.camera();
+  const vehicle_model::Pose x = slam.vehiclePose();
+  expected_.resize(previous_.size());
+  ahead_.assign(previous_.size(), false);
+  for (std::size_t j = 0; j < previous_.size(); ++j) {
+    const Eigen::Vector3d p_C = camera.landmarkInCamera(x, previous_[j].p_LinN);
+    if (p_C.z() <= camera.options().min_depth) continue;
+    expected_[j] = camera.project(p_C);
+    ahead_[j] = true;
+  }
+}
+
+void VisualSlamPipeline::priorityRegions() {
   priority_.clear();
   // The association's gate on [u_L v_L] alone: |Δu| ≤ √(χ²·S_uu) holds for every z inside the
   // 4-D Mahalanobis gate.
@@ -238,15 +252,12 @@ void VisualSlamPipeline::priorityRegions(const VisualInertialSlam& slam) {
   }
   if (!o_.confirm_new) return;
   // The previous frame's unmapped points where the filter's motion puts them (confirmNew).
-  const StereoCamera& camera = slam.camera();
-  const vehicle_model::Pose x = slam.vehiclePose();
   const auto gate = static_cast<float>(o_.confirm_gate_px);
-  for (const PreviousPoint& q : previous_) {
-    const Eigen::Vector3d p_C = camera.landmarkInCamera(x, q.p_LinN);
-    if (p_C.z() <= camera.options().min_depth) continue;
-    const Eigen::Vector4d z = camera.project(p_C);
+  for (std::size_t j = 0; j < previous_.size(); ++j) {
+    if (!ahead_[j]) continue;
     priority_.push_back(
-        {cv::Point2f(static_cast<float>(z(0)), static_cast<float>(z(1))), cv::Point2f(gate, gate)});
+        {cv::Point2f(static_cast<float>(expected_[j](0)), static_cast<float>(expected_[j](1))),
+         cv::Point2f(gate, gate)});
   }
 }
 
@@ -294,17 +305,9 @@ void VisualSlamPipeline::detectLoop(int64_t t_us, const VisualInertialSlam& slam
 
 void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
                                     std::vector<StereoObservation>* observations, int* confirmed) {
-  const StereoCamera& camera = slam.camera();
-  const vehicle_model::Pose x = slam.vehiclePose();
-  // Where the previous frame's unmapped points are expected now (the filter's motion).
-  std::vector<Eigen::Vector4d> expected(previous_.size());
-  std::vector<bool> ahead(previous_.size(), false);
-  for (std::size_t j = 0; j < previous_.size(); ++j) {
-    const Eigen::Vector3d p_C = camera.landmarkInCamera(x, previous_[j].p_LinN);
-    if (p_C.z() <= camera.options().min_depth) continue;
-    expected[j] = camera.project(p_C);
-    ahead[j] = true;
-  }
+  // Where the previous frame's unmapped points are expected now: expected_, ahead_.
+  const std::vector<Eigen::Vector4d>& expected = expected_;
+  const std::vector<bool>& ahead = ahead_;
   const vision::MapAssociationOptions& a = o_.association;
   const int bytes = vision::descriptorBytes(a.descriptor_type);
   const vision::MatchNorm norm = descriptorNorm();

@@ -68,10 +68,4 @@ class GroundStationRecorder {
   bool have_time_ = false;
 };
 
-/// Median and 95th percentile of `samples` (0 when empty): the step-time figures.
-struct StepTimeSummary {
-  double median_ms = 0.0, p95_ms = 0.0, max_ms = 0.0, mean_ms = 0.0;
-};
-StepTimeSummary summariseStepTimes(std::vector<double> samples);
-
 }  // namespace cvslam::coop

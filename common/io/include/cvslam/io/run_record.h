@@ -24,6 +24,8 @@ namespace cvslam {
 
 using Vector9d = Eigen::Matrix<double, 9, 1>;
 using Matrix9d = Eigen::Matrix<double, 9, 9>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 /// Names of the nine vehicle states in files, in state order (vehicle_state_layout.h).
 inline const char* const kVehicleStateNames[9] = {"x", "y",    "z",     "u",  "v",

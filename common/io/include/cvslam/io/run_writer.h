@@ -22,12 +22,12 @@ struct AgentRunWriterOptions {
   bool full_covariance = true;
 };
 
-/// Spread of one stage's per-frame times (RunStats::stage_ms) [ms].
-struct StageTimeSummary {
-  int64_t frames = 0;
-  double mean = 0.0, median = 0.0, p95 = 0.0;
+/// Median, 95th percentile, maximum and mean of per-step or per-frame times (0 when empty): the
+/// ground station's step times, the agents' stage times (RunStats::stage_ms).
+struct TimeSummary {
+  double median_ms = 0.0, p95_ms = 0.0, max_ms = 0.0, mean_ms = 0.0;
 };
-StageTimeSummary summariseStageTimes(const std::vector<double>& samples_ms);
+TimeSummary summariseTimes(std::vector<double> samples_ms);
 
 /// One line of the per-frame medians, e.g. "frame median 9.1 ms: front end 8.2 (detect 2.5,
 /// stereo 1.9, describe 3.3, index 0.1), association 0.5, filter 0.3" ("" without stages).
@@ -48,6 +48,9 @@ class AgentRunWriter {
   /// Estimated state and covariance (9×9 vehicle block) at time t [s]: one line in
   /// states.csv and one pose in trajectory.tum.
   Status addState(double t, const Vector9d& x, const Matrix9d& P);
+  /// IMU bias estimate [b_a (m/s²), b_g (rad/s)], its covariance and the true biases (NaN:
+  /// unknown) at time t: one line in biases.csv (opened on first use; docs/run_format.md).
+  Status addBiases(double t, const Vector6d& b, const Matrix6d& P, const Vector6d& b_true);
   /// True state at time t (simulation): one line in truth.csv.
   Status addTruth(double t, const Vector9d& x_true);
   /// Dead-reckoning (INS-only) state: one pose in ins_trajectory.tum (opened on first use).
@@ -89,7 +92,7 @@ class AgentRunWriter {
   AgentRunWriterOptions options_;
   std::string dir_;
   int agent_id_ = 0;
-  std::ofstream states_, truth_;
+  std::ofstream states_, truth_, biases_;
   TumWriter trajectory_, ins_;
   RunStats stats_;
   double t_first_ = 0.0, t_last_ = 0.0;

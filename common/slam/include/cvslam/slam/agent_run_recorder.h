@@ -51,7 +51,7 @@ class AgentRunRecorder {
 
   /// The true IMU biases [b_a (m/s²), b_g (rad/s)] at the next addFrame (simulation): they go
   /// to that frame's row of biases.csv (NaN when not given).
-  void setBiasTruth(const Eigen::Matrix<double, 6, 1>& b) { bias_truth_ = b; }
+  void setBiasTruth(const Vector6d& b) { bias_truth_ = b; }
   /// Writes landmarks.csv from the agent's map (active and archived landmarks).
   Status writeMap(const VisualInertialSlam& slam, const LandmarkTruth& truth);
 
@@ -65,13 +65,10 @@ class AgentRunRecorder {
 
  private:
   Status openFrontend();
-  /// One row of biases.csv (opened on first use) from a 15-entry vehicle estimate.
-  Status addBiases(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& P);
 
   std::unique_ptr<AgentRunWriter> writer_;
-  std::ofstream events_, frontend_, biases_;
-  Eigen::Matrix<double, 6, 1> bias_truth_ =
-      Eigen::Matrix<double, 6, 1>::Constant(std::numeric_limits<double>::quiet_NaN());
+  std::ofstream events_, frontend_;
+  Vector6d bias_truth_ = Vector6d::Constant(std::numeric_limits<double>::quiet_NaN());
   std::string dir_;
 };
 

@@ -145,9 +145,12 @@ class VisualSlamPipeline {
   /// Marks the unassociated observations confirmed by the previous frame (fresh ids).
   void confirmNew(const VisualInertialSlam& slam, std::vector<StereoObservation>* observations,
                   int* confirmed);
+  /// expected_, ahead_: where the previous frame's unmapped points project at the filter's
+  /// current pose (once per frame, for the priority regions and the confirmation).
+  void expectPrevious(const VisualInertialSlam& slam);
   /// priority_: where the map predicts a landmark (association gate) and where the previous
-  /// frame's unmapped points are expected (confirmation gate), for max_observations.
-  void priorityRegions(const VisualInertialSlam& slam);
+  /// frame's unmapped points are expected (confirmation gate), for the front end's cap.
+  void priorityRegions();
   /// Keeps this frame's unmapped stereo matches, triangulated, for the next confirmation.
   void rememberUnmapped(const VisualInertialSlam& slam, const VisualFrameResult& result);
 
@@ -165,6 +168,8 @@ class VisualSlamPipeline {
   std::vector<PredictedObservation> predicted_;    // reused every frame
   std::vector<vision::LandmarkPrediction> gated_;  // reused every frame
   std::vector<vision::PriorityRegion> priority_;   // reused every frame
+  std::vector<Eigen::Vector4d> expected_;          // previous_ projected now (expectPrevious)
+  std::vector<bool> ahead_;                        // … in front of the camera
   AppearanceLoopDetector loop_detector_;
   bool feature_index_ = false;  // observations carry visual words (a vocabulary is loaded)
   int64_t frames_ = 0;
