@@ -71,8 +71,11 @@ TEST(DynamicInitializer, FindsTiltAndVelocityInFlight) {
     const double v_error = (d.q_BtoN.conjugate() * d.v_N - o.truth.v_B).norm();
     EXPECT_LT(v_error, 0.2);
     EXPECT_LT(v_error, 3.0 * std::sqrt(3.0) * d.velocity_sigma);
-    // The scenario's IMU has no turn-on bias: the gyro bias found is the noise of its fit.
-    EXPECT_LT((d.gyro_bias - o.truth.gyro_bias).norm(), 0.01);
+    // The scenario's IMU has no turn-on bias: the gyro bias found is the noise of its fit, a
+    // 3-vector of about the reported σ per axis: its norm within √χ²₃(99 %) = 3.37 σ (a fixed
+    // 0.01 rad/s, 1.15 times the expected norm, failed on a change of landmark layout).
+    EXPECT_LT((d.gyro_bias - o.truth.gyro_bias).norm(), 3.37 * d.gyro_bias_sigma.maxCoeff());
+    EXPECT_LT((d.gyro_bias - o.truth.gyro_bias).norm(), 0.02);
     EXPECT_LT((d.gyro_bias - o.truth.gyro_bias).cwiseAbs().maxCoeff(),
               4.0 * d.gyro_bias_sigma.maxCoeff());
     std::printf(

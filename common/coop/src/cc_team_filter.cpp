@@ -260,7 +260,7 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
     r->type3 += type == 3 ? 1 : 0;
   }
   // 3. This UAV's k nearest over the joint map: archive, re-activate.
-  m.manageMap(v, t_us, o_.slam.slam.reactivation_min_age_s, o_.reactivation_inflation, &fr);
+  m.manageMap(v, t_us, o_.slam.slam, o_.reactivation_inflation, &fr);
   // 4. Loop closing, then the gated updates of the other observations.
   LoopReport loop;
   if (Status s = v.loop_closer.process(m.state, v.book, m.frame, t_us, v.updater, m.policy,

@@ -77,8 +77,8 @@ struct CcTeamFilter::Impl {
   int64_t jointOf(CcVehicle& v, const StereoObservation& obs, const CcTeamFilterOptions& o,
                   const std::vector<int64_t>& used);
   /// Step 3 for UAV v over the joint map.
-  void manageMap(CcVehicle& v, int64_t t_us, double reactivation_min_age_s,
-                 double reactivation_inflation, FrameReport* r);
+  void manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam, double reactivation_inflation,
+                 FrameReport* r);
   /// After step 5: the new landmarks (state variables from `first_new` on) join v's active set;
   /// v becomes an observer of every landmark of the frame.
   void afterInitialisation(CcVehicle& v, std::size_t first_new);

@@ -221,8 +221,9 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
   }
 }
 
-void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, double reactivation_min_age_s,
+void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam,
                                    double reactivation_inflation, FrameReport* r) {
+  const double reactivation_min_age_s = slam.reactivation_min_age_s;
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager, v.camera, state, v.key, frame);
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());
@@ -272,12 +273,19 @@ void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, double reactivati
   // the UAV is taken (measured on team3_aerial: vehicle NEES 600 → ...).
   const StateVariable* veh = state.find(v.key);
   const Eigen::Matrix3d P_pp = state.covarianceOf(*veh).topLeftCorner<3, 3>();
+  v.active.clear();
   for (int64_t id : keep) {
-    if (state.has(landmarkKey(id))) continue;
-    if (reactivateLandmark(state, v.book, archive, id, reactivation_inflation * P_pp))
-      ++r->reactivated;
+    if (!state.has(landmarkKey(id))) {
+      const ArchivedLandmark* a = archive.find(id);
+      if (a != nullptr && remapInstead(*a, t_us, slam)) {
+        archive.take(id);  // mapped anew in step 5 (afterInitialisation makes it active)
+        continue;
+      }
+      if (reactivateLandmark(state, v.book, archive, id, reactivation_inflation * P_pp))
+        ++r->reactivated;
+    }
+    v.active.push_back(id);
   }
-  v.active = keep;
 }
 
 void CcTeamFilter::Impl::afterInitialisation(CcVehicle& v, std::size_t first_new) {

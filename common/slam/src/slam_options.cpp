@@ -13,6 +13,16 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.get("loop_closure_min_age_s", loop_closure_min_age_s);
   node.get("reactivation_min_age_s", reactivation_min_age_s);
   node.check(reactivation_min_age_s >= 0.0, "reactivation_min_age_s", "must be ≥ 0");
+  node.getEnum(
+      "reactivation", reactivation,
+      {{"independent", Reactivation::kIndependent}, {"intersection", Reactivation::kIntersection}});
+  node.get("reinitialise_recent", reinitialise_recent);
+  node.get("reactivation_min_omega", reactivation_min_omega);
+  node.get("reactivation_max_omega", reactivation_max_omega);
+  node.check(reactivation_min_omega > 0.0 && reactivation_min_omega <= reactivation_max_omega &&
+                 reactivation_max_omega < 1.0,
+             "reactivation_min_omega",
+             "need 0 < reactivation_min_omega ≤ reactivation_max_omega < 1");
   node.get("first_estimate_jacobians", first_estimate_jacobians);
   node.get("observability_constrained", observability_constrained);
   node.getEnum("oc_projection", oc_projection,

@@ -27,6 +27,7 @@ VisualInertialSlam::VisualInertialSlam(const VisualInertialSlamOptions& options,
       updater_(vehicle_, camera, options.slam),
       initialiser_(vehicle_, camera, options.slam),
       loop_closer_(vehicle_, camera, options.slam),
+      reactivation_({options.slam.reactivation_min_omega, options.slam.reactivation_max_omega}),
       ci_updater_(vehicle_),
       gps_updater_(vehicle_, options.gps) {
   Expected<UpdatePolicy> policy = o_.filter.policy();
@@ -129,7 +130,7 @@ const std::vector<uint8_t>* VisualInertialSlam::descriptorOf(int64_t landmark_id
   return nullptr;
 }
 
-void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameReport* report) {
+Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameReport* report) {
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager_, camera_, state_, vehicle_, frame);
 
   std::vector<int64_t> observed;
@@ -166,10 +167,27 @@ void VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameRe
     ++report->archived;
   }
   // Re-activate the chosen archived landmarks (loop closing, §5.5.2).
+  std::vector<int64_t> returning;
   for (int64_t id : keep) {
     if (state_.has(VariableKey::landmark(static_cast<uint64_t>(id)))) continue;
-    if (reactivateLandmark(state_, book_, archive_, id)) ++report->reactivated;
+    const ArchivedLandmark* a = archive_.find(id);
+    if (a == nullptr) continue;
+    if (remapInstead(*a, t_us_, o_.slam)) {
+      archive_.take(id);  // the initialiser (step 5) maps it anew
+      continue;
+    }
+    returning.push_back(id);
   }
+  if (o_.slam.reactivation == SlamOptions::Reactivation::kIndependent) {
+    for (int64_t id : returning) {
+      if (reactivateLandmark(state_, book_, archive_, id)) ++report->reactivated;
+    }
+    return Status::Ok();
+  }
+  ReactivationReport r;
+  Status s = reactivation_.reactivate(state_, book_, archive_, returning, updater_, frame, &r);
+  report->reactivated += r.landmarks;
+  return s;
 }
 
 Status VisualInertialSlam::updateObserved(const StereoFrameObservations& frame,
@@ -200,7 +218,7 @@ Status VisualInertialSlam::processFrame(const StereoFrameObservations& frame, Fr
   // 1. Propagate the vehicle to the frame time.
   if (Status s = propagateTo(frame.t_us); !s.ok()) return s;
   // 2., 3. The virtual point m* and the k nearest landmarks: archive, re-activate.
-  manageMap(frame, &r);
+  if (Status s = manageMap(frame, &r); !s.ok()) return s;
   // 4. Close a loop when enough loop landmarks agree, then the gated updates of the others.
   LoopReport loop;
   if (Status s =

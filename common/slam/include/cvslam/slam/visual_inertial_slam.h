@@ -41,6 +41,7 @@
 #include "cvslam/slam/landmark_book.h"
 #include "cvslam/slam/landmark_initialiser.h"
 #include "cvslam/slam/loop_closer.h"
+#include "cvslam/slam/reactivation_intersection.h"
 #include "cvslam/slam/slam_options.h"
 #include "cvslam/slam/stereo_updater.h"
 #include "cvslam/slam/vehicle_propagation.h"
@@ -163,7 +164,7 @@ class VisualInertialSlam {
  private:
   Status initializeVehicle(int64_t t_us, const Eigen::VectorXd& x_v,
                            const Eigen::Quaterniond* q_BtoN, const Eigen::MatrixXd& P_v);
-  void manageMap(const StereoFrameObservations& frame, FrameReport* report);
+  Status manageMap(const StereoFrameObservations& frame, FrameReport* report);
   /// Step 4: the gated stereo updates of the observations not used by loop closing.
   Status updateObserved(const StereoFrameObservations& frame, FrameReport* report);
   /// (Re)creates the models from the options (after a setter changed them).
@@ -182,6 +183,7 @@ class VisualInertialSlam {
   StereoUpdater updater_;
   LandmarkInitialiser initialiser_;
   LoopCloser loop_closer_;
+  ReactivationIntersection reactivation_;
   CiUpdater ci_updater_;
   GpsUpdater gps_updater_;
   VehiclePropagation propagation_;  // the IMU buffer of step 1

@@ -1,0 +1,74 @@
+#pragma once
+// Re-activation of archived landmarks by covariance intersection (issue #14, item 1).
+//
+// An archived landmark (landmark_archive.h) keeps the marginal covariance Q it had when it left
+// the state; its correlation with the state since then is lost. The thesis (§5.8) re-enters it
+// uncorrelated, as if its estimate were independent of the vehicle's. It is not: most of Q is the
+// vehicle's own uncertainty of that time along the unobservable directions (global translation
+// and yaw), which the vehicle still carries. Observed again, such a landmark tells the vehicle
+// where it is in the world more precisely than anybody knows, and the covariance collapses: on
+// euroc_mh03_hall (features) the position σ fell from 0.10 m to 4 mm in 40 s while the error
+// stayed at 0.2 m (vehicle NEES 10⁴; docs/results/consistency_perturbed.md).
+//
+// For every cross-covariance C of the state x (covariance P) and an archived estimate (Q),
+//   [P C; Cᵀ Q] ≤ [P/ω 0; 0 Q/(1−ω)]   for every ω ∈ (0, 1)
+// (the covariance-intersection bound, Julier & Uhlmann 1997, which thesis §6.6.4 uses between
+// UAVs). So the landmarks of a frame re-enter uncorrelated with Q/(1−ω) while the prior of the
+// rest of the state is scaled by 1/ω: a consistent joint prior whatever the lost correlation.
+// ω is the one that minimises the trace of the vehicle's position covariance after the frame's
+// observations of those landmarks (coop's optimal_vehicle objective), by golden section on
+// [min_omega, max_omega]; ω → 1 means that the archive adds nothing to what the frame sees.
+// Meant for a state that holds one vehicle's map (VisualInertialSlam): every variable but the
+// re-activated landmarks is scaled.
+
+#include <cstdint>
+#include <vector>
+
+#include "cvslam/camera/stereo_observation.h"
+#include "cvslam/core/status.h"
+#include "cvslam/filter/measurement_batch.h"
+#include "cvslam/filter/slam_state.h"
+#include "cvslam/slam/landmark_archive.h"
+#include "cvslam/slam/landmark_book.h"
+#include "cvslam/slam/stereo_updater.h"
+
+namespace cvslam {
+
+/// Bounds of ω (config `slam:` reactivation_min_omega / reactivation_max_omega).
+struct ReactivationWeights {
+  double min_omega = 0.05;  ///< ω → 0 would scale the state's prior by 1/ω → ∞
+  double max_omega = 0.99;  ///< ω → 1 would give the re-activated landmarks Q/(1 − ω) → ∞
+};
+
+/// What one frame's re-activation did.
+struct ReactivationReport {
+  int landmarks = 0;                ///< landmarks moved from the archive to the state
+  double omega = 1.0;               ///< weight of the state's prior (1: nothing re-activated)
+  double position_trace_prior = 0;  ///< tr of the vehicle position covariance before [m²]
+  double position_trace_after = 0;  ///< the same after this frame's observations (predicted)
+};
+
+class ReactivationIntersection {
+ public:
+  explicit ReactivationIntersection(ReactivationWeights weights) : w_(weights) {}
+
+  /// Moves the archived landmarks `ids` into the state and `book` by covariance intersection
+  /// with the rest of the state, ω chosen with `updater`'s Jacobians of `frame`. Ids that are
+  /// not archived are skipped.
+  Status reactivate(SlamState& state, LandmarkBook& book, LandmarkArchive& archive,
+                    const std::vector<int64_t>& ids, const StereoUpdater& updater,
+                    const StereoFrameObservations& frame, ReactivationReport* report);
+
+  /// Trace of the vehicle position covariance after the update (H, R) from the prior
+  /// blockdiag(P_A/ω, P_B/(1 − ω)), where B are the columns `b_columns` (uncorrelated with
+  /// A in P) and the position rows are p_index..p_index+2. Exposed for tests.
+  static double positionTraceAfter(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H,
+                                   const Eigen::MatrixXd& R, const std::vector<int>& b_columns,
+                                   int p_index, double omega);
+
+ private:
+  ReactivationWeights w_;
+  MeasurementBatch batch_;  // reused
+};
+
+}  // namespace cvslam
