@@ -186,6 +186,28 @@ TEST(SimSimulator, DeterministicAndIndependentPerAgent) {
   EXPECT_NE(digest(*d, 1), digest(*again, 1));
 }
 
+TEST(SimSimulator, PartOfTheTeamOrOfTheRunFliesInTheSameWorld) {
+  // cvslam_run --agents / --duration run a part of the scenario: the landmarks must be those of
+  // the full run (once, another layout made a UAV of euroc_mh03_hall look 8 cm or 900 m off).
+  auto sc = Scenario::loadFile(scenarioPath("euroc_mh03_hall.yaml"));
+  ASSERT_TRUE(sc.ok()) << sc.status().message();
+  auto full = Simulator::create(*sc);
+  Scenario part = *sc;
+  part.agents.resize(1);
+  part.duration = 20.0;
+  auto partial = Simulator::create(part);
+  ASSERT_TRUE(full.ok() && partial.ok());
+  ASSERT_EQ(full->landmarks().size(), partial->landmarks().size());
+  for (std::size_t i = 0; i < full->landmarks().size(); i += 97)
+    EXPECT_EQ(full->landmarks()[i].p_LinN, partial->landmarks()[i].p_LinN) << i;
+  // Without the whole team's flights (a hand-made scenario), the agents' own define the area.
+  part.world_agents.clear();
+  part.world_duration = 0.0;
+  auto own = Simulator::create(part);
+  ASSERT_TRUE(own.ok());
+  EXPECT_LT(own->landmarks().size(), full->landmarks().size());
+}
+
 TEST(SimSimulator, ThesisLoopSpeed) {
   auto sc = Scenario::loadFile(scenarioPath("thesis_loop.yaml"));
   ASSERT_TRUE(sc.ok());

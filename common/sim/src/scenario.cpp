@@ -67,6 +67,8 @@ Status Scenario::load(const ConfigNode& node, const std::string& base_dir) {
                            std::to_string(needed) + " s");
     }
   }
+  world_agents = agents;
+  world_duration = duration;
   return node.finish();
 }
 

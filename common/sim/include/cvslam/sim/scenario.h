@@ -54,6 +54,13 @@ struct Scenario {
   render::WorldOptions render_world;
   render::RenderOptions render;
   std::vector<AgentSpec> agents;
+  /// The flights the feature-level world is laid out around (World: the area they cover over
+  /// world_duration, plus world.margin). load() sets them to the whole team over the whole
+  /// duration, so that a run of some agents or of the first seconds (cvslam_run --agents,
+  /// --duration) happens in the same world as the full run, not in another landmark layout.
+  /// Empty / 0: `agents` over `duration`.
+  std::vector<AgentSpec> world_agents;
+  double world_duration = 0.0;
 
   /// Loads and validates a scenario file (also checks that open trajectories last long enough).
   static Expected<Scenario> loadFile(const std::string& path);
