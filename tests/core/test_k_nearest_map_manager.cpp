@@ -64,10 +64,16 @@ TEST(KNearestMapManager, VirtualPointLiesBelowADownwardCamera) {
   EXPECT_TRUE(m_east.isApprox(Eigen::Vector3d(9.9, 20, 0), 1e-12)) << m_east.transpose();
 }
 
-TEST(KNearestMapManager, SceneDepthIsMedianOfObserved) {
-  KNearestMapManager mm;
+TEST(KNearestMapManager, SceneDepthIsAQuantileOfObserved) {
+  KNearestMapManager mm;  // the 0.1 quantile
   EXPECT_DOUBLE_EQ(mm.sceneDepth({}), 10.0);
-  EXPECT_DOUBLE_EQ(mm.sceneDepth({3, 100, 7}), 7.0);
+  EXPECT_DOUBLE_EQ(mm.sceneDepth({3, 100, 7}), 3.0);
+  EXPECT_DOUBLE_EQ(mm.sceneDepth({9, 8, 7, 6, 5, 4, 3, 2, 1, 100, 11, 12}), 2.0);
+  MapManagerOptions median;
+  median.scene_depth_quantile = 0.5;
+  EXPECT_DOUBLE_EQ(KNearestMapManager(median).sceneDepth({3, 100, 7}), 7.0);
+  median.scene_depth_quantile = 1.0;
+  EXPECT_DOUBLE_EQ(KNearestMapManager(median).sceneDepth({3, 100, 7}), 100.0);
   MapManagerOptions o;
   o.use_observed_depth = false;
   EXPECT_DOUBLE_EQ(KNearestMapManager(o).sceneDepth({3, 100, 7}), 10.0);
@@ -79,6 +85,8 @@ TEST(KNearestMapManager, OptionsLoadAndValidate) {
   ASSERT_TRUE(o.load(cfg->child("map")).ok());
   EXPECT_EQ(o.kind, MapKind::kFull);
   EXPECT_EQ(o.k, 5);
+  auto quantile = ConfigNode::fromString("map: {scene_depth_quantile: 1.5}", "a.yaml");
+  EXPECT_FALSE(MapManagerOptions().load(quantile->child("map")).ok());
   auto bad = ConfigNode::fromString("map: {kind: sparse, k: 0}", "a.yaml");
   EXPECT_FALSE(MapManagerOptions().load(bad->child("map")).ok());
 }

@@ -15,7 +15,10 @@ Status MapManagerOptions::load(const ConfigNode& node) {
   node.get("nominal_scene_depth", nominal_scene_depth);
   node.get("use_observed_depth", use_observed_depth);
   node.check(k >= 1, "k", "must be ≥ 1 (got " + std::to_string(k) + ")");
+  node.get("scene_depth_quantile", scene_depth_quantile);
   node.check(nominal_scene_depth > 0.0, "nominal_scene_depth", "must be > 0");
+  node.check(scene_depth_quantile >= 0.0 && scene_depth_quantile <= 1.0, "scene_depth_quantile",
+             "must be in [0, 1]");
   return node.status();
 }
 
@@ -32,7 +35,9 @@ Eigen::Vector3d KNearestMapManager::virtualPoint(const StereoCamera& camera,
 double KNearestMapManager::sceneDepth(const std::vector<double>& observed_depths) const {
   if (!o_.use_observed_depth || observed_depths.empty()) return o_.nominal_scene_depth;
   std::vector<double> d = observed_depths;
-  auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
+  const auto rank = std::min(d.size() - 1, static_cast<std::size_t>(o_.scene_depth_quantile *
+                                                                    static_cast<double>(d.size())));
+  auto mid = d.begin() + static_cast<std::ptrdiff_t>(rank);
   std::nth_element(d.begin(), mid, d.end());
   return *mid;
 }
