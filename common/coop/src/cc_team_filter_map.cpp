@@ -277,7 +277,9 @@ void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions
   for (int64_t id : keep) {
     if (!state.has(landmarkKey(id))) {
       const ArchivedLandmark* a = archive.find(id);
-      if (a != nullptr && remapInstead(*a, t_us, slam)) {
+      // The joint filter re-enters by its own conservative rule (above) whether the options
+      // say intersection or independent; remap as in single mode.
+      if (a != nullptr && reentryOf(*a, t_us, slam) == SlamOptions::Reentry::kRemap) {
         archive.take(id);  // mapped anew in step 5 (afterInitialisation makes it active)
         continue;
       }

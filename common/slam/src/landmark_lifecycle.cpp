@@ -43,9 +43,11 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
   CovarianceHelper::marginalize(state, key);
 }
 
-bool remapInstead(const ArchivedLandmark& a, int64_t t_us, const SlamOptions& options) {
-  return options.reinitialise_recent &&
-         static_cast<double>(t_us - a.last_seen_us) * 1e-6 < options.loop_closure_min_age_s;
+SlamOptions::Reentry reentryOf(const ArchivedLandmark& a, int64_t t_us,
+                               const SlamOptions& options) {
+  const bool recent =
+      static_cast<double>(t_us - a.last_seen_us) * 1e-6 < options.loop_closure_min_age_s;
+  return recent ? options.recent_reentry : options.reactivation;
 }
 
 bool reactivateLandmark(SlamState& state, LandmarkBook& book, LandmarkArchive& archive, int64_t id,

@@ -2,6 +2,10 @@
 
 #include "cvslam/io/config_node.h"
 
+#include <string>
+#include <utility>
+#include <vector>
+
 namespace cvslam {
 
 Status SlamOptions::load(const ConfigNode& node) {
@@ -13,10 +17,14 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.get("loop_closure_min_age_s", loop_closure_min_age_s);
   node.get("reactivation_min_age_s", reactivation_min_age_s);
   node.check(reactivation_min_age_s >= 0.0, "reactivation_min_age_s", "must be ≥ 0");
-  node.getEnum(
-      "reactivation", reactivation,
-      {{"independent", Reactivation::kIndependent}, {"intersection", Reactivation::kIntersection}});
-  node.get("reinitialise_recent", reinitialise_recent);
+  const std::vector<std::pair<std::string, Reentry>> reentries = {
+      {"remap", Reentry::kRemap},
+      {"intersection", Reentry::kIntersection},
+      {"independent", Reentry::kIndependent}};
+  node.getEnum("recent_reentry", recent_reentry, reentries);
+  node.getEnum("reactivation", reactivation, reentries);
+  node.check(reactivation != Reentry::kRemap, "reactivation",
+             "must be intersection or independent (loop closing needs the archived estimate)");
   node.get("reactivation_min_omega", reactivation_min_omega);
   node.get("reactivation_max_omega", reactivation_max_omega);
   node.check(reactivation_min_omega > 0.0 && reactivation_min_omega <= reactivation_max_omega &&

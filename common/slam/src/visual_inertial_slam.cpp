@@ -166,26 +166,28 @@ Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, Frame
     archiveLandmark(state_, archive_, cand.landmark_id, book_.remove(cand.landmark_id), t_us_);
     ++report->archived;
   }
-  // Re-activate the chosen archived landmarks (loop closing, §5.5.2).
-  std::vector<int64_t> returning;
+  // Re-activate the chosen archived landmarks (loop closing, §5.5.2), each as the options
+  // say (SlamOptions::Reentry).
+  std::vector<int64_t> intersected;
   for (int64_t id : keep) {
     if (state_.has(VariableKey::landmark(static_cast<uint64_t>(id)))) continue;
     const ArchivedLandmark* a = archive_.find(id);
     if (a == nullptr) continue;
-    if (remapInstead(*a, t_us_, o_.slam)) {
-      archive_.take(id);  // the initialiser (step 5) maps it anew
-      continue;
+    switch (reentryOf(*a, t_us_, o_.slam)) {
+      case SlamOptions::Reentry::kRemap:
+        archive_.take(id);  // the initialiser (step 5) maps it anew
+        break;
+      case SlamOptions::Reentry::kIntersection:
+        intersected.push_back(id);
+        break;
+      case SlamOptions::Reentry::kIndependent:
+        if (reactivateLandmark(state_, book_, archive_, id)) ++report->reactivated;
+        break;
     }
-    returning.push_back(id);
   }
-  if (o_.slam.reactivation == SlamOptions::Reactivation::kIndependent) {
-    for (int64_t id : returning) {
-      if (reactivateLandmark(state_, book_, archive_, id)) ++report->reactivated;
-    }
-    return Status::Ok();
-  }
+  if (intersected.empty()) return Status::Ok();
   ReactivationReport r;
-  Status s = reactivation_.reactivate(state_, book_, archive_, returning, updater_, frame, &r);
+  Status s = reactivation_.reactivate(state_, book_, archive_, intersected, updater_, frame, &r);
   report->reactivated += r.landmarks;
   return s;
 }

@@ -6,8 +6,8 @@
 //  - archiving: exact marginalisation, the archive keeps the mean, the marginal covariance and
 //    the landmark's book record;
 //  - re-activation: the archived landmark re-enters with its archived mean and marginal
-//    covariance, uncorrelated (loop closing, §5.5.2), and enters the given book; unless it is
-//    not a loop landmark yet, and is mapped anew instead (remapInstead).
+//    covariance, uncorrelated (loop closing, §5.5.2), and enters the given book; how a
+//    landmark re-enters is the options' choice (reentryOf, SlamOptions::Reentry).
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -34,11 +34,10 @@ Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const Stere
 void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
                      std::optional<LandmarkBookEntry> record, int64_t t_us);
 
-/// Whether archived landmark `a`, chosen at t_us to re-enter the state, is rather mapped anew
-/// from the current frame (SlamOptions::reinitialise_recent): it was seen less than
-/// loop_closure_min_age_s ago, so it is not a loop landmark, and its archived marginal would
-/// re-enter uncorrelated with the vehicle whose error it still carries.
-bool remapInstead(const ArchivedLandmark& a, int64_t t_us, const SlamOptions& options);
+/// How archived landmark `a`, chosen at t_us to re-enter the state, does so
+/// (SlamOptions::Reentry): `recent_reentry` when it was seen less than loop_closure_min_age_s
+/// ago (not a loop landmark), else `reactivation`.
+SlamOptions::Reentry reentryOf(const ArchivedLandmark& a, int64_t t_us, const SlamOptions& options);
 
 /// Moves archived landmark `id` into the state and `book`; false when not archived.
 /// `extra_covariance` is added to its archived covariance (the joint filter's conservative

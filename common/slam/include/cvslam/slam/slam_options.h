@@ -22,26 +22,27 @@ struct SlamOptions {
   int max_new_landmarks_per_frame = 8;  ///< new landmarks initialised per frame, nearest to m*
   double min_init_disparity_px = 1.0;   ///< farther points (smaller disparity) are not mapped
   /// An archived landmark re-enters the state only when it left it at least this long ago
-  /// [s]. Observations of more recently archived landmarks are not used.
+  /// [s]; observations of more recently archived landmarks are not used. With remap, 0 made
+  /// euroc_mh03_hall consistent (median vehicle NEES 10 / 16, 10 seeds) but cost the aerial
+  /// scenarios accuracy (team3_aerial UAV3 ATE +15 %) and thesis_loop consistency
+  /// (docs/filter.md, "Re-activation").
   double reactivation_min_age_s = 10.0;
-  /// An archived landmark seen again less than loop_closure_min_age_s after it was last seen
-  /// (a vehicle hovering, or a short excursion) re-enters as a NEW landmark: the initialiser
-  /// triangulates it from the current frame, correlated with the vehicle as it is now, and
-  /// its archived copy is dropped. Re-entering with its archived marginal, uncorrelated, it
-  /// told the vehicle where it is in the world more precisely than anybody knows: on
-  /// euroc_mh03_hall (features, UAV1 at rest for 20 s, k = 20 of ~40 visible landmarks swapping
-  /// in and out) the position σ fell from 0.10 m to 4 mm while the error stayed at 0.2 m
-  /// (vehicle NEES 2.6·10⁴; 92 re-initialised). Loop landmarks (older) still re-enter as
-  /// `reactivation` says: loop closing needs what the archive remembers.
-  bool reinitialise_recent = true;
-  /// How a loop landmark re-enters the state (its correlation with the state is lost):
-  /// kIndependent, the thesis's (§5.8): its archived marginal covariance, uncorrelated; or
-  /// kIntersection, by covariance intersection with the rest of the state
-  /// (reactivation_intersection.h): consistent for any lost correlation, but on thesis_loop
-  /// its weak priors let loop closures go wrong (seed 303: yaw 9° off after the loop, NEES 879
-  /// against 46; docs/filter.md "Re-activation"), so it is not the default.
-  enum class Reactivation { kIndependent, kIntersection };
-  Reactivation reactivation = Reactivation::kIndependent;
+  /// How an archived landmark re-enters the state; its correlation with the state is lost.
+  ///  - kRemap: it is mapped anew, triangulated by the initialiser from the current frame and
+  ///    correlated with the vehicle as it is now; its archived copy is dropped.
+  ///  - kIntersection: by covariance intersection with the rest of the state
+  ///    (reactivation_intersection.h): consistent whatever the lost correlation.
+  ///  - kIndependent: the thesis's (§5.8): its archived marginal, uncorrelated, as if
+  ///    independent of the vehicle, whose error of that time it still carries.
+  /// `recent_reentry` applies to a landmark seen again less than loop_closure_min_age_s after
+  /// it was last seen (a hovering vehicle, a short excursion), `reactivation` to loop landmarks.
+  /// kIndependent for recent ones made a hovering UAV over-confident (euroc_mh03_hall UAV1:
+  /// position σ 0.10 m → 4 mm at an error of 0.2 m, NEES 2.6·10⁴); kIntersection for loop
+  /// landmarks let thesis_loop loops go wrong (seed 303: yaw 9° off, NEES 879 against 46).
+  /// docs/filter.md, "Re-activation".
+  enum class Reentry { kRemap, kIntersection, kIndependent };
+  Reentry recent_reentry = Reentry::kRemap;
+  Reentry reactivation = Reentry::kIndependent;  ///< kRemap is not allowed: loops need the archive
   double reactivation_min_omega = 0.05;  ///< kIntersection: bounds of the weight ω of the state
   double reactivation_max_omega = 0.99;  ///< (the landmarks get n·Q/(1 − ω))
   /// A landmark observed again after at least this long unseen is a loop landmark [s]
