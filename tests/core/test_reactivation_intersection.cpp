@@ -155,7 +155,7 @@ TEST_F(ReactivationScene, ChosenWeightMinimisesThePredictedPositionTrace) {
   const Eigen::MatrixXd H = batch.H(), R = batch.R();
   for (double w : {0.1, 0.5, 0.9}) {
     Eigen::MatrixXd Pw = P / w;
-    Pw.bottomRightCorner(18, 18) = P.bottomRightCorner(18, 18) / (1.0 - w);
+    Pw.bottomRightCorner(18, 18) = 6.0 * P.bottomRightCorner(18, 18) / (1.0 - w);  // 6 landmarks
     const Eigen::MatrixXd K = Pw * H.transpose() * (H * Pw * H.transpose() + R).inverse();
     const Eigen::MatrixXd post = Pw - K * H * Pw;
     const double expected = post.topLeftCorner(3, 3).trace();

@@ -14,9 +14,9 @@ namespace cvslam {
 namespace {
 
 /// The pieces of the split-prior update that do not depend on ω. With H = [H_A H_B] and the
-/// prior blockdiag(P_A/ω, P_B/(1 − ω)), the innovation covariance is S_A/ω + S_B/(1 − ω) + R
-/// and the position rows of P H̃ᵀ are G/ω, so the posterior position covariance is
-/// P_pp/ω − G S⁻¹ Gᵀ/ω².
+/// prior blockdiag(P_A/ω, n·P_B/(1 − ω)) (n landmarks in B), the innovation covariance is
+/// S_A/ω + S_B/(1 − ω) + R with S_B = n·H_B P_B H_Bᵀ, and the position rows of P H̃ᵀ are G/ω,
+/// so the posterior position covariance is P_pp/ω − G S⁻¹ Gᵀ/ω².
 struct SplitUpdate {
   Eigen::MatrixXd S_A, S_B, R, G;
   double trace_pp = 0.0;
@@ -41,7 +41,7 @@ SplitUpdate split(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eige
   }
   SplitUpdate s;
   s.S_A = H_A * P * H_A.transpose();
-  s.S_B = H_B * P_BB * H_B.transpose();
+  s.S_B = (static_cast<double>(nb) / 3.0) * (H_B * P_BB * H_B.transpose());  // n = nb / 3
   s.R = R;
   s.G = P.middleRows(p_index, 3) * H_A.transpose();
   s.trace_pp = P.block(p_index, p_index, 3, 3).trace();
@@ -102,8 +102,7 @@ Status ReactivationIntersection::reactivate(SlamState& state, LandmarkBook& book
   // too (all carry the vehicle's global error of their time), so each gets (1 − ω)/n.
   const double n = static_cast<double>(added.size());
   if (batch_.rows() > 0) {
-    SplitUpdate s = split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_index);
-    s.S_B *= n;
+    const SplitUpdate s = split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_index);
     auto cost = [&](double w) { return s.positionTrace(w); };
     omega = minimizeGoldenSection(cost, w_.min_omega, w_.max_omega, 1e-4).x;
     for (double bound : {w_.min_omega, w_.max_omega}) {

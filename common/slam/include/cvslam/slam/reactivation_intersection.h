@@ -60,8 +60,9 @@ class ReactivationIntersection {
                     const StereoFrameObservations& frame, ReactivationReport* report);
 
   /// Trace of the vehicle position covariance after the update (H, R) from the prior
-  /// blockdiag(P_A/ω, P_B/(1 − ω)), where B are the columns `b_columns` (uncorrelated with
-  /// A in P) and the position rows are p_index..p_index+2. Exposed for tests.
+  /// blockdiag(P_A/ω, n·P_B/(1 − ω)), where B are the columns `b_columns` of n landmarks
+  /// (3 each, uncorrelated with A in P) and the position rows are p_index..p_index+2: the
+  /// objective of the weight. Exposed for tests.
   static double positionTraceAfter(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H,
                                    const Eigen::MatrixXd& R, const std::vector<int>& b_columns,
                                    int p_index, double omega);
