@@ -201,8 +201,7 @@ TEST(SimSimulator, PartOfTheTeamOrOfTheRunFliesInTheSameWorld) {
   for (std::size_t i = 0; i < full->landmarks().size(); i += 97)
     EXPECT_EQ(full->landmarks()[i].p_LinN, partial->landmarks()[i].p_LinN) << i;
   // Without the whole team's flights (a hand-made scenario), the agents' own define the area.
-  part.world_agents.clear();
-  part.world_duration = 0.0;
+  part.world_region.setEmpty();
   auto own = Simulator::create(part);
   ASSERT_TRUE(own.ok());
   EXPECT_LT(own->landmarks().size(), full->landmarks().size());

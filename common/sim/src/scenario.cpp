@@ -1,5 +1,7 @@
 #include "cvslam/sim/scenario.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <set>
 
@@ -23,6 +25,15 @@ Status AgentSpec::load(const ConfigNode& node, const std::string& base_dir) {
   has_gps = node.has("gps");
   if (has_gps) gps.load(node.child("gps"));
   return node.status();
+}
+
+void extendByFlight(const Trajectory& trajectory, double time_offset, double duration,
+                    Eigen::AlignedBox2d* area) {
+  const int steps = static_cast<int>(std::ceil(duration / 0.5));
+  for (int k = 0; k <= steps; ++k) {
+    const double t = std::min(k * 0.5, duration) + time_offset;
+    area->extend(trajectory.state(t).p_BinN.head<2>());
+  }
 }
 
 Status Scenario::load(const ConfigNode& node, const std::string& base_dir) {
@@ -56,6 +67,7 @@ Status Scenario::load(const ConfigNode& node, const std::string& base_dir) {
   }
   if (!node.status().ok()) return node.status();
   // Open trajectories must cover the whole run.
+  world_region.setEmpty();
   for (std::size_t i = 0; i < agents.size(); ++i) {
     auto traj = agents[i].trajectory.build();
     const std::string key = "agents[" + std::to_string(i) + "].trajectory";
@@ -66,9 +78,8 @@ Status Scenario::load(const ConfigNode& node, const std::string& base_dir) {
                            std::to_string((*traj)->duration()) + " s, the scenario needs " +
                            std::to_string(needed) + " s");
     }
+    extendByFlight(**traj, agents[i].trajectory.time_offset, duration, &world_region);
   }
-  world_agents = agents;
-  world_duration = duration;
   return node.finish();
 }
 

@@ -119,25 +119,15 @@ Expected<Simulator> Simulator::create(const Scenario& scenario) {
   Simulator sim;
   sim.scenario_ = scenario;
   std::vector<std::shared_ptr<const Trajectory>> trajectories;
+  // The area the world is laid out around: the whole team's (Scenario::world_region), else
+  // these agents'.
+  Eigen::AlignedBox2d region = scenario.world_region;
+  const bool own_region = region.isEmpty();
   for (const AgentSpec& a : scenario.agents) {
     auto traj = a.trajectory.build();
     if (!traj.ok()) return traj.status();
     trajectories.push_back(*traj);
-  }
-  // The area the world's flights cover (the whole team's, Scenario::world_agents), sampled
-  // every 0.5 s.
-  const std::vector<AgentSpec>& flights =
-      scenario.world_agents.empty() ? scenario.agents : scenario.world_agents;
-  const double span = scenario.world_duration > 0.0 ? scenario.world_duration : scenario.duration;
-  Eigen::AlignedBox2d region;
-  for (const AgentSpec& a : flights) {
-    auto traj = a.trajectory.build();
-    if (!traj.ok()) return traj.status();
-    const int steps = static_cast<int>(std::ceil(span / 0.5));
-    for (int k = 0; k <= steps; ++k) {
-      const double t = std::min(k * 0.5, span) + a.trajectory.time_offset;
-      region.extend((*traj)->state(t).p_BinN.head<2>());
-    }
+    if (own_region) extendByFlight(**traj, a.trajectory.time_offset, scenario.duration, &region);
   }
   if (region.isEmpty()) return Status::Error(scenario.source + ": no agents");
   region.min().array() -= scenario.world.margin + 1.0;

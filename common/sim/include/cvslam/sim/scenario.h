@@ -5,6 +5,7 @@
 // the file and the key, unknown keys are errors.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -42,6 +43,11 @@ struct AgentSpec {
   Status load(const ConfigNode& node, const std::string& base_dir);
 };
 
+/// Extends `area` by where `trajectory` flies over [time_offset, time_offset + duration],
+/// sampled every 0.5 s (horizontal NED position).
+void extendByFlight(const Trajectory& trajectory, double time_offset, double duration,
+                    Eigen::AlignedBox2d* area);
+
 struct Scenario {
   std::string name;        ///< free text
   std::string source;      ///< file it came from
@@ -54,13 +60,12 @@ struct Scenario {
   render::WorldOptions render_world;
   render::RenderOptions render;
   std::vector<AgentSpec> agents;
-  /// The flights the feature-level world is laid out around (World: the area they cover over
-  /// world_duration, plus world.margin). load() sets them to the whole team over the whole
-  /// duration, so that a run of some agents or of the first seconds (cvslam_run --agents,
-  /// --duration) happens in the same world as the full run, not in another landmark layout.
-  /// Empty / 0: `agents` over `duration`.
-  std::vector<AgentSpec> world_agents;
-  double world_duration = 0.0;
+  /// The horizontal area the feature-level world is laid out around (World, plus world.margin).
+  /// load() sets it to the area the whole team flies over the whole duration, so that a run of
+  /// some agents or of the first seconds (cvslam_run --agents, --duration) happens in the same
+  /// world as the full run, not in another landmark layout. Empty: the simulator takes the
+  /// area `agents` fly over `duration`.
+  Eigen::AlignedBox2d world_region;
 
   /// Loads and validates a scenario file (also checks that open trajectories last long enough).
   static Expected<Scenario> loadFile(const std::string& path);
