@@ -312,7 +312,7 @@ int main(int argc, char** argv) {
         ++c.frames;
         if (f.report->loop_closure && c.first_loop_t < 0) c.first_loop_t = t;
         const cvslam::Vector9d truth = truthVector(*f.truth);
-        Eigen::Matrix<double, 6, 1> bias_truth;
+        cvslam::Vector6d bias_truth;
         bias_truth << f.truth->accel_bias, f.truth->gyro_bias;
         recorder.setBiasTruth(bias_truth);
         if (cc) {

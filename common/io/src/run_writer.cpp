@@ -35,13 +35,20 @@ std::string estimateHeader(const char* const (&names)[N], bool with_covariance, 
   return h;
 }
 
+/// t and the values of x: the row of estimateHeader without covariance (truth.csv).
+template <int N>
+std::string valuesRow(double t, const Eigen::Matrix<double, N, 1>& x) {
+  std::string line;
+  appendSeconds(line, t);
+  for (int i = 0; i < N; ++i) line += ',', appendNumber(line, x(i));
+  return line;
+}
+
 /// The row of estimateHeader: t, x, diag(P) and, if `full`, P's upper triangle.
 template <int N>
 std::string estimateRow(double t, const Eigen::Matrix<double, N, 1>& x,
                         const Eigen::Matrix<double, N, N>& P, bool full) {
-  std::string line;
-  appendSeconds(line, t);
-  for (int i = 0; i < N; ++i) line += ',', appendNumber(line, x(i));
+  std::string line = valuesRow<N>(t, x);
   for (int i = 0; i < N; ++i) line += ',', appendNumber(line, P(i, i));
   if (full)
     for (int i = 0; i < N; ++i)
@@ -109,10 +116,7 @@ Status AgentRunWriter::addBiases(double t, const Vector6d& b, const Matrix6d& P,
 
 Status AgentRunWriter::addTruth(double t, const Vector9d& x_true) {
   if (!open_) return Status::Error("AgentRunWriter: not open");
-  std::string line;
-  appendSeconds(line, t);
-  for (int i = 0; i < 9; ++i) line += ',', appendNumber(line, x_true(i));
-  truth_ << line << '\n';
+  truth_ << valuesRow<9>(t, x_true) << '\n';
   return truth_ ? Status::Ok() : Status::Error(dir_ + "/truth.csv: write failed");
 }
 

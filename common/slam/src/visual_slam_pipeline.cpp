@@ -306,8 +306,6 @@ void VisualSlamPipeline::detectLoop(int64_t t_us, const VisualInertialSlam& slam
 void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
                                     std::vector<StereoObservation>* observations, int* confirmed) {
   // Where the previous frame's unmapped points are expected now: expected_, ahead_.
-  const std::vector<Eigen::Vector4d>& expected = expected_;
-  const std::vector<bool>& ahead = ahead_;
   const vision::MapAssociationOptions& a = o_.association;
   const int bytes = vision::descriptorBytes(a.descriptor_type);
   const vision::MatchNorm norm = descriptorNorm();
@@ -324,8 +322,8 @@ void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
     double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
     std::size_t best = previous_.size();
     for (std::size_t j = 0; j < previous_.size(); ++j) {
-      if (!ahead[j] || taken[j]) continue;
-      if (((obs.z - expected[j]).cwiseAbs().array() > o_.confirm_gate_px).any()) continue;
+      if (!ahead_[j] || taken[j]) continue;
+      if (((obs.z - expected_[j]).cwiseAbs().array() > o_.confirm_gate_px).any()) continue;
       const double d = vision::descriptorDistance(norm, obs.descriptor.data(),
                                                   previous_[j].descriptor->data(), bytes);
       if (d < d1) {
@@ -339,7 +337,7 @@ void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
     if (best == previous_.size() || d1 > a.max_descriptor_distance) continue;
     if (d2 < std::numeric_limits<double>::infinity() && !(d1 < a.dist_ratio * d2)) continue;
     taken[best] = true;
-    found.push_back({(obs.z - expected[best]).cwiseAbs().maxCoeff(), i});
+    found.push_back({(obs.z - expected_[best]).cwiseAbs().maxCoeff(), i});
   }
   // Offer the filter only as many as it initialises, best confirmed first: its own choice,
   // nearest first, would favour the matches whose disparity error is positive (too near).
