@@ -192,11 +192,13 @@ TEST(CcTeamFilter, TypeTwoObservationMovesTheVehicleThatMappedTheLandmark) {
 }
 
 TEST(CcTeamFilter, KNearestKeepsTheJointStateBounded) {
-  // Each UAV keeps its k nearest active (plus the landmarks new in its step): the state is at
-  // most M·(vehicle + 3(k + max_new)) however long the flight and however large the joint map.
+  // Each UAV keeps its k nearest active (plus the landmarks new in its step), the team at most
+  // `held` held landmarks: the state is at most M·(vehicle + 3(k + max_new)) + 3·held however
+  // long the flight and however large the joint map.
   coop::CcTeamFilterOptions o = defaultOptions();
   o.slam.map.k = 6;
   const int max_new = o.slam.slam.max_new_landmarks_per_frame;
+  const int held = o.slam.slam.held_landmarks;
   const int vehicle = InsPropagator(o.slam.ins).stateSize();
   std::size_t map_size = 0;
   const CcRun r = runCc(
@@ -204,11 +206,11 @@ TEST(CcTeamFilter, KNearestKeepsTheJointStateBounded) {
       [&](const coop::CcTeamFilter& gs, const coop::CcStepReport& rep, const VehicleEstimate&) {
         for (int id : gs.vehicles())
           EXPECT_LE(static_cast<int>(gs.activeLandmarks(id).size()), o.slam.map.k + max_new);
-        EXPECT_LE(rep.state_size, 2 * (vehicle + 3 * (o.slam.map.k + max_new)));
+        EXPECT_LE(rep.state_size, 2 * (vehicle + 3 * (o.slam.map.k + max_new)) + 3 * held);
         map_size = gs.map().size();
       });
   ASSERT_TRUE(r.ok);
-  EXPECT_LE(r.max_state_size, 2 * (vehicle + 3 * (o.slam.map.k + max_new)));
+  EXPECT_LE(r.max_state_size, 2 * (vehicle + 3 * (o.slam.map.k + max_new)) + 3 * held);
   EXPECT_GT(map_size, static_cast<std::size_t>(r.max_state_size / 3)) << "most are archived";
 }
 

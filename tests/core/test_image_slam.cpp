@@ -250,13 +250,18 @@ TEST_F(MapPredictionTest, PredictsStateAndArchivedLandmarksWithCovariance) {
 }
 
 // An archived landmark the filter would not re-activate yet (archived less than
-// slam.reactivation_min_age_s ago) is not predicted: an association to it would be unused.
-TEST(MapPrediction, SkipsArchivedLandmarksUntilTheyMayBeReactivated) {
+// slam.reactivation_min_age_s ago) is not predicted: an association to it would be unused. A
+// held one (slam.held_landmarks) is, at once: it comes back exactly at any age.
+class MapPredictionArchive : public ::testing::TestWithParam<int> {};
+
+TEST_P(MapPredictionArchive, SkipsArchivedLandmarksUntilTheyMayBeReactivated) {
   const StereoCamera camera{StereoCameraOptions()};
   VisualInertialSlamOptions o;
   o.ins.estimate_imu_bias = false;
   o.map.k = 1;
   o.slam.reactivation_min_age_s = 0.15;
+  o.slam.held_landmarks = GetParam();
+  const bool held = GetParam() > 0;
   VisualInertialSlam slam(o, camera);
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(9);
   x0.head<3>() = Eigen::Vector3d(0, 0, -10);
@@ -291,10 +296,20 @@ TEST(MapPrediction, SkipsArchivedLandmarksUntilTheyMayBeReactivated) {
     return ids;
   };
   const int64_t t0 = std::max<int64_t>(archived_us, 100000);
-  EXPECT_EQ(predictedIds(t0), std::vector<int64_t>{7});
-  EXPECT_EQ(predictedIds(archived_us + 140000), std::vector<int64_t>{7});
-  EXPECT_EQ(predictedIds(archived_us + 160000), (std::vector<int64_t>{7, 9}));
+  const std::vector<int64_t> both = {7, 9}, state_only = {7};
+  EXPECT_EQ(predictedIds(t0), held ? both : state_only);
+  EXPECT_EQ(predictedIds(archived_us + 140000), held ? both : state_only);
+  EXPECT_EQ(predictedIds(archived_us + 160000), both);
+  if (held) {  // with its correlation to the vehicle: the gate of a landmark in the state
+    const PredictedObservation& p9 = preds[1];
+    EXPECT_TRUE(p9.archived);
+    const StateVariable* v9 = slam.state().find(VariableKey::heldLandmark(9));
+    ASSERT_NE(v9, nullptr);
+    EXPECT_FALSE(slam.state().covariance().block(0, v9->index, 9, 3).isZero());
+  }
 }
+
+INSTANTIATE_TEST_SUITE_P(HeldOrNot, MapPredictionArchive, ::testing::Values(0, 20));
 
 TEST_F(MapPredictionTest, Errors) {
   std::vector<PredictedObservation> preds;

@@ -57,6 +57,7 @@ struct CcTeamFilter::Impl {
   SlamState state;
   LandmarkArchive archive;
   KNearestMapManager map_manager;
+  int held_landmarks = 0;  ///< SlamOptions::held_landmarks of the joint map
   UpdatePolicy policy;
   Status policy_status;
   std::map<int, std::unique_ptr<CcVehicle>> vehicles;
@@ -98,7 +99,8 @@ struct CcTeamFilter::Impl {
   double positionSigma(const CcVehicle& v) const;
   /// The book record of `id` in any vehicle's book (first by agent id), else null.
   const LandmarkBookEntry* recordOf(int64_t id) const;
-  /// Archives `id`: removes it from every book, merges the records (latest last-seen).
+  /// Archives `id`: removes it from every book, merges the records (latest last-seen); held
+  /// in the state as a Schmidt variable up to held_landmarks (landmark_lifecycle.h).
   void archiveEverywhere(int64_t id, int64_t t_us);
   void noteObserver(int64_t id, int agent_id, const StereoObservation& obs);
 };

@@ -58,7 +58,7 @@ void CcTeamFilter::Impl::archiveEverywhere(int64_t id, int64_t t_us) {
       merged->last_seen_us = std::max(merged->last_seen_us, r->last_seen_us);
     }
   }
-  archiveLandmark(state, archive, id, std::move(merged), t_us);
+  archiveLandmark(state, archive, id, std::move(merged), t_us, held_landmarks);
 }
 
 double CcTeamFilter::Impl::positionSigma(const CcVehicle& v) const {
@@ -245,10 +245,14 @@ void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions
     const int64_t id = obs.landmark_id;
     if (id < 0) continue;
     const ArchivedLandmark* a = archive.find(id);
-    if (a == nullptr || static_cast<double>(t_us - a->archived_us) * 1e-6 < reactivation_min_age_s)
+    // A held landmark comes back exactly at any age and to any UAV: its correlations with
+    // every vehicle stayed in the joint state.
+    const bool held = a != nullptr && isHeld(state, id);
+    if (a == nullptr ||
+        (!held && static_cast<double>(t_us - a->archived_us) * 1e-6 < reactivation_min_age_s))
       continue;
     auto info = landmarks.find(id);
-    if (info == landmarks.end() || info->second.mapped_by == v.agent_id) {
+    if (held || info == landmarks.end() || info->second.mapped_by == v.agent_id) {
       candidates.push_back({id, a->p_LinN, true, true});
     } else {
       // Another UAV's archived landmark is not re-activated here: entering as an independent
@@ -278,8 +282,9 @@ void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions
     if (!state.has(landmarkKey(id))) {
       const ArchivedLandmark* a = archive.find(id);
       // The joint filter re-enters by its own conservative rule (above) whether the options
-      // say intersection or independent; remap as in single mode.
-      if (a != nullptr && reentryOf(*a, t_us, slam) == SlamOptions::Reentry::kRemap) {
+      // say intersection or independent; remap as in single mode; a held one exactly.
+      if (a != nullptr && !isHeld(state, id) &&
+          reentryOf(*a, t_us, slam) == SlamOptions::Reentry::kRemap) {
         archive.take(id);  // mapped anew in step 5 (afterInitialisation makes it active)
         continue;
       }

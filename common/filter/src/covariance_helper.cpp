@@ -13,8 +13,10 @@ namespace cvslam {
 namespace {
 
 std::string describe(const VariableKey& key) {
-  return std::string(key.kind == VariableKey::Kind::kVehicle ? "vehicle " : "landmark ") +
-         std::to_string(key.id);
+  const char* kind = key.kind == VariableKey::Kind::kVehicle    ? "vehicle "
+                     : key.kind == VariableKey::Kind::kLandmark ? "landmark "
+                                                                : "held landmark ";
+  return kind + std::to_string(key.id);
 }
 
 /// Symmetrises in place: the updates are symmetric in exact arithmetic only.
@@ -113,6 +115,17 @@ Status CovarianceHelper::marginalize(SlamState& state, const VariableKey& key) {
     state.vars_[j].index -= removed.size;
     state.slot_[state.vars_[j].key] = static_cast<int>(j);
   }
+  return Status::Ok();
+}
+
+Status CovarianceHelper::rekey(SlamState& state, const VariableKey& from, const VariableKey& to) {
+  const auto it = state.slot_.find(from);
+  if (it == state.slot_.end()) return Status::Error(describe(from) + " is not in the state");
+  if (state.has(to)) return Status::Error(describe(to) + " is already in the state");
+  const int pos = it->second;
+  state.slot_.erase(it);
+  state.slot_[to] = pos;
+  state.vars_[static_cast<std::size_t>(pos)].key = to;
   return Status::Ok();
 }
 

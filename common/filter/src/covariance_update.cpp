@@ -68,6 +68,63 @@ std::vector<AcceptedGroup> gate(const MeasurementBatch& batch, const Eigen::Matr
   return accepted;
 }
 
+/// Step 5 of the update, NH∞ (eq. 3.39 with S = I or S = Π, see UpdatePolicy::theta_weighting):
+/// turns the EKF posterior P into the NH∞ one for the accepted `rows` of the batch. Returns the
+/// θ applied (reduced when eq. 3.40 fails with the policy's), or a negative value on failure.
+double applyTheta(const UpdatePolicy& policy, const MeasurementBatch& batch,
+                  const std::vector<int>& rows, Eigen::MatrixXd& P, UpdateReport* report) {
+  const Eigen::Index n = P.rows();
+  double theta = policy.theta;
+  if (policy.theta_weighting == ThetaWeighting::kIdentity) {
+    // P⁺ = (P⁻⁻¹ + Hᵀ R⁻¹ H − θ I)⁻¹ = (P_EKF⁻¹ − θ I)⁻¹ = (I − θ P_EKF)⁻¹ P_EKF.
+    // Eq. 3.40 (P⁺ > 0) ⇔ θ λ_max(P_EKF) < 1; we require ≤ theta_margin, checked by a
+    // Cholesky of margin·I − θ P_EKF, and otherwise fall back to half the admissible θ.
+    const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
+    const Eigen::LLT<Eigen::MatrixXd> admissible(policy.theta_margin * I - theta * P);
+    if (admissible.info() != Eigen::Success) {
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P, Eigen::EigenvaluesOnly);
+      theta = 0.5 * policy.theta_margin / eig.eigenvalues().maxCoeff();
+      report->theta_reduced = true;
+    }
+    const Eigen::LLT<Eigen::MatrixXd> M_llt(I - theta * P);
+    if (M_llt.info() != Eigen::Success) {
+      return -1.0;
+    }
+    P = M_llt.solve(P);
+  } else {
+    // P⁺ = (P_EKF⁻¹ − θ Π)⁻¹ with Π = Q Qᵀ the projector onto range(Hᵀ) (the state
+    // directions this update observes). By Woodbury
+    //   P⁺ = P_EKF + P_EKF Q (θ⁻¹ I − Qᵀ P_EKF Q)⁻¹ Qᵀ P_EKF,
+    // positive definite iff θ λ_max(Qᵀ P_EKF Q) < 1 (eq. 3.40 on the observed subspace).
+    // Directions H cannot see — SLAM's gauge (a common shift or yaw of vehicle and map)
+    // and unobserved landmarks — keep the EKF's information, so θ cannot inflate them
+    // without bound as it does with S = I.
+    Eigen::MatrixXd Ht(n, static_cast<Eigen::Index>(rows.size()));
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      Ht.col(static_cast<Eigen::Index>(i)) = batch.H().row(rows[i]).transpose();
+    }
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Ht);
+    const Eigen::Index rank = qr.rank();
+    const Eigen::MatrixXd Q = (qr.householderQ() * Eigen::MatrixXd::Identity(n, rank)).eval();
+    const Eigen::MatrixXd PQ = P * Q;
+    const Eigen::MatrixXd M = Q.transpose() * PQ;
+    const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(rank, rank);
+    const Eigen::LLT<Eigen::MatrixXd> admissible(policy.theta_margin * I - theta * M);
+    if (admissible.info() != Eigen::Success) {
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M, Eigen::EigenvaluesOnly);
+      theta = 0.5 * policy.theta_margin / eig.eigenvalues().maxCoeff();
+      report->theta_reduced = true;
+    }
+    const Eigen::LLT<Eigen::MatrixXd> C_llt(I / theta - M);
+    if (C_llt.info() != Eigen::Success) {
+      return -1.0;
+    }
+    P.noalias() += PQ * C_llt.solve(PQ.transpose());
+  }
+  P = 0.5 * (P + P.transpose()).eval();
+  return theta;
+}
+
 }  // namespace
 
 Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
@@ -111,7 +168,12 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   if (S_llt.info() != Eigen::Success) {
     return Status::Error("update: innovation covariance is not positive definite");
   }
-  const Eigen::MatrixXd K = S_llt.solve(PHt_a.transpose()).transpose();
+  Eigen::MatrixXd K = S_llt.solve(PHt_a.transpose()).transpose();
+  // Held landmarks are Schmidt variables: zero gain. The Joseph form below is exact for any
+  // gain, so their covariance stays and their cross-covariances get (I − KH) P.
+  for (const StateVariable& v : state.variables()) {
+    if (v.key.kind == VariableKey::Kind::kHeldLandmark) K.middleRows(v.index, v.size).setZero();
+  }
   const Eigen::VectorXd dx = K * r_a;
   report.rows = static_cast<int>(rows.size());
   report.nis = S_llt.matrixL().solve(r_a).squaredNorm();
@@ -135,56 +197,13 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   P_post.noalias() -= correction * K.transpose();
   P_post = 0.5 * (P_post + P_post.transpose()).eval();
 
-  // 5. NH∞ (eq. 3.39 with S = I or S = Π, see UpdatePolicy::theta_weighting).
-  double theta = policy.theta;
-  if (theta > 0.0) {
-    if (policy.theta_weighting == ThetaWeighting::kIdentity) {
-      // P⁺ = (P⁻⁻¹ + Hᵀ R⁻¹ H − θ I)⁻¹ = (P_EKF⁻¹ − θ I)⁻¹ = (I − θ P_EKF)⁻¹ P_EKF.
-      // Eq. 3.40 (P⁺ > 0) ⇔ θ λ_max(P_EKF) < 1; we require ≤ theta_margin, checked by a
-      // Cholesky of margin·I − θ P_EKF, and otherwise fall back to half the admissible θ.
-      const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
-      const Eigen::LLT<Eigen::MatrixXd> admissible(policy.theta_margin * I - theta * P_post);
-      if (admissible.info() != Eigen::Success) {
-        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P_post, Eigen::EigenvaluesOnly);
-        theta = 0.5 * policy.theta_margin / eig.eigenvalues().maxCoeff();
-        report.theta_reduced = true;
-      }
-      const Eigen::LLT<Eigen::MatrixXd> M_llt(I - theta * P_post);
-      if (M_llt.info() != Eigen::Success) {
-        return Status::Error("update: NH∞ posterior not positive definite after reducing θ");
-      }
-      P_post = M_llt.solve(P_post);
-    } else {
-      // P⁺ = (P_EKF⁻¹ − θ Π)⁻¹ with Π = Q Qᵀ the projector onto range(Hᵀ) (the state
-      // directions this update observes). By Woodbury
-      //   P⁺ = P_EKF + P_EKF Q (θ⁻¹ I − Qᵀ P_EKF Q)⁻¹ Qᵀ P_EKF,
-      // positive definite iff θ λ_max(Qᵀ P_EKF Q) < 1 (eq. 3.40 on the observed subspace).
-      // Directions H cannot see — SLAM's gauge (a common shift or yaw of vehicle and map)
-      // and unobserved landmarks — keep the EKF's information, so θ cannot inflate them
-      // without bound as it does with S = I.
-      Eigen::MatrixXd Ht(n, static_cast<Eigen::Index>(rows.size()));
-      for (std::size_t i = 0; i < rows.size(); ++i) {
-        Ht.col(static_cast<Eigen::Index>(i)) = batch.H().row(rows[i]).transpose();
-      }
-      const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Ht);
-      const Eigen::Index rank = qr.rank();
-      const Eigen::MatrixXd Q = (qr.householderQ() * Eigen::MatrixXd::Identity(n, rank)).eval();
-      const Eigen::MatrixXd PQ = P_post * Q;
-      const Eigen::MatrixXd M = Q.transpose() * PQ;
-      const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(rank, rank);
-      const Eigen::LLT<Eigen::MatrixXd> admissible(policy.theta_margin * I - theta * M);
-      if (admissible.info() != Eigen::Success) {
-        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M, Eigen::EigenvaluesOnly);
-        theta = 0.5 * policy.theta_margin / eig.eigenvalues().maxCoeff();
-        report.theta_reduced = true;
-      }
-      const Eigen::LLT<Eigen::MatrixXd> C_llt(I / theta - M);
-      if (C_llt.info() != Eigen::Success) {
-        return Status::Error("update: NH∞ posterior not positive definite after reducing θ");
-      }
-      P_post.noalias() += PQ * C_llt.solve(PQ.transpose());
+  // 5. NH∞ (eq. 3.39).
+  double theta = 0.0;
+  if (policy.theta > 0.0) {
+    theta = applyTheta(policy, batch, rows, P_post, &report);
+    if (theta < 0.0) {
+      return Status::Error("update: NH∞ posterior not positive definite after reducing θ");
     }
-    P_post = 0.5 * (P_post + P_post.transpose()).eval();
   }
   report.theta_used = theta;
 

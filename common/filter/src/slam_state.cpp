@@ -20,4 +20,10 @@ int SlamState::landmarkCount() const {
   }));
 }
 
+int SlamState::heldLandmarkCount() const {
+  return static_cast<int>(std::count_if(vars_.begin(), vars_.end(), [](const StateVariable& v) {
+    return v.key.kind == VariableKey::Kind::kHeldLandmark;
+  }));
+}
+
 }  // namespace cvslam

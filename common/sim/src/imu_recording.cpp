@@ -1,6 +1,7 @@
 #include "cvslam/sim/imu_recording.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "cvslam/io/csv_table.h"
 
@@ -39,6 +40,20 @@ ImuSample ImuRecording::sampleAt(double t_s, int64_t t_us) const {
   s.gyro_B = (1.0 - w) * gyro_B_[lo] + w * gyro_B_[hi];
   s.accel_B = (1.0 - w) * accel_B_[lo] + w * accel_B_[hi];
   return s;
+}
+
+std::vector<ImuSample> ImuRecording::samplesIn(double from_s, double to_s, double zero_s) const {
+  std::vector<ImuSample> out;
+  const auto first = std::lower_bound(t_.begin(), t_.end(), from_s);
+  for (auto it = first; it != t_.end() && *it < to_s; ++it) {
+    const auto i = static_cast<std::size_t>(it - t_.begin());
+    ImuSample s;
+    s.t_us = std::llround((*it - zero_s) * 1e6);
+    s.gyro_B = gyro_B_[i];
+    s.accel_B = accel_B_[i];
+    out.push_back(s);
+  }
+  return out;
 }
 
 }  // namespace cvslam::sim

@@ -77,6 +77,12 @@ void ImuSimulator::useRecording(std::shared_ptr<const ImuRecording> recording,
   accel_bias_.setZero();
 }
 
+std::vector<ImuSample> ImuSimulator::recordedBeforeStart() const {
+  if (!recording_) return {};
+  const double zero = recording_time_at_zero_ + time_offset_;
+  return recording_->samplesIn(recording_->startTime(), zero, zero);
+}
+
 ImuSample ImuSimulator::sample(int64_t t_us) {
   if (recording_) {
     return recording_->sampleAt(

@@ -1,6 +1,7 @@
 #include "cvslam/simrun/scenario_calibration.h"
 
 #include <memory>
+#include <vector>
 
 namespace cvslam {
 
@@ -15,8 +16,19 @@ AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
     agent_options.ins.accel_random_walk = imu.accel_random_walk;
   }
   const sim::InitialEstimate& init = agent.initialEstimate();
-  return initialEstimateSetup(init.state.t_us, init.state.p_BinN, init.state.v_B, init.state.euler, init.sigma,
-                 agent_options);
+  AgentFilterSetup setup = initialEstimateSetup(init.state.t_us, init.state.p_BinN, init.state.v_B,
+                                                init.state.euler, init.sigma, agent_options);
+  // A recorded IMU carries its real turn-on bias, which the known pose says nothing about. When
+  // it recorded the vehicle at rest before the flight, the bias is measured there, as an
+  // operator calibrates before take-off (the static initialiser's rest test and averaging).
+  const std::vector<ImuSample> before = agent.imuBeforeStart();
+  if (!before.empty()) {
+    const Expected<StaticInitialization> rest =
+        initializeAtRest(before, StaticInitializerOptions(), agent_options.ins.gravity,
+                         agent_options.slam.initial_accel_bias_sigma);
+    if (rest.ok()) setGyroBiasFromRest(*rest, &setup);
+  }
+  return setup;
 }
 
 Expected<AgentCalibration> calibrationFromScenario(const sim::Scenario& scenario, int agent_id,

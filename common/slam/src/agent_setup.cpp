@@ -51,13 +51,16 @@ AgentFilterSetup restSetup(const StaticInitialization& rest, const InitialUncert
         vehicle_model::errorCovarianceFromNav(rest.q_BtoN,
                                               sigma_N.array().square().matrix().asDiagonal());
   }
-  if (options.ins.estimate_imu_bias) {
-    s.x0.segment<3>(vehicle::kGyroBias) = rest.gyro_bias;
-    const Eigen::Vector3d gyro_sigma =
-        rest.gyro_bias_sigma.cwiseMax(options.slam.initial_gyro_bias_sigma);
-    s.P0.diagonal().segment<3>(vehicle::kGyroBias) = gyro_sigma.array().square().matrix();
-  }
+  setGyroBiasFromRest(rest, &s);
   return s;
+}
+
+void setGyroBiasFromRest(const StaticInitialization& rest, AgentFilterSetup* setup) {
+  if (!setup->options.ins.estimate_imu_bias) return;
+  setup->x0.segment<3>(vehicle::kGyroBias) = rest.gyro_bias;
+  const Eigen::Vector3d gyro_sigma =
+      rest.gyro_bias_sigma.cwiseMax(setup->options.slam.initial_gyro_bias_sigma);
+  setup->P0.diagonal().segment<3>(vehicle::kGyroBias) = gyro_sigma.array().square().matrix();
 }
 
 AgentFilterSetup dynamicSetup(const DynamicInitialization& d, const InitialUncertainty& sigma,

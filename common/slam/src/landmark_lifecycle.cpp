@@ -1,5 +1,6 @@
 #include "cvslam/slam/landmark_lifecycle.h"
 
+#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -24,7 +25,7 @@ Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const Stere
 }
 
 void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
-                     std::optional<LandmarkBookEntry> record, int64_t t_us) {
+                     std::optional<LandmarkBookEntry> record, int64_t t_us, int held_capacity) {
   const VariableKey key = VariableKey::landmark(static_cast<uint64_t>(id));
   const StateVariable* v = state.find(key);
   if (v == nullptr) return;
@@ -37,10 +38,41 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
     a.last_seen_us = record->last_seen_us;
     a.descriptor = std::move(record->descriptor);
     a.yaw_direction = record->yaw_direction;
+    a.constrained = record->constrained;
+    a.first_estimate = record->first_estimate;
   }
   a.archived_us = t_us;
   archive.store(id, std::move(a));
-  CovarianceHelper::marginalize(state, key);
+  if (held_capacity <= 0) {
+    CovarianceHelper::marginalize(state, key);
+    return;
+  }
+  CovarianceHelper::rekey(state, key, VariableKey::heldLandmark(static_cast<uint64_t>(id)));
+  // Keep the held_capacity most recently archived (ties: the smaller id leaves first).
+  std::vector<std::pair<int64_t, int64_t>> held;  // (archived_us, id)
+  for (const StateVariable& var : state.variables()) {
+    if (var.key.kind != VariableKey::Kind::kHeldLandmark) continue;
+    const auto held_id = static_cast<int64_t>(var.key.id);
+    const ArchivedLandmark* entry = archive.find(held_id);
+    held.emplace_back(entry != nullptr ? entry->archived_us : 0, held_id);
+  }
+  if (static_cast<int>(held.size()) <= held_capacity) return;
+  const auto excess = static_cast<std::ptrdiff_t>(held.size()) - held_capacity;
+  std::nth_element(held.begin(), held.begin() + excess - 1, held.end());
+  std::sort(held.begin(), held.begin() + excess);
+  for (auto it = held.begin(); it != held.begin() + excess; ++it) {
+    const VariableKey held_key = VariableKey::heldLandmark(static_cast<uint64_t>(it->second));
+    // The archive keeps the marginal as it is now (NH∞ updates may have inflated it).
+    if (std::optional<ArchivedLandmark> entry = archive.take(it->second)) {
+      entry->covariance = state.covarianceOf(*state.find(held_key));
+      archive.store(it->second, std::move(*entry));
+    }
+    CovarianceHelper::marginalize(state, held_key);
+  }
+}
+
+bool isHeld(const SlamState& state, int64_t id) {
+  return state.has(VariableKey::heldLandmark(static_cast<uint64_t>(id)));
 }
 
 SlamOptions::Reentry reentryOf(const ArchivedLandmark& a, int64_t t_us,
@@ -54,10 +86,17 @@ bool reactivateLandmark(SlamState& state, LandmarkBook& book, LandmarkArchive& a
                         const Eigen::Matrix3d& extra_covariance) {
   std::optional<ArchivedLandmark> a = archive.take(id);
   if (!a) return false;
-  CovarianceHelper::addVariable(state, VariableKey::landmark(static_cast<uint64_t>(id)), a->p_LinN,
-                                a->covariance + extra_covariance);
-  book.add(id, {a->index, a->first_seen_us, a->last_seen_us, std::move(a->descriptor), a->p_LinN,
-                a->yaw_direction, false});
+  const VariableKey key = VariableKey::landmark(static_cast<uint64_t>(id));
+  const bool held = isHeld(state, id);
+  if (held) {
+    CovarianceHelper::rekey(state, VariableKey::heldLandmark(static_cast<uint64_t>(id)), key);
+  } else {
+    CovarianceHelper::addVariable(state, key, a->p_LinN, a->covariance + extra_covariance);
+  }
+  // A held landmark comes back as it left: correlated (OC-EKF applies), linearised at its
+  // first estimate (FEJ). Any other re-enters as a new, independent prior at its archived mean.
+  book.add(id, {a->index, a->first_seen_us, a->last_seen_us, std::move(a->descriptor),
+                held ? a->first_estimate : a->p_LinN, a->yaw_direction, held && a->constrained});
   return true;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cvslam/io/config_node.h"
+#include "cvslam/slam/landmark_lifecycle.h"
 
 namespace cvslam {
 
@@ -67,10 +68,13 @@ Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
     predictions->push_back(pred);
   };
 
+  // Held landmarks (archived, kept as Schmidt variables) still have their correlation with the
+  // vehicle and re-enter exactly at any age: predicted like the state's own.
   for (const StateVariable& v : state.variables()) {
-    if (v.key.kind != VariableKey::Kind::kLandmark) continue;
+    const bool held = v.key.kind == VariableKey::Kind::kHeldLandmark;
+    if (v.key.kind != VariableKey::Kind::kLandmark && !(held && options.include_archived)) continue;
     const Eigen::Matrix<double, 9, 3> P_vL = P.block<9, 3>(veh->index, v.index);
-    predict(static_cast<int64_t>(v.key.id), state.value(v), state.covarianceOf(v), &P_vL, false);
+    predict(static_cast<int64_t>(v.key.id), state.value(v), state.covarianceOf(v), &P_vL, held);
   }
   if (options.include_archived) {
     // Landmarks archived less than reactivation_min_age_s ago stay out of the state
@@ -80,7 +84,7 @@ Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
     // are predicted.
     const auto min_age_us = static_cast<int64_t>(slam.options().slam.reactivation_min_age_s * 1e6);
     for (const auto& [id, a] : slam.archive().all()) {
-      if (t_us - a.archived_us < min_age_us) continue;
+      if (t_us - a.archived_us < min_age_us || isHeld(state, id)) continue;
       predict(id, a.p_LinN, a.covariance, nullptr, true);
     }
   }

@@ -150,8 +150,9 @@ Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, Frame
     const int64_t id = obs.landmark_id;
     if (id < 0) continue;
     const ArchivedLandmark* a = archive_.find(id);
-    if (a != nullptr &&
-        static_cast<double>(t_us_ - a->archived_us) * 1e-6 >= o_.slam.reactivation_min_age_s) {
+    // A held landmark re-enters exactly at any age; the others after reactivation_min_age_s.
+    if (a != nullptr && (isHeld(state_, id) || static_cast<double>(t_us_ - a->archived_us) * 1e-6 >=
+                                                   o_.slam.reactivation_min_age_s)) {
       candidates.push_back({id, a->p_LinN, true, true});
     }
   }
@@ -163,7 +164,8 @@ Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, Frame
     if (std::binary_search(keep.begin(), keep.end(), cand.landmark_id)) continue;
     // An archived candidate that stays archived is not in the state.
     if (!state_.has(VariableKey::landmark(static_cast<uint64_t>(cand.landmark_id)))) continue;
-    archiveLandmark(state_, archive_, cand.landmark_id, book_.remove(cand.landmark_id), t_us_);
+    archiveLandmark(state_, archive_, cand.landmark_id, book_.remove(cand.landmark_id), t_us_,
+                    o_.slam.held_landmarks);
     ++report->archived;
   }
   // Re-activate the chosen archived landmarks (loop closing, §5.5.2), each as the options
@@ -173,6 +175,10 @@ Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, Frame
     if (state_.has(VariableKey::landmark(static_cast<uint64_t>(id)))) continue;
     const ArchivedLandmark* a = archive_.find(id);
     if (a == nullptr) continue;
+    if (isHeld(state_, id)) {  // exact: its correlations never left the state
+      if (reactivateLandmark(state_, book_, archive_, id)) ++report->reactivated;
+      continue;
+    }
     switch (reentryOf(*a, t_us_, o_.slam)) {
       case SlamOptions::Reentry::kRemap:
         archive_.take(id);  // the initialiser (step 5) maps it anew

@@ -8,6 +8,8 @@
 //   update      EKF, Joseph form (eq. 3.22, 3.23); NH∞ per UpdatePolicy (eq. 3.39, 3.48)
 //   augment     y = g(x, z):  P_yy = J_x P J_xᵀ + J_z R J_zᵀ,  P_yx = J_x P
 //   marginalise drop the variable's rows and columns (exact for a Gaussian)
+//   hold        a landmark becomes a Schmidt (consider) variable and back: the key changes, the
+//               slot, the mean and every covariance entry stay (slam_state.h, kHeldLandmark)
 
 #include <Eigen/Core>
 #include <functional>
@@ -52,6 +54,10 @@ class CovarianceHelper {
   /// Removes a variable (marginalisation) and compacts the indices of those after it.
   static Status marginalize(SlamState& state, const VariableKey& key);
 
+  /// Gives variable `from` the key `to` (same slot, mean and covariance): a landmark held as a
+  /// Schmidt variable (kHeldLandmark) and back. `to` must not be in the state.
+  static Status rekey(SlamState& state, const VariableKey& from, const VariableKey& to);
+
   /// Joint covariance of the listed variables, in the order given.
   static Expected<Eigen::MatrixXd> marginalCovariance(const SlamState& state,
                                                       const std::vector<VariableKey>& keys);
@@ -74,7 +80,9 @@ class CovarianceHelper {
                                 double factor);
 
   /// Measurement update with a stacked (H, r, R): gates each observation (Mahalanobis), then
-  /// applies the EKF (θ = 0) or NH∞ update. `report` may be null.
+  /// applies the EKF (θ = 0) or NH∞ update. Held landmarks (kHeldLandmark) get a zero gain:
+  /// the Schmidt–Kalman update, whose Joseph form keeps their mean and covariance and updates
+  /// their cross-covariances exactly. `report` may be null.
   static Status update(SlamState& state, const MeasurementBatch& batch, const UpdatePolicy& policy,
                        UpdateReport* report);
 

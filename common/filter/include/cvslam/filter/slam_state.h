@@ -19,13 +19,23 @@
 namespace cvslam {
 
 /// Identifies a variable of the joint state.
+///  - kVehicle: one agent's vehicle block.
+///  - kLandmark: a landmark of the map (3-D point in N).
+///  - kHeldLandmark: a landmark that left the map (archived, thesis §5.8) but is held in the
+///    state as a Schmidt "consider" variable (Schmidt 1966; Geneva et al., ICRA 2019): its
+///    cross-covariances with the rest are kept and updated, its mean and own covariance never
+///    are (CovarianceHelper::update zeroes its gain), so it costs no information when it
+///    comes back (landmark_lifecycle.h) and cannot be made over-confident meanwhile.
 struct VariableKey {
-  enum class Kind : uint8_t { kVehicle, kLandmark };
+  enum class Kind : uint8_t { kVehicle, kLandmark, kHeldLandmark };
   Kind kind = Kind::kVehicle;
   uint64_t id = 0;  ///< agent id for vehicles, landmark id for landmarks
 
   static VariableKey vehicle(uint64_t agent = 0) { return {Kind::kVehicle, agent}; }
   static VariableKey landmark(uint64_t landmark_id) { return {Kind::kLandmark, landmark_id}; }
+  static VariableKey heldLandmark(uint64_t landmark_id) {
+    return {Kind::kHeldLandmark, landmark_id};
+  }
   bool operator<(const VariableKey& o) const { return kind != o.kind ? kind < o.kind : id < o.id; }
   bool operator==(const VariableKey& o) const { return kind == o.kind && id == o.id; }
 };
@@ -49,8 +59,10 @@ class SlamState {
   /// the next variable is added or removed (indices move when the state is compacted).
   const StateVariable* find(const VariableKey& key) const;
   bool has(const VariableKey& key) const { return find(key) != nullptr; }
-  /// Number of landmark variables.
+  /// Number of landmark variables (kLandmark; held landmarks are not counted).
   int landmarkCount() const;
+  /// Number of held (Schmidt) landmark variables.
+  int heldLandmarkCount() const;
 
   /// Mean of a variable (must be present).
   Eigen::VectorBlock<const Eigen::VectorXd> value(const StateVariable& v) const {

@@ -12,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cvslam/core/random.h"
 #include "cvslam/core/status.h"
@@ -70,6 +71,9 @@ class ImuSimulator {
   /// From now on samples come from `recording` at file time file_time_at_zero + t (+ the
   /// trajectory time offset); biases read zero (the recording's are unknown).
   void useRecording(std::shared_ptr<const ImuRecording> recording, double file_time_at_zero);
+  /// With a recording: its samples from before simulation time 0 (negative times), what the
+  /// IMU measured while the vehicle waited for the flight; empty otherwise.
+  std::vector<ImuSample> recordedBeforeStart() const;
 
  private:
   Eigen::Vector3d noiseVector(double sigma);

@@ -69,6 +69,8 @@ class AgentSimulator {
   void useImuRecording(std::shared_ptr<const ImuRecording> recording, double file_time_at_zero) {
     imu_.useRecording(std::move(recording), file_time_at_zero);
   }
+  /// A recorded IMU's samples from before the flight (ImuSimulator::recordedBeforeStart).
+  std::vector<ImuSample> imuBeforeStart() const { return imu_.recordedBeforeStart(); }
 
   /// Time of the next event, or INT64_MAX when the stream is over.
   int64_t peekTime() const;

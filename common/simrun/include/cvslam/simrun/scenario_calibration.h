@@ -14,7 +14,9 @@
 namespace cvslam {
 
 /// A simulated agent: the IMU's datasheet noise replaces the configured densities when the
-/// simulated IMU is noisy; the state starts at the scenario's initial estimate.
+/// simulated IMU is noisy; the state starts at the scenario's initial estimate, and the gyro
+/// bias at the one measured at rest before the flight when a recorded IMU has such a period
+/// (agent_setup.h, setGyroBiasFromRest).
 AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
                                      const VisualInertialSlamOptions& options);
 

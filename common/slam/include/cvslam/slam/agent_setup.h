@@ -55,6 +55,11 @@ AgentFilterSetup knownPoseSetup(int64_t t_us, const Eigen::Vector3d& p_BinN,
 AgentFilterSetup restSetup(const StaticInitialization& rest, const InitialUncertainty& sigma,
                            const VisualInertialSlamOptions& options);
 
+/// The gyro bias measured at rest replaces `setup`'s prior (no-op without bias states): mean
+/// rate at rest, 1σ its averaging error but at least slam.initial_gyro_bias_sigma. A known-pose
+/// start whose IMU was recording at rest before the flight uses it as restSetup does.
+void setGyroBiasFromRest(const StaticInitialization& rest, AgentFilterSetup* setup);
+
 /// An agent started in motion (dynamic_initializer.h) in its own gravity-aligned frame:
 /// position zero and yaw zero (held to sigma's position and yaw 1σ), the velocity and tilt
 /// found (1σ: d.velocity_sigma, d.tilt_sigma), the gyro bias found (1σ: its fit's, at least

@@ -24,6 +24,8 @@ struct ArchivedLandmark {
   int64_t last_seen_us = 0;                                 ///< time it was last observed
   int64_t archived_us = 0;                                  ///< time it left the state
   std::vector<uint8_t> descriptor;                          ///< for appearance checks
+  bool constrained = false;  ///< its book record's LandmarkBookEntry::constrained
+  Eigen::Vector3d first_estimate = Eigen::Vector3d::Zero();  ///< and ::first_estimate
 };
 
 class LandmarkArchive {

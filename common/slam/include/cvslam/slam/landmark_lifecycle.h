@@ -7,7 +7,9 @@
 //    the landmark's book record;
 //  - re-activation: the archived landmark re-enters with its archived mean and marginal
 //    covariance, uncorrelated (loop closing, §5.5.2), and enters the given book; how a
-//    landmark re-enters is the options' choice (reentryOf, SlamOptions::Reentry).
+//    landmark re-enters is the options' choice (reentryOf, SlamOptions::Reentry);
+//  - holding (SlamOptions::held_landmarks): the most recently archived landmarks stay in the
+//    state as Schmidt variables, and such a landmark re-enters exactly, correlations and all.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -31,8 +33,15 @@ Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const Stere
 
 /// Moves landmark `id` from the state to the archive at t_us with `record` (its book entry,
 /// already removed from the book(s); none: an empty record). No-op when not in the state.
+/// With held_capacity > 0 the landmark also stays in the state as a held (Schmidt) variable
+/// (slam_state.h, kHeldLandmark), and the held landmarks archived longest ago are marginalised
+/// until at most held_capacity remain; their archive entries are exact either way (a held
+/// landmark's mean and marginal covariance do not change).
 void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
-                     std::optional<LandmarkBookEntry> record, int64_t t_us);
+                     std::optional<LandmarkBookEntry> record, int64_t t_us, int held_capacity = 0);
+
+/// True when archived landmark `id` is held in the state (it then re-enters exactly).
+bool isHeld(const SlamState& state, int64_t id);
 
 /// How archived landmark `a`, chosen at t_us to re-enter the state, does so
 /// (SlamOptions::Reentry): `recent_reentry` when it was seen less than loop_closure_min_age_s
@@ -40,8 +49,9 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
 SlamOptions::Reentry reentryOf(const ArchivedLandmark& a, int64_t t_us, const SlamOptions& options);
 
 /// Moves archived landmark `id` into the state and `book`; false when not archived.
-/// `extra_covariance` is added to its archived covariance (the joint filter's conservative
-/// re-entry, coop/cc_team_filter.h; zero: the archived marginal as is).
+/// A held landmark keeps its slot and its cross-covariances (exact re-entry);
+/// otherwise `extra_covariance` is added to its archived covariance (the joint filter's
+/// conservative re-entry, coop/cc_team_filter.h; zero: the archived marginal as is).
 bool reactivateLandmark(SlamState& state, LandmarkBook& book, LandmarkArchive& archive, int64_t id,
                         const Eigen::Matrix3d& extra_covariance = Eigen::Matrix3d::Zero());
 

@@ -2,12 +2,13 @@
 // Predicted stereo observations of an agent's map at the current epoch, for the front end's
 // data association (thesis §5.5, §5.5.2; docs/front_end.md): for each landmark that may be in
 // view — those in the filter state and the archived ones near the predicted view that the
-// filter may re-activate (archived at least slam.reactivation_min_age_s ago), which is what
-// makes loop closing possible — the predicted measurement ẑ = h(x̂_v, p̂_L) (eq. 5.20)
+// filter may re-activate (held in the state, slam.held_landmarks, or archived at least
+// slam.reactivation_min_age_s ago), which is what makes map reuse and loop closing possible —
+// the predicted measurement ẑ = h(x̂_v, p̂_L) (eq. 5.20)
 // and its innovation covariance
 //   S = H P Hᵀ + R,  H = [∂h/∂x_v  ∂h/∂p_L],  R = σ_px² I₄,
-// where P is the joint covariance of vehicle and landmark (archived landmarks have no
-// correlation with the vehicle left: P_vL = 0), plus the landmark's stored descriptor.
+// where P is the joint covariance of vehicle and landmark (archived landmarks that are not held
+// have no correlation with the vehicle left: P_vL = 0), plus the landmark's stored descriptor.
 // No OpenCV types: descriptors are byte vectors.
 
 #include <Eigen/Core>

@@ -1,0 +1,148 @@
+// Held landmarks (slam_state.h, kHeldLandmark; landmark_lifecycle.h): archived landmarks kept in
+// the state as Schmidt "consider" variables. The update leaves their mean and covariance alone and
+// keeps their cross-covariances exact; archiving and re-activating one is exact; the capacity
+// keeps the most recently archived.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <random>
+#include <vector>
+
+#include "cvslam/filter/covariance_helper.h"
+#include "cvslam/filter/update_policy.h"
+#include "cvslam/slam/landmark_archive.h"
+#include "cvslam/slam/landmark_book.h"
+#include "cvslam/slam/landmark_lifecycle.h"
+#include "filter_fixtures.h"
+
+namespace cvslam {
+namespace {
+
+double minEigenvalue(const Eigen::MatrixXd& P) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P, Eigen::EigenvaluesOnly)
+      .eigenvalues()
+      .minCoeff();
+}
+
+/// Stereo-like observations of the vehicle and landmarks 100 and 101 only (never of 102, the one
+/// the tests hold), with residuals of the noise's size.
+void observeFirstTwo(const SlamState& state, std::mt19937& rng, MeasurementBatch* batch) {
+  batch->reset(state.size(), 8);
+  const StateVariable* vehicle = state.find(VariableKey::vehicle(0));
+  for (uint64_t id : {100u, 101u}) {
+    const int g = batch->addObservation(test::randomMatrix(4, 1, rng), Eigen::Matrix4d::Identity());
+    batch->setJacobian(g, *vehicle, test::randomMatrix(4, vehicle->size, rng, 20.0));
+    batch->setJacobian(g, *state.find(VariableKey::landmark(id)),
+                       test::randomMatrix(4, 3, rng, 20.0));
+  }
+}
+
+TEST(HeldLandmark, SchmidtUpdateKeepsItsMarginalAndBoundsTheFullUpdate) {
+  std::mt19937 rng(11);
+  SlamState full = test::randomSlamState(3, rng);
+  SlamState held = full;
+  ASSERT_TRUE(
+      CovarianceHelper::rekey(held, VariableKey::landmark(102), VariableKey::heldLandmark(102))
+          .ok());
+  EXPECT_EQ(held.landmarkCount(), 2);
+  EXPECT_EQ(held.heldLandmarkCount(), 1);
+  const StateVariable h = *held.find(VariableKey::heldLandmark(102));
+  const Eigen::Vector3d mean_before = held.value(h);
+  const Eigen::Matrix3d cov_before = held.covarianceOf(h);
+
+  for (int k = 0; k < 5; ++k) {
+    MeasurementBatch batch;
+    const std::mt19937 draw = rng;
+    observeFirstTwo(full, rng, &batch);
+    ASSERT_TRUE(CovarianceHelper::update(full, batch, UpdatePolicy::ekf(), nullptr).ok());
+    rng = draw;  // the same observations for the Schmidt filter
+    observeFirstTwo(held, rng, &batch);
+    ASSERT_TRUE(CovarianceHelper::update(held, batch, UpdatePolicy::ekf(), nullptr).ok());
+  }
+  // The held landmark is never corrected, and its own covariance is untouched.
+  EXPECT_EQ(Eigen::Vector3d(held.value(h)), mean_before);
+  EXPECT_TRUE(held.covarianceOf(h).isApprox(cov_before, 1e-12));
+  // The full EKF did learn about it (through its correlation with the vehicle) ...
+  const StateVariable f = *full.find(VariableKey::landmark(102));
+  EXPECT_LT(full.covarianceOf(f).trace(), 0.9 * cov_before.trace());
+  // ... and the Schmidt covariance bounds the full one: it claims no information it lacks.
+  const Eigen::MatrixXd margin = held.covariance() - full.covariance();
+  EXPECT_GT(minEigenvalue(margin), -1e-9);
+  EXPECT_GT(minEigenvalue(held.covariance()), 0.0);
+}
+
+TEST(HeldLandmark, ArchivingAndReactivatingIsExact) {
+  std::mt19937 rng(12);
+  SlamState state = test::randomSlamState(3, rng);
+  const SlamState before = state;
+  LandmarkArchive archive;
+  LandmarkBook book;
+  book.add(101, {7,
+                 1,
+                 2,
+                 {1, 2, 3},
+                 state.value(*state.find(VariableKey::landmark(101))),
+                 Eigen::Vector3d::UnitZ(),
+                 false});
+  archiveLandmark(state, archive, 101, book.remove(101), 5'000'000, /*held_capacity=*/4);
+  EXPECT_FALSE(state.has(VariableKey::landmark(101)));
+  EXPECT_TRUE(isHeld(state, 101));
+  ASSERT_NE(archive.find(101), nullptr);
+  EXPECT_EQ(archive.find(101)->index, 7u);
+  EXPECT_TRUE(archive.find(101)->covariance.isApprox(
+      before.covarianceOf(*before.find(VariableKey::landmark(101)))));
+  EXPECT_EQ(state.landmarkCount(), 2);
+
+  ASSERT_TRUE(reactivateLandmark(state, book, archive, 101));
+  EXPECT_FALSE(archive.contains(101));
+  EXPECT_FALSE(isHeld(state, 101));
+  ASSERT_NE(book.find(101), nullptr);
+  EXPECT_EQ(book.find(101)->index, 7u);
+  // Same slots, same mean, same covariance: the correlations never left.
+  EXPECT_EQ(state.mean(), before.mean());
+  EXPECT_EQ(state.covariance(), before.covariance());
+  EXPECT_EQ(state.find(VariableKey::landmark(101))->index,
+            before.find(VariableKey::landmark(101))->index);
+}
+
+TEST(HeldLandmark, CapacityKeepsTheMostRecentlyArchived) {
+  std::mt19937 rng(13);
+  SlamState state = test::randomSlamState(4, rng);
+  LandmarkArchive archive;
+  // 102 leaves first, then 100, then 103: with room for two, 102 is marginalised.
+  archiveLandmark(state, archive, 102, std::nullopt, 1'000'000, 2);
+  archiveLandmark(state, archive, 100, std::nullopt, 2'000'000, 2);
+  const Eigen::Matrix3d cov_100 = state.covarianceOf(*state.find(VariableKey::heldLandmark(100)));
+  archiveLandmark(state, archive, 103, std::nullopt, 3'000'000, 2);
+  EXPECT_EQ(state.heldLandmarkCount(), 2);
+  EXPECT_FALSE(isHeld(state, 102));
+  EXPECT_TRUE(isHeld(state, 100));
+  EXPECT_TRUE(isHeld(state, 103));
+  EXPECT_EQ(state.landmarkCount(), 1);
+  EXPECT_EQ(state.size(), 9 + 3 * 3);
+  // Every one stays in the archive; a marginalised one re-enters the thesis's way.
+  EXPECT_EQ(archive.size(), 3u);
+  LandmarkBook book;
+  ASSERT_TRUE(reactivateLandmark(state, book, archive, 102));
+  const StateVariable v = *state.find(VariableKey::landmark(102));
+  EXPECT_TRUE(state.covariance().block(0, v.index, v.index, 3).isZero());
+  EXPECT_TRUE(state.covarianceOf(*state.find(VariableKey::heldLandmark(100))).isApprox(cov_100));
+  // Capacity 0 is the thesis's archive: marginalised at once.
+  archiveLandmark(state, archive, 101, std::nullopt, 4'000'000, 0);
+  EXPECT_FALSE(isHeld(state, 101));
+  EXPECT_FALSE(state.has(VariableKey::landmark(101)));
+}
+
+TEST(HeldLandmark, RekeyRefusesMissingAndTakenKeys) {
+  std::mt19937 rng(14);
+  SlamState state = test::randomSlamState(2, rng);
+  EXPECT_FALSE(
+      CovarianceHelper::rekey(state, VariableKey::landmark(7), VariableKey::heldLandmark(7)).ok());
+  EXPECT_FALSE(
+      CovarianceHelper::rekey(state, VariableKey::landmark(100), VariableKey::landmark(101)).ok());
+  EXPECT_TRUE(state.has(VariableKey::landmark(100)));
+}
+
+}  // namespace
+}  // namespace cvslam
