@@ -31,6 +31,7 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
   if (v == nullptr) return;
   ArchivedLandmark a;
   a.p_LinN = state.value(*v);
+  a.first_estimate = a.p_LinN;  // the record's, when there is one
   a.covariance = state.covarianceOf(*v);
   if (record) {
     a.index = record->index;
