@@ -46,7 +46,7 @@ TEST(HeldLandmark, SchmidtUpdateKeepsItsMarginalAndBoundsTheFullUpdate) {
       CovarianceHelper::rekey(held, VariableKey::landmark(102), VariableKey::heldLandmark(102))
           .ok());
   EXPECT_EQ(held.landmarkCount(), 2);
-  EXPECT_EQ(held.heldLandmarkCount(), 1);
+  EXPECT_EQ(held.count(VariableKey::Kind::kHeldLandmark), 1);
   const StateVariable h = *held.find(VariableKey::heldLandmark(102));
   const Eigen::Vector3d mean_before = held.value(h);
   const Eigen::Matrix3d cov_before = held.covarianceOf(h);
@@ -115,7 +115,7 @@ TEST(HeldLandmark, CapacityKeepsTheMostRecentlyArchived) {
   archiveLandmark(state, archive, 100, std::nullopt, 2'000'000, 2);
   const Eigen::Matrix3d cov_100 = state.covarianceOf(*state.find(VariableKey::heldLandmark(100)));
   archiveLandmark(state, archive, 103, std::nullopt, 3'000'000, 2);
-  EXPECT_EQ(state.heldLandmarkCount(), 2);
+  EXPECT_EQ(state.count(VariableKey::Kind::kHeldLandmark), 2);
   EXPECT_FALSE(isHeld(state, 102));
   EXPECT_TRUE(isHeld(state, 100));
   EXPECT_TRUE(isHeld(state, 103));

@@ -223,7 +223,6 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
 
 void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam,
                                    double reactivation_inflation, FrameReport* r) {
-  const double reactivation_min_age_s = slam.reactivation_min_age_s;
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager, v.camera, state, v.key, frame);
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());
@@ -245,14 +244,11 @@ void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions
     const int64_t id = obs.landmark_id;
     if (id < 0) continue;
     const ArchivedLandmark* a = archive.find(id);
-    // A held landmark comes back exactly at any age and to any UAV: its correlations with
-    // every vehicle stayed in the joint state.
-    const bool held = a != nullptr && isHeld(state, id);
-    if (a == nullptr ||
-        (!held && static_cast<double>(t_us - a->archived_us) * 1e-6 < reactivation_min_age_s))
-      continue;
+    if (a == nullptr || !mayReenter(state, id, *a, t_us, slam)) continue;
+    // A held landmark comes back exactly to any UAV: its correlations with every vehicle
+    // stayed in the joint state.
     auto info = landmarks.find(id);
-    if (held || info == landmarks.end() || info->second.mapped_by == v.agent_id) {
+    if (isHeld(state, id) || info == landmarks.end() || info->second.mapped_by == v.agent_id) {
       candidates.push_back({id, a->p_LinN, true, true});
     } else {
       // Another UAV's archived landmark is not re-activated here: entering as an independent

@@ -68,24 +68,29 @@ std::vector<AcceptedGroup> gate(const MeasurementBatch& batch, const Eigen::Matr
   return accepted;
 }
 
+/// The policy's θ when θ λ_max(X) ≤ theta_margin (eq. 3.40 with a margin, checked by a
+/// Cholesky of margin·I − θ X), else half the admissible θ (report->theta_reduced).
+double admissibleTheta(const UpdatePolicy& policy, const Eigen::MatrixXd& X, UpdateReport* report) {
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(X.rows(), X.rows());
+  const Eigen::LLT<Eigen::MatrixXd> admissible(policy.theta_margin * I - policy.theta * X);
+  if (admissible.info() == Eigen::Success) return policy.theta;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(X, Eigen::EigenvaluesOnly);
+  report->theta_reduced = true;
+  return 0.5 * policy.theta_margin / eig.eigenvalues().maxCoeff();
+}
+
 /// Step 5 of the update, NH∞ (eq. 3.39 with S = I or S = Π, see UpdatePolicy::theta_weighting):
 /// turns the EKF posterior P into the NH∞ one for the accepted `rows` of the batch. Returns the
 /// θ applied (reduced when eq. 3.40 fails with the policy's), or a negative value on failure.
 double applyTheta(const UpdatePolicy& policy, const MeasurementBatch& batch,
                   const std::vector<int>& rows, Eigen::MatrixXd& P, UpdateReport* report) {
   const Eigen::Index n = P.rows();
-  double theta = policy.theta;
+  double theta = 0.0;
   if (policy.theta_weighting == ThetaWeighting::kIdentity) {
     // P⁺ = (P⁻⁻¹ + Hᵀ R⁻¹ H − θ I)⁻¹ = (P_EKF⁻¹ − θ I)⁻¹ = (I − θ P_EKF)⁻¹ P_EKF.
-    // Eq. 3.40 (P⁺ > 0) ⇔ θ λ_max(P_EKF) < 1; we require ≤ theta_margin, checked by a
-    // Cholesky of margin·I − θ P_EKF, and otherwise fall back to half the admissible θ.
+    // Eq. 3.40 (P⁺ > 0) ⇔ θ λ_max(P_EKF) < 1; we require ≤ theta_margin.
     const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
-    const Eigen::LLT<Eigen::MatrixXd> admissible(policy.theta_margin * I - theta * P);
-    if (admissible.info() != Eigen::Success) {
-      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P, Eigen::EigenvaluesOnly);
-      theta = 0.5 * policy.theta_margin / eig.eigenvalues().maxCoeff();
-      report->theta_reduced = true;
-    }
+    theta = admissibleTheta(policy, P, report);
     const Eigen::LLT<Eigen::MatrixXd> M_llt(I - theta * P);
     if (M_llt.info() != Eigen::Success) {
       return -1.0;
@@ -109,12 +114,7 @@ double applyTheta(const UpdatePolicy& policy, const MeasurementBatch& batch,
     const Eigen::MatrixXd PQ = P * Q;
     const Eigen::MatrixXd M = Q.transpose() * PQ;
     const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(rank, rank);
-    const Eigen::LLT<Eigen::MatrixXd> admissible(policy.theta_margin * I - theta * M);
-    if (admissible.info() != Eigen::Success) {
-      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M, Eigen::EigenvaluesOnly);
-      theta = 0.5 * policy.theta_margin / eig.eigenvalues().maxCoeff();
-      report->theta_reduced = true;
-    }
+    theta = admissibleTheta(policy, M, report);
     const Eigen::LLT<Eigen::MatrixXd> C_llt(I / theta - M);
     if (C_llt.info() != Eigen::Success) {
       return -1.0;

@@ -14,16 +14,9 @@ const Eigen::Quaterniond* SlamState::nominalAttitude(const VariableKey& vehicle)
   return it == nominal_.end() ? nullptr : &it->second;
 }
 
-int SlamState::landmarkCount() const {
-  return static_cast<int>(std::count_if(vars_.begin(), vars_.end(), [](const StateVariable& v) {
-    return v.key.kind == VariableKey::Kind::kLandmark;
-  }));
-}
-
-int SlamState::heldLandmarkCount() const {
-  return static_cast<int>(std::count_if(vars_.begin(), vars_.end(), [](const StateVariable& v) {
-    return v.key.kind == VariableKey::Kind::kHeldLandmark;
-  }));
+int SlamState::count(VariableKey::Kind kind) const {
+  return static_cast<int>(std::count_if(
+      vars_.begin(), vars_.end(), [kind](const StateVariable& v) { return v.key.kind == kind; }));
 }
 
 }  // namespace cvslam

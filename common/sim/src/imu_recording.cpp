@@ -42,13 +42,11 @@ ImuSample ImuRecording::sampleAt(double t_s, int64_t t_us) const {
   return s;
 }
 
-std::vector<ImuSample> ImuRecording::samplesIn(double from_s, double to_s, double zero_s) const {
+std::vector<ImuSample> ImuRecording::samplesBefore(double zero_s) const {
   std::vector<ImuSample> out;
-  const auto first = std::lower_bound(t_.begin(), t_.end(), from_s);
-  for (auto it = first; it != t_.end() && *it < to_s; ++it) {
-    const auto i = static_cast<std::size_t>(it - t_.begin());
+  for (std::size_t i = 0; i < t_.size() && t_[i] < zero_s; ++i) {
     ImuSample s;
-    s.t_us = std::llround((*it - zero_s) * 1e6);
+    s.t_us = std::llround((t_[i] - zero_s) * 1e6);
     s.gyro_B = gyro_B_[i];
     s.accel_B = accel_B_[i];
     out.push_back(s);

@@ -79,8 +79,7 @@ void ImuSimulator::useRecording(std::shared_ptr<const ImuRecording> recording,
 
 std::vector<ImuSample> ImuSimulator::recordedBeforeStart() const {
   if (!recording_) return {};
-  const double zero = recording_time_at_zero_ + time_offset_;
-  return recording_->samplesIn(recording_->startTime(), zero, zero);
+  return recording_->samplesBefore(recording_time_at_zero_ + time_offset_);
 }
 
 ImuSample ImuSimulator::sample(int64_t t_us) {

@@ -50,23 +50,21 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
   }
   CovarianceHelper::rekey(state, key, VariableKey::heldLandmark(static_cast<uint64_t>(id)));
   // Keep the held_capacity most recently archived (ties: the smaller id leaves first).
-  std::vector<std::pair<int64_t, int64_t>> held;  // (archived_us, id)
+  std::vector<std::pair<int64_t, int64_t>> held;  // (archived_us, id), oldest first
   for (const StateVariable& var : state.variables()) {
     if (var.key.kind != VariableKey::Kind::kHeldLandmark) continue;
     const auto held_id = static_cast<int64_t>(var.key.id);
     const ArchivedLandmark* entry = archive.find(held_id);
     held.emplace_back(entry != nullptr ? entry->archived_us : 0, held_id);
   }
-  if (static_cast<int>(held.size()) <= held_capacity) return;
-  const auto excess = static_cast<std::ptrdiff_t>(held.size()) - held_capacity;
-  std::nth_element(held.begin(), held.begin() + excess - 1, held.end());
-  std::sort(held.begin(), held.begin() + excess);
-  for (auto it = held.begin(); it != held.begin() + excess; ++it) {
-    const VariableKey held_key = VariableKey::heldLandmark(static_cast<uint64_t>(it->second));
+  std::sort(held.begin(), held.end());
+  for (std::size_t i = 0; i + static_cast<std::size_t>(held_capacity) < held.size(); ++i) {
+    const int64_t leaving = held[i].second;
+    const VariableKey held_key = VariableKey::heldLandmark(static_cast<uint64_t>(leaving));
     // The archive keeps the marginal as it is now (NH∞ updates may have inflated it).
-    if (std::optional<ArchivedLandmark> entry = archive.take(it->second)) {
+    if (std::optional<ArchivedLandmark> entry = archive.take(leaving)) {
       entry->covariance = state.covarianceOf(*state.find(held_key));
-      archive.store(it->second, std::move(*entry));
+      archive.store(leaving, std::move(*entry));
     }
     CovarianceHelper::marginalize(state, held_key);
   }
@@ -74,6 +72,12 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
 
 bool isHeld(const SlamState& state, int64_t id) {
   return state.has(VariableKey::heldLandmark(static_cast<uint64_t>(id)));
+}
+
+bool mayReenter(const SlamState& state, int64_t id, const ArchivedLandmark& a, int64_t t_us,
+                const SlamOptions& options) {
+  return isHeld(state, id) ||
+         static_cast<double>(t_us - a.archived_us) * 1e-6 >= options.reactivation_min_age_s;
 }
 
 SlamOptions::Reentry reentryOf(const ArchivedLandmark& a, int64_t t_us,

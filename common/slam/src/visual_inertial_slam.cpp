@@ -150,9 +150,7 @@ Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, Frame
     const int64_t id = obs.landmark_id;
     if (id < 0) continue;
     const ArchivedLandmark* a = archive_.find(id);
-    // A held landmark re-enters exactly at any age; the others after reactivation_min_age_s.
-    if (a != nullptr && (isHeld(state_, id) || static_cast<double>(t_us_ - a->archived_us) * 1e-6 >=
-                                                   o_.slam.reactivation_min_age_s)) {
+    if (a != nullptr && mayReenter(state_, id, *a, t_us_, o_.slam)) {
       candidates.push_back({id, a->p_LinN, true, true});
     }
   }

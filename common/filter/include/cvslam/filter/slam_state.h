@@ -59,10 +59,10 @@ class SlamState {
   /// the next variable is added or removed (indices move when the state is compacted).
   const StateVariable* find(const VariableKey& key) const;
   bool has(const VariableKey& key) const { return find(key) != nullptr; }
+  /// Number of variables of this kind.
+  int count(VariableKey::Kind kind) const;
   /// Number of landmark variables (kLandmark; held landmarks are not counted).
-  int landmarkCount() const;
-  /// Number of held (Schmidt) landmark variables.
-  int heldLandmarkCount() const;
+  int landmarkCount() const { return count(VariableKey::Kind::kLandmark); }
 
   /// Mean of a variable (must be present).
   Eigen::VectorBlock<const Eigen::VectorXd> value(const StateVariable& v) const {

@@ -26,9 +26,9 @@ class ImuRecording {
   const std::string& source() const { return source_; }
   /// The body-frame sample at file time t_s (clamped to the recording), stamped t_us.
   ImuSample sampleAt(double t_s, int64_t t_us) const;
-  /// The recorded body-frame samples with file time in [from_s, to_s), stamped with their
-  /// time since file time `zero_s` (negative before it).
-  std::vector<ImuSample> samplesIn(double from_s, double to_s, double zero_s) const;
+  /// The recorded body-frame samples before file time `zero_s`, stamped with their (negative)
+  /// time since it.
+  std::vector<ImuSample> samplesBefore(double zero_s) const;
 
  private:
   ImuRecording() = default;

@@ -43,6 +43,11 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
 /// True when archived landmark `id` is held in the state (it then re-enters exactly).
 bool isHeld(const SlamState& state, int64_t id);
 
+/// Whether archived landmark `id` (entry `a`) may re-enter the state at t_us: a held one at any
+/// age, any other once it left at least options.reactivation_min_age_s ago.
+bool mayReenter(const SlamState& state, int64_t id, const ArchivedLandmark& a, int64_t t_us,
+                const SlamOptions& options);
+
 /// How archived landmark `a`, chosen at t_us to re-enter the state, does so
 /// (SlamOptions::Reentry): `recent_reentry` when it was seen less than loop_closure_min_age_s
 /// ago (not a loop landmark), else `reactivation`.
