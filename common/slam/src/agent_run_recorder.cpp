@@ -17,7 +17,7 @@ Status AgentRunRecorder::open(const std::string& run_dir, int agent_id, bool ima
   events_.open(dir_ + "/events.csv", std::ios::trunc);
   if (!events_) return Status::Error("cannot write " + dir_ + "/events.csv");
   events_ << "t,observations,updated,rejected,initialised,archived,reactivated,"
-             "loop_landmarks,loop_closure,loop_refused,theta_reduced,state_size\n";
+             "loop_landmarks,loop_closure,loop_refused,theta_reduced,state_size,nis,nis_dof\n";
   if (images) return openFrontend();
   return Status::Ok();
 }
@@ -91,7 +91,8 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
           << report.rejected << ',' << report.initialised << ',' << report.archived << ','
           << report.reactivated << ',' << report.loop_landmarks << ','
           << (report.loop_closure ? 1 : 0) << ',' << (report.loop_refused ? 1 : 0) << ','
-          << (report.theta_reduced ? 1 : 0) << ',' << report.state_size << '\n';
+          << (report.theta_reduced ? 1 : 0) << ',' << report.state_size << ',' << report.nis << ','
+          << report.nis_dof << '\n';
   return events_ ? Status::Ok() : Status::Error(dir_ + "/events.csv: write failed");
 }
 

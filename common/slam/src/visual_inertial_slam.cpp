@@ -206,6 +206,8 @@ Status VisualInertialSlam::updateObserved(const StereoFrameObservations& frame,
     if (u.observations_accepted + u.observations_rejected > 0) stats_.add(u);
     report->updated = u.observations_accepted;
     report->rejected = u.observations_rejected;
+    report->nis = u.nis;
+    report->nis_dof = u.rows;
     report->theta_reduced = report->theta_reduced || u.theta_reduced;
   }
   return s;

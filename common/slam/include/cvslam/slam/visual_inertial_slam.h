@@ -65,8 +65,12 @@ struct VisualInertialSlamOptions {
 struct FrameReport {
   int64_t t_us = 0;
   int observations = 0;
-  int updated = 0;         ///< observations accepted by the update (last pass)
-  int rejected = 0;        ///< observations rejected by the χ² gate (last pass)
+  int updated = 0;   ///< observations accepted by the update (last pass)
+  int rejected = 0;  ///< observations rejected by the χ² gate (last pass)
+  /// Joint NIS rᵀS⁻¹r of the accepted observations (last pass), χ² with nis_dof dof when the
+  /// filter is consistent: a check that needs no ground truth (docs/filter.md "NIS").
+  double nis = 0.0;
+  int nis_dof = 0;
   int initialised = 0;     ///< new landmarks added to the state
   int archived = 0;        ///< landmarks moved from the state to the archive
   int reactivated = 0;     ///< archived landmarks brought back into the state
