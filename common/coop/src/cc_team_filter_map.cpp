@@ -74,9 +74,7 @@ bool CcTeamFilter::Impl::rendezvous(const CcVehicle& v, int other, int64_t t_us,
   if (it != contact.end() && t_us - it->second < max_age_us) return false;
   auto peer = vehicles.find(other);
   const double sigma = positionSigma(v);
-  // Only onto a map much better known than this UAV (an uncertain start meeting a well-placed
-  // team); two UAVs that drifted alike meet through gated updates (measured on thesis_loop:
-  // shifting one drifted UAV onto the other's drifted map doubled both ATEs).
+  // rendezvous_sigma_ratio 0 (the default): UAVs that drifted alike meet this way too.
   return sigma >= o.rendezvous_min_sigma_m &&
          (peer == vehicles.end() ||
           sigma >= o.rendezvous_sigma_ratio * positionSigma(*peer->second));

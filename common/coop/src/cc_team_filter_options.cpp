@@ -16,7 +16,7 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.get("rendezvous_min_sigma_m", rendezvous_min_sigma_m);
   cc.get("reactivation_inflation", reactivation_inflation);
   cc.get("rendezvous_sigma_ratio", rendezvous_sigma_ratio);
-  cc.check(rendezvous_sigma_ratio >= 1.0, "rendezvous_sigma_ratio", "must be ≥ 1");
+  cc.check(rendezvous_sigma_ratio >= 0.0, "rendezvous_sigma_ratio", "must be ≥ 0");
   cc.check(reactivation_inflation >= 0.0, "reactivation_inflation", "must be ≥ 0");
   cc.check(rendezvous_min_sigma_m >= 0.0, "rendezvous_min_sigma_m", "must be ≥ 0");
   cc.check(max_descriptor_distance >= 0.0, "max_descriptor_distance", "must be ≥ 0");

@@ -97,8 +97,11 @@ struct CcTeamFilterOptions {
   /// one iterated EKF update (slam.loop_closure_passes iterations) linearised first at the UAV
   /// shifted onto the met landmarks; the books follow the correction [m]; 0: never.
   double rendezvous_min_sigma_m = 0.5;
-  /// ... and only when its position 1σ is at least this times the other UAV's.
-  double rendezvous_sigma_ratio = 3.0;
+  /// ... and only when its position 1σ is at least this times the other UAV's; 0: whatever the
+  /// other's. Through per-observation gated updates instead, linearised metres from where the
+  /// other map has the landmarks, thesis_loop's two drifted UAVs came out of their meeting with
+  /// a common yaw error of 1° (3.7σ) and CC worse than DC (docs/cooperation.md "Rendezvous").
+  double rendezvous_sigma_ratio = 0.0;
 
   /// Reads the sections (does not call root.finish(): the caller may read its own sections).
   Status load(const ConfigNode& root);
