@@ -290,6 +290,27 @@ TEST(InsPropagatorOptions, LoadsAndValidates) {
   EXPECT_EQ(o3.load(*wrong).message(), "t.yaml: attitude: must be error_state or euler");
 }
 
+TEST(InsPropagatorOptions, ScalesMultiplyTheDensitiesWhateverSetThem) {
+  // noise_density_scale / random_walk_scale act on the densities a recording's sensor.yaml
+  // sets too: the discrete variances grow by the squared factors, each on its own block.
+  InsPropagatorOptions o;
+  o.estimate_imu_bias = true;
+  o.accel_noise_density = 0.02;  // as calibrationFromEuroc would set them
+  o.gyro_random_walk = 2e-5;
+  InsPropagatorOptions scaled = o;
+  auto cfg = ConfigNode::fromString("{noise_density_scale: 2.0, random_walk_scale: 3.0}", "t.yaml");
+  ASSERT_TRUE(cfg.ok());
+  ASSERT_TRUE(scaled.load(*cfg).ok());
+  EXPECT_DOUBLE_EQ(scaled.accel_noise_density, 0.02);
+  const Eigen::VectorXd q = InsPropagator(o).noiseVariances(0.005);
+  const Eigen::VectorXd qs = InsPropagator(scaled).noiseVariances(0.005);
+  ASSERT_EQ(q.size(), 12);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(qs(i), 4.0 * q(i), 1e-12 * q(i)) << i;
+  for (int i = 6; i < 12; ++i) EXPECT_NEAR(qs(i), 9.0 * q(i), 1e-12 * q(i)) << i;
+  auto bad = ConfigNode::fromString("{random_walk_scale: 0}", "t.yaml");
+  EXPECT_EQ(InsPropagatorOptions().load(*bad).message(), "t.yaml: random_walk_scale: must be > 0");
+}
+
 /// Monte-Carlo check of the covariance propagation (GTSAM practice): sample
 /// initial states from N(x0, P0) and the discrete noise from N(0, Q_w) at every step, push
 /// each through the nonlinear RK4 model for 1 s, and compare the sampled error covariance

@@ -15,6 +15,8 @@ Status InsPropagatorOptions::load(const ConfigNode& node) {
   node.get("accel_noise_density", accel_noise_density);
   node.get("gyro_random_walk", gyro_random_walk);
   node.get("accel_random_walk", accel_random_walk);
+  node.get("noise_density_scale", noise_density_scale);
+  node.get("random_walk_scale", random_walk_scale);
   node.get("estimate_imu_bias", estimate_imu_bias);
   node.get("gravity", gravity);
   node.get("max_dt", max_dt);
@@ -27,6 +29,8 @@ Status InsPropagatorOptions::load(const ConfigNode& node) {
   node.check(accel_noise_density > 0, "accel_noise_density", "must be > 0");
   node.check(gyro_random_walk > 0, "gyro_random_walk", "must be > 0");
   node.check(accel_random_walk > 0, "accel_random_walk", "must be > 0");
+  node.check(noise_density_scale > 0, "noise_density_scale", "must be > 0");
+  node.check(random_walk_scale > 0, "random_walk_scale", "must be > 0");
   node.check(gravity > 0, "gravity", "must be > 0");
   node.check(max_dt > 0, "max_dt", "must be > 0");
   return node.status();
@@ -39,6 +43,8 @@ std::string InsPropagatorOptions::print() const {
      << "accel_noise_density: " << accel_noise_density << "\n"
      << "gyro_random_walk: " << gyro_random_walk << "\n"
      << "accel_random_walk: " << accel_random_walk << "\n"
+     << "noise_density_scale: " << noise_density_scale << "\n"
+     << "random_walk_scale: " << random_walk_scale << "\n"
      << "estimate_imu_bias: " << (estimate_imu_bias ? "true" : "false") << "\n"
      << "gravity: " << gravity << "\n"
      << "max_dt: " << max_dt << "\n"
@@ -318,11 +324,13 @@ ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, int64_t t_us) {
 
 Eigen::VectorXd InsPropagator::noiseVariances(double dt) const {
   Eigen::VectorXd q(noiseSize());
-  q.segment<3>(0).setConstant(o_.accel_noise_density * o_.accel_noise_density / dt);
-  q.segment<3>(3).setConstant(o_.gyro_noise_density * o_.gyro_noise_density / dt);
+  const double white = o_.noise_density_scale * o_.noise_density_scale / dt;
+  const double walk = o_.random_walk_scale * o_.random_walk_scale / dt;
+  q.segment<3>(0).setConstant(o_.accel_noise_density * o_.accel_noise_density * white);
+  q.segment<3>(3).setConstant(o_.gyro_noise_density * o_.gyro_noise_density * white);
   if (o_.estimate_imu_bias) {
-    q.segment<3>(6).setConstant(o_.accel_random_walk * o_.accel_random_walk / dt);
-    q.segment<3>(9).setConstant(o_.gyro_random_walk * o_.gyro_random_walk / dt);
+    q.segment<3>(6).setConstant(o_.accel_random_walk * o_.accel_random_walk * walk);
+    q.segment<3>(9).setConstant(o_.gyro_random_walk * o_.gyro_random_walk * walk);
   }
   return q;
 }
