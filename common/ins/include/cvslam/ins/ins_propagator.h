@@ -51,7 +51,7 @@ struct InsPropagatorOptions {
   /// Factors on the four densities above, whatever set them (this file, the simulated IMU or a
   /// recording's imu0/sensor.yaml): the datasheet describes an IMU at rest, a flying one sees
   /// vibration, temperature and scale errors the model lacks (docs/results/euroc_recorded.md:
-  /// the real V1_02 IMU's 1 s means stray 15× (accelerometer) and 6× (gyro) farther from
+  /// the real V1_02 IMU's 1 s means stray 19× (accelerometer) and 8× (gyro) farther from
   /// the truth than its white-noise density allows).
   double noise_density_scale = 1.0;  ///< on σ_g and σ_a
   double random_walk_scale = 1.0;    ///< on σ_bg and σ_ba

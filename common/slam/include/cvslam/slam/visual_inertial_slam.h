@@ -68,7 +68,7 @@ struct FrameReport {
   int updated = 0;   ///< observations accepted by the update (last pass)
   int rejected = 0;  ///< observations rejected by the χ² gate (last pass)
   /// Joint NIS rᵀS⁻¹r of the accepted observations (last pass), χ² with nis_dof dof when the
-  /// filter is consistent: a check that needs no ground truth (docs/filter.md "NIS").
+  /// filter is consistent: a check that needs no ground truth (docs/run_format.md events.csv).
   double nis = 0.0;
   int nis_dof = 0;
   int initialised = 0;     ///< new landmarks added to the state
