@@ -136,6 +136,34 @@ TEST_F(RunEvaluation, MissingPiecesGiveNullsWithNotes) {
   EXPECT_TRUE(j.at("agents").at("1").at("ate_rmse_m").is_null());
 }
 
+TEST_F(RunEvaluation, NisPerDegreeOfFreedomFromEvents) {
+  // Σ nis / Σ nis_dof over events.csv, ground truth or not; none from a run written before
+  // the columns existed; a negative NIS is an error naming the file and line.
+  const std::string head =
+      "t,observations,updated,rejected,initialised,archived,reactivated,loop_landmarks,"
+      "loop_closure,loop_refused,theta_reduced,state_size";
+  std::ofstream(dir_ + "/run/agent_1/events.csv")
+      << head
+      << ",nis,nis_dof\n0.1,3,3,0,0,0,0,0,0,0,0,15,10.0,12\n0.2,0,0,0,0,0,0,0,0,0,0,15,0,0\n"
+      << "0.3,2,2,0,0,0,0,0,0,0,0,15,14.0,8\n";
+  std::ofstream(dir_ + "/run/agent_2/events.csv") << head << "\n0.1,3,3,0,0,0,0,0,0,0,0,15\n";
+  fs::remove(dir_ + "/run/agent_1/truth.csv");
+  auto agents = evaluateRun(dir_ + "/run", "");
+  ASSERT_TRUE(agents.ok()) << agents.status().message();
+  ASSERT_TRUE((*agents)[0].nis_per_dof);
+  EXPECT_DOUBLE_EQ(*(*agents)[0].nis_per_dof, 24.0 / 20.0);
+  EXPECT_FALSE((*agents)[0].ate_rmse_m);
+  EXPECT_FALSE((*agents)[1].nis_per_dof);
+  EXPECT_DOUBLE_EQ(summaryJson(RunInfo{}, *agents, {}).at("agents").at("1").at("nis_per_dof"), 1.2);
+  EXPECT_NE(summaryTable(*agents).find("NIS/dof"), std::string::npos);
+  std::ofstream(dir_ + "/run/agent_1/events.csv")
+      << head << ",nis,nis_dof\n0.1,3,3,0,0,0,0,0,0,0,0,15,-1.0,12\n";
+  auto bad = evaluateRun(dir_ + "/run", "");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("events.csv:2"), std::string::npos)
+      << bad.status().message();
+}
+
 TEST_F(RunEvaluation, SeparateGroundTruthFolder) {
   // Move truth.csv into a separate GT folder, as a simulator would write it.
   for (int id : {1, 2}) {

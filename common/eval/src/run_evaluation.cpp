@@ -99,6 +99,9 @@ AgentEvaluation evaluateAgent(const AgentRun& run, const AgentTruth& truth,
   else if (!run.landmarks.empty())
     note("landmarks", lm.status());
 
+  if (run.nis_dof_sum && *run.nis_dof_sum > 0)
+    ev.nis_per_dof = *run.nis_sum / static_cast<double>(*run.nis_dof_sum);
+
   std::vector<double> frame_ms;
   for (const FrameStats& f : run.stats.frames) {
     frame_ms.push_back(f.time_ms);
@@ -158,6 +161,7 @@ Json agentSummary(const AgentEvaluation& ev) {
   a["rpe_m_per_10m"] = optionalNumber(ev.rpe_m_per_10m);
   a["nees_mean"] = optionalNumber(ev.nees_mean);
   a["nees_position_mean"] = optionalNumber(ev.nees_position_mean);
+  a["nis_per_dof"] = optionalNumber(ev.nis_per_dof);
   a["max_state_size"] = ev.max_state_size ? Json(*ev.max_state_size) : Json();
   a["landmark_error_mean_m"] = ev.landmark_error ? vector3(ev.landmark_error->mean_m) : Json();
   a["landmark_error_std_m"] = ev.landmark_error ? vector3(ev.landmark_error->std_m) : Json();
@@ -208,9 +212,9 @@ std::string summaryTable(const std::vector<AgentEvaluation>& agents) {
   };
   std::string out;
   char line[512];
-  std::snprintf(line, sizeof(line), "%-6s %10s %10s %10s %8s %9s %6s %14s %10s %12s\n", "agent",
+  std::snprintf(line, sizeof(line), "%-6s %10s %10s %10s %8s %9s %6s %14s %10s %12s %8s\n", "agent",
                 "ATE[m]", "INS ATE[m]", "RPE[m/10m]", "NEES", "min Rco", "state", "lm err rms[m]",
-                "frame[ms]", "sent[B/s]");
+                "frame[ms]", "sent[B/s]", "NIS/dof");
   out += line;
   for (const AgentEvaluation& ev : agents) {
     std::optional<double> rco;
@@ -222,12 +226,12 @@ std::string summaryTable(const std::vector<AgentEvaluation>& agents) {
     if (ev.landmark_error) lm = ev.landmark_error->rms_m;
     std::optional<double> size;
     if (ev.max_state_size) size = *ev.max_state_size;
-    std::snprintf(line, sizeof(line), "%-6d %10s %10s %10s %8s %9s %6s %14s %10s %12s\n", ev.id,
+    std::snprintf(line, sizeof(line), "%-6d %10s %10s %10s %8s %9s %6s %14s %10s %12s %8s\n", ev.id,
                   cell(ev.ate_rmse_m, "%.4f").c_str(), cell(ev.ins_ate_rmse_m, "%.4f").c_str(),
                   cell(ev.rpe_m_per_10m, "%.4f").c_str(), cell(ev.nees_mean, "%.2f").c_str(),
                   cell(rco, "%.3f").c_str(), cell(size, "%.0f").c_str(), cell(lm, "%.4f").c_str(),
                   cell(ev.frame_time_ms_median, "%.2f").c_str(),
-                  cell(ev.bytes_sent_per_s, "%.0f").c_str());
+                  cell(ev.bytes_sent_per_s, "%.0f").c_str(), cell(ev.nis_per_dof, "%.2f").c_str());
     out += line;
   }
   return out;

@@ -209,6 +209,24 @@ Expected<AgentRun> readAgentRun(const std::string& run_dir, int agent_id) {
   auto stats = readRunStats(run.dir + "/stats.json");
   if (!stats.ok()) return stats.status();
   run.stats = std::move(*stats);
+  if (fs::exists(run.dir + "/events.csv")) {
+    auto events = readCsvTable(run.dir + "/events.csv");
+    if (!events.ok()) return events.status();
+    const int nis = events->column("nis"), dof = events->column("nis_dof");
+    if (nis >= 0 && dof >= 0) {  // runs before stop 31 have neither
+      double nis_sum = 0.0;
+      long dof_sum = 0;
+      for (std::size_t r = 0; r < events->rows.size(); ++r) {
+        const std::vector<double>& row = events->rows[r];
+        if (!(row[nis] >= 0.0) || !(row[dof] >= 0.0))
+          return Status::Error(events->where(r) + ": nis and nis_dof must be finite and ≥ 0");
+        nis_sum += row[nis];
+        dof_sum += static_cast<long>(row[dof]);
+      }
+      run.nis_sum = nis_sum;
+      run.nis_dof_sum = dof_sum;
+    }
+  }
   return run;
 }
 

@@ -30,6 +30,9 @@ struct AgentEvaluation {
   std::optional<double> ate_rmse_m, ins_ate_rmse_m, rpe_m_per_10m;
   std::optional<double> ate_max_m;  ///< largest position error after the alignment
   std::optional<double> nees_mean, nees_position_mean;
+  /// Σ NIS / Σ dof of the accepted observations (events.csv): ≈ 1 for a consistent filter,
+  /// with or without ground truth.
+  std::optional<double> nis_per_dof;
   std::optional<ConsistencyResult> consistency;  ///< co / Rco per state
   std::optional<LandmarkErrorResult> landmark_error;
   std::size_t landmarks = 0;

@@ -105,6 +105,9 @@ struct AgentRun {
   std::vector<StateRecord> truth;  ///< empty when no truth was found
   std::vector<LandmarkRecord> landmarks;
   RunStats stats;
+  /// Σ nis and Σ nis_dof over events.csv (absent: no events.csv or one without these columns).
+  std::optional<double> nis_sum;
+  std::optional<long> nis_dof_sum;
 };
 
 /// "DIR/agent_<id>".
