@@ -48,11 +48,16 @@ TEST(ImuRecording, ErrorsNameTheFile) {
   EXPECT_NE(missing.status().message().find("nope.csv"), std::string::npos);
 }
 
-TEST(ImuRecording, EurocHallScenarioPlaysTheRealMh03Imu) {
+/// The first 2 s of euroc_mh03_hall, whose UAV 3 plays the real MH_03 IMU recording.
+Expected<Simulator> hallSimulator() {
   auto scenario = Scenario::loadFile(test::sourceDir() + "/config/scenarios/euroc_mh03_hall.yaml");
-  ASSERT_TRUE(scenario.ok()) << scenario.status().message();
+  if (!scenario.ok()) return scenario.status();
   scenario->duration = 2.0;
-  auto sim = Simulator::create(*scenario);
+  return Simulator::create(*scenario);
+}
+
+TEST(ImuRecording, EurocHallScenarioPlaysTheRealMh03Imu) {
+  auto sim = hallSimulator();
   ASSERT_TRUE(sim.ok()) << sim.status().message();
   Eigen::Matrix3d R_StoB;
   R_StoB << 0, 0, 1, 0, 1, 0, -1, 0, 0;
@@ -87,10 +92,7 @@ TEST(ImuRecording, KnownPoseStartMeasuresTheTurnOnGyroBiasAtRest) {
   // MH_03's IMU records 2.4 s before the ground truth starts, the first 2 s at rest: the known
   // pose of the start says nothing of the real turn-on bias (0.077 rad/s about the sensor's x,
   // 77σ of the configured prior), so it is measured there, as before a take-off.
-  auto scenario = Scenario::loadFile(test::sourceDir() + "/config/scenarios/euroc_mh03_hall.yaml");
-  ASSERT_TRUE(scenario.ok()) << scenario.status().message();
-  scenario->duration = 2.0;
-  auto sim = Simulator::create(*scenario);
+  auto sim = hallSimulator();
   ASSERT_TRUE(sim.ok()) << sim.status().message();
   const std::vector<ImuSample> before = sim->agent(2).imuBeforeStart();
   ASSERT_GT(before.size(), 400u);

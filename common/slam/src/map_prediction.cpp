@@ -82,9 +82,8 @@ Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
     // their correlation to the vehicle dropped (P_vL = 0) their gate is too wide for a
     // landmark that was in the state a moment ago. Only the ones the filter can re-activate
     // are predicted.
-    const auto min_age_us = static_cast<int64_t>(slam.options().slam.reactivation_min_age_s * 1e6);
     for (const auto& [id, a] : slam.archive().all()) {
-      if (t_us - a.archived_us < min_age_us || isHeld(state, id)) continue;
+      if (isHeld(state, id) || !mayReenter(state, id, a, t_us, slam.options().slam)) continue;
       predict(id, a.p_LinN, a.covariance, nullptr, true);
     }
   }
