@@ -97,6 +97,26 @@ void BM_Update(benchmark::State& st) {
 }
 BENCHMARK(BM_Update)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
+/// EKF update with 25 stereo observations over a map of range(0) landmarks (a room kept whole,
+/// `map.kind: full`; docs/results/euroc_recorded.md "Map size"): the covariance update is
+/// O(n² m) and dominates there.
+void BM_UpdateLargeMap(benchmark::State& st) {
+  std::mt19937 rng(7);
+  const SlamState prior = test::randomSlamState(static_cast<int>(st.range(0)), rng);
+  MeasurementBatch batch;
+  test::randomStereoBatch(prior, 25, rng, &batch);
+  const UpdatePolicy policy = UpdatePolicy::ekf(0.999);
+  UpdateReport report;
+  SlamState s = prior;
+  for (auto _ : st) {
+    s = prior;
+    CovarianceHelper::update(s, batch, policy, &report);
+    benchmark::DoNotOptimize(s.covariance().data());
+  }
+  st.counters["n"] = static_cast<double>(prior.size());
+}
+BENCHMARK(BM_UpdateLargeMap)->Arg(100)->Arg(300)->Arg(700)->Unit(benchmark::kMillisecond);
+
 /// The whole step: INS prediction, covariance propagation, update. Arg 0: EKF, 1: NH∞.
 void BM_FilterStep(benchmark::State& st) {
   const StepData d;

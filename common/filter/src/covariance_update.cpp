@@ -1,4 +1,4 @@
-// CovarianceHelper::update: Mahalanobis gating, EKF (Joseph) and NH∞ measurement updates.
+// CovarianceHelper::update: Mahalanobis gating, EKF and NH∞ measurement updates.
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
@@ -168,34 +168,31 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   if (S_llt.info() != Eigen::Success) {
     return Status::Error("update: innovation covariance is not positive definite");
   }
+  // Held landmarks are Schmidt variables: zero gain (their rows of K, and so of dx, are zero).
   Eigen::MatrixXd K = S_llt.solve(PHt_a.transpose()).transpose();
-  // Held landmarks are Schmidt variables: zero gain. The Joseph form below is exact for any
-  // gain, so their covariance stays and their cross-covariances get (I − KH) P.
+  std::vector<Eigen::Index> held;
   for (const StateVariable& v : state.variables()) {
-    if (v.key.kind == VariableKey::Kind::kHeldLandmark) K.middleRows(v.index, v.size).setZero();
+    if (v.key.kind != VariableKey::Kind::kHeldLandmark) continue;
+    K.middleRows(v.index, v.size).setZero();
+    for (int i = 0; i < v.size; ++i) held.push_back(v.index + i);
   }
   const Eigen::VectorXd dx = K * r_a;
   report.rows = static_cast<int>(rows.size());
   report.nis = S_llt.matrixL().solve(r_a).squaredNorm();
 
-  // 4. Joseph form (eq. 3.23): P⁺ = (I − KH) P (I − KH)ᵀ + K R Kᵀ, with (I − KH) applied
-  //    through the sparse H: A P = P − K (H P), then
-  //    (A P) Aᵀ + K R Kᵀ = A P − (A P Hᵀ − K R) Kᵀ.
-  //    The bracket vanishes for the optimal K; computing it keeps the Joseph form's first-order
-  //    insensitivity to errors in K. R is block diagonal: K R is formed per observation.
-  Eigen::MatrixXd AP = P;
-  AP.noalias() -= K * PHt_a.transpose();
-  Eigen::MatrixXd correction;
-  batch.multiplyByHt(AP, &correction);
-  if (!all) correction = correction(Eigen::all, rows).eval();
-  for (const AcceptedGroup& g : groups) {
-    correction.middleCols(g.row, g.rows).noalias() -=
-        policy.measurement_noise_scale * K.middleCols(g.row, g.rows) *
-        batch.R().block(g.source_row, g.source_row, g.rows, g.rows);
+  // 4. Covariance with the optimal gain (§3.4): P⁺ = P − K S Kᵀ = P − L Lᵀ with
+  //    L = P Hᵀ L_S⁻ᵀ (S = L_S L_Sᵀ): one symmetric rank-m update of the lower triangle,
+  //    O(n² m / 2) — a quarter of the two products of the Joseph form, which dominated large
+  //    maps (`bench_filter_step` BM_UpdateLargeMap). For the Schmidt gain the same expression
+  //    is exact everywhere except the held-held block, which keeps its prior: the active rows
+  //    get P − K_A S K_Aᵀ, the active-held cross-covariances P_AH − K_A (HP)_H.
+  const Eigen::MatrixXd Lt = S_llt.matrixL().solve(PHt_a.transpose());  // m × n
+  Eigen::MatrixXd P_post = P;
+  P_post.selfadjointView<Eigen::Lower>().rankUpdate(Lt.transpose(), -1.0);
+  for (Eigen::Index j = 0; j + 1 < n; ++j) {
+    P_post.row(j).tail(n - j - 1) = P_post.col(j).tail(n - j - 1).transpose();
   }
-  Eigen::MatrixXd P_post = AP;
-  P_post.noalias() -= correction * K.transpose();
-  P_post = 0.5 * (P_post + P_post.transpose()).eval();
+  if (!held.empty()) P_post(held, held) = P(held, held);
 
   // 5. NH∞ (eq. 3.39).
   double theta = 0.0;
