@@ -72,6 +72,33 @@ TEST(HeldLandmark, SchmidtUpdateKeepsItsMarginalAndBoundsTheFullUpdate) {
   EXPECT_GT(minEigenvalue(held.covariance()), 0.0);
 }
 
+/// The update's P − L Lᵀ with the held-held block restored is the Schmidt filter's Joseph form
+/// (I − KH) P (I − KH)ᵀ + K R Kᵀ with the held rows of the optimal gain set to zero.
+TEST(HeldLandmark, SchmidtUpdateEqualsTheDenseJosephForm) {
+  std::mt19937 rng(12);
+  SlamState s = test::randomSlamState(5, rng);
+  for (uint64_t id : {101u, 103u}) {
+    ASSERT_TRUE(
+        CovarianceHelper::rekey(s, VariableKey::landmark(id), VariableKey::heldLandmark(id)).ok());
+  }
+  MeasurementBatch batch;
+  test::randomStereoBatch(s, 6, rng, &batch);
+  const Eigen::MatrixXd P = s.covariance();
+  const Eigen::MatrixXd H = batch.H();
+  const Eigen::MatrixXd R = batch.R();
+  Eigen::MatrixXd K = P * H.transpose() * (H * P * H.transpose() + R).inverse();
+  for (const StateVariable& v : s.variables()) {
+    if (v.key.kind == VariableKey::Kind::kHeldLandmark) K.middleRows(v.index, v.size).setZero();
+  }
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Identity(P.rows(), P.cols()) - K * H;
+  const Eigen::MatrixXd joseph = A * P * A.transpose() + K * R * K.transpose();
+  const Eigen::VectorXd mean = s.mean() + K * batch.residual();
+
+  ASSERT_TRUE(CovarianceHelper::update(s, batch, UpdatePolicy::ekf(), nullptr).ok());  // no gate
+  EXPECT_LT((s.covariance() - joseph).cwiseAbs().maxCoeff(), 1e-10 * P.cwiseAbs().maxCoeff());
+  EXPECT_LT((s.mean() - mean).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(HeldLandmark, ArchivingAndReactivatingIsExact) {
   std::mt19937 rng(12);
   SlamState state = test::randomSlamState(3, rng);
