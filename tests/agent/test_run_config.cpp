@@ -4,7 +4,11 @@
 // and cooperation logs.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <utility>
+
 #include "agent_test_util.h"
+#include "cvslam/io/csv_table.h"
 #include "cvslam/io/run_reader.h"
 
 namespace cvslam {
@@ -63,6 +67,33 @@ TEST(RunConfig, RunRepeatedFromItsFolderGivesTheSameTrajectories) {
     EXPECT_EQ(slurp(tmp / (std::string("again/") + f)), first) << f;
   }
   EXPECT_EQ(yamlBody(tmp / "again/agent_1/config_used.yaml"), yaml);
+}
+
+/// A UAV that plays a recorded IMU has no known biases: cvslam_run writes NaN as their truth
+/// (no bias NEES against the simulator's zeros), a simulated IMU's true biases as numbers.
+TEST(RunConfig, RecordedImuBiasesHaveNoTruth) {
+  test::TempFolder tmp;
+  const std::string scenario =
+      std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/euroc_mh03_hall.yaml";
+  std::string err;
+  ASSERT_EQ(test::run({CVSLAM_RUN_EXE, "--scenario", scenario, "--agents", "1,3", "--duration", "1",
+                       "--out", tmp / "run", "--quiet"},
+                      tmp / "run", nullptr, &err),
+            0)
+      << err;
+  for (const auto& [agent, recorded] : {std::pair{"agent_1", false}, std::pair{"agent_3", true}}) {
+    auto table = readCsvTable(tmp / (std::string("run/") + agent + "/biases.csv"));
+    ASSERT_TRUE(table.ok()) << table.status().message();
+    ASSERT_FALSE(table->rows.empty()) << agent;
+    for (const char* col : {"bg_x", "true_bg_x", "true_ba_z"}) {
+      const int c = table->column(col);
+      ASSERT_GE(c, 0) << agent << " " << col;
+      const bool truth = std::string(col).rfind("true_", 0) == 0;
+      for (const std::vector<double>& row : table->rows)
+        EXPECT_EQ(std::isfinite(row[static_cast<std::size_t>(c)]), !(truth && recorded))
+            << agent << " " << col;
+    }
+  }
 }
 
 }  // namespace
