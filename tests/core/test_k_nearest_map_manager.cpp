@@ -52,6 +52,22 @@ TEST(KNearestMapManager, FullMapKeepsEverything) {
   EXPECT_EQ(ids.size(), 50u);
 }
 
+TEST(KNearestMapManager, FullMapBeyondItsBoundArchivesTheLeastRecentlyObserved) {
+  MapManagerOptions o;
+  o.kind = MapKind::kFull;
+  o.max_landmarks = 4;
+  std::vector<MapCandidate> c = lineOfCandidates(8);
+  // Last seen: 100 at 8 s, 101 at 7 s, ..., 107 at 1 s; 107 is observed now, so it stays.
+  for (std::size_t i = 0; i < c.size(); ++i)
+    c[i].last_seen_us = (8 - static_cast<int64_t>(i)) * 1000000;
+  c[7].observed = true;
+  // m* at 107: the nearest would be 104–107, the most recently observed are 100–102.
+  auto ids = KNearestMapManager(o).select(c, Eigen::Vector3d(7, 0, 0));
+  EXPECT_EQ(ids, (std::vector<int64_t>{100, 101, 102, 107}));
+  o.max_landmarks = 0;  // no bound
+  EXPECT_EQ(KNearestMapManager(o).select(c, Eigen::Vector3d::Zero()).size(), 8u);
+}
+
 TEST(KNearestMapManager, VirtualPointLiesBelowADownwardCamera) {
   StereoCamera cam;  // default: looking down, baseline 0.2 m along the right wing
   const Eigen::Vector3d p(10, 20, -10), euler(0, 0, 0);
@@ -85,6 +101,12 @@ TEST(KNearestMapManager, OptionsLoadAndValidate) {
   ASSERT_TRUE(o.load(cfg->child("map")).ok());
   EXPECT_EQ(o.kind, MapKind::kFull);
   EXPECT_EQ(o.k, 5);
+  EXPECT_EQ(o.max_landmarks, 1000);
+  auto bounded = ConfigNode::fromString("map: {kind: full, max_landmarks: 300}", "a.yaml");
+  ASSERT_TRUE(o.load(bounded->child("map")).ok());
+  EXPECT_EQ(o.max_landmarks, 300);
+  auto negative = ConfigNode::fromString("map: {max_landmarks: -1}", "a.yaml");
+  EXPECT_FALSE(MapManagerOptions().load(negative->child("map")).ok());
   auto quantile = ConfigNode::fromString("map: {scene_depth_quantile: 1.5}", "a.yaml");
   EXPECT_FALSE(MapManagerOptions().load(quantile->child("map")).ok());
   auto bad = ConfigNode::fromString("map: {kind: sparse, k: 0}", "a.yaml");

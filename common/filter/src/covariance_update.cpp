@@ -1,4 +1,4 @@
-// CovarianceHelper::update: Mahalanobis gating, EKF and NH∞ measurement updates.
+// CovarianceHelper::update: Mahalanobis gating, EKF (Joseph) and NH∞ measurement updates.
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
@@ -168,31 +168,36 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   if (S_llt.info() != Eigen::Success) {
     return Status::Error("update: innovation covariance is not positive definite");
   }
-  // Held landmarks are Schmidt variables: zero gain (their rows of K, and so of dx, are zero).
+  // Held landmarks are Schmidt variables: zero gain. The Joseph form below is exact for any
+  // gain, so their covariance stays and their cross-covariances get (I − KH) P.
   Eigen::MatrixXd K = S_llt.solve(PHt_a.transpose()).transpose();
-  std::vector<Eigen::Index> held;
   for (const StateVariable& v : state.variables()) {
-    if (v.key.kind != VariableKey::Kind::kHeldLandmark) continue;
-    K.middleRows(v.index, v.size).setZero();
-    for (int i = 0; i < v.size; ++i) held.push_back(v.index + i);
+    if (v.key.kind == VariableKey::Kind::kHeldLandmark) K.middleRows(v.index, v.size).setZero();
   }
   const Eigen::VectorXd dx = K * r_a;
   report.rows = static_cast<int>(rows.size());
   report.nis = S_llt.matrixL().solve(r_a).squaredNorm();
 
-  // 4. Covariance with the optimal gain (§3.4): P⁺ = P − K S Kᵀ = P − L Lᵀ with
-  //    L = P Hᵀ L_S⁻ᵀ (S = L_S L_Sᵀ): one symmetric rank-m update of the lower triangle,
-  //    O(n² m / 2) — a quarter of the two products of the Joseph form, which dominated large
-  //    maps (`bench_filter_step` BM_UpdateLargeMap). For the Schmidt gain the same expression
-  //    is exact everywhere except the held-held block, which keeps its prior: the active rows
-  //    get P − K_A S K_Aᵀ, the active-held cross-covariances P_AH − K_A (HP)_H.
-  const Eigen::MatrixXd Lt = S_llt.matrixL().solve(PHt_a.transpose());  // m × n
+  // 4. Joseph form (eq. 3.23) as a symmetric rank-2m update: with W = P Hᵀ − ½ K S,
+  //    (I − KH) P (I − KH)ᵀ + c_v² K R Kᵀ = P − K (HP) − (HP)ᵀ Kᵀ + K S Kᵀ = P − (W Kᵀ + K Wᵀ),
+  //    exact for any K (the Schmidt gain above) and, like the factored Joseph form, insensitive
+  //    to first order to errors in K (for the optimal K, W = ½ K S and the first-order terms
+  //    cancel). Only the lower triangle of [W K][K W]ᵀ is formed, n² m multiply-adds against
+  //    the factored form's 2 n² m (`bench_filter_step` BM_UpdateLargeMap), then mirrored.
+  //    P − K S Kᵀ alone is cheaper still but is not insensitive to errors in K, and it lost
+  //    positive definiteness on a full-map run (euroc_mh03_hall seed 226, 67 s).
+  const Eigen::Index m = K.cols();
+  Eigen::MatrixXd left(n, 2 * m), right(n, 2 * m);
+  left.leftCols(m) = PHt_a;
+  left.leftCols(m).noalias() -= 0.5 * (K * S_a);
+  left.rightCols(m) = K;
+  right.leftCols(m) = K;
+  right.rightCols(m) = left.leftCols(m);
   Eigen::MatrixXd P_post = P;
-  P_post.selfadjointView<Eigen::Lower>().rankUpdate(Lt.transpose(), -1.0);
+  P_post.triangularView<Eigen::Lower>() -= left * right.transpose();
   for (Eigen::Index j = 0; j + 1 < n; ++j) {
     P_post.row(j).tail(n - j - 1) = P_post.col(j).tail(n - j - 1).transpose();
   }
-  if (!held.empty()) P_post(held, held) = P(held, held);
 
   // 5. NH∞ (eq. 3.39).
   double theta = 0.0;

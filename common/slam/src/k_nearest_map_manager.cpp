@@ -16,6 +16,8 @@ Status MapManagerOptions::load(const ConfigNode& node) {
   node.get("use_observed_depth", use_observed_depth);
   node.check(k >= 1, "k", "must be ≥ 1 (got " + std::to_string(k) + ")");
   node.get("scene_depth_quantile", scene_depth_quantile);
+  node.get("max_landmarks", max_landmarks);
+  node.check(max_landmarks >= 0, "max_landmarks", "must be ≥ 0 (0: no bound)");
   node.check(nominal_scene_depth > 0.0, "nominal_scene_depth", "must be > 0");
   node.check(scene_depth_quantile >= 0.0 && scene_depth_quantile <= 1.0, "scene_depth_quantile",
              "must be in [0, 1]");
@@ -44,15 +46,20 @@ double KNearestMapManager::sceneDepth(const std::vector<double>& observed_depths
 
 std::vector<int64_t> KNearestMapManager::select(const std::vector<MapCandidate>& candidates,
                                                 const Eigen::Vector3d& m_star) const {
-  // (group, squared distance, id): re-observed archived, observed, unobserved.
+  // (group, key, id): re-observed archived, observed, unobserved; the key is the squared
+  // distance to m* (k-nearest) or the time since last observed (full map).
+  const bool full = o_.kind == MapKind::kFull;
   std::vector<std::tuple<int, double, int64_t>> ranked;
   ranked.reserve(candidates.size());
   for (const auto& c : candidates) {
     const int group = c.observed ? (c.reactivating ? 0 : 1) : 2;
-    ranked.emplace_back(group, (c.p_LinN - m_star).squaredNorm(), c.landmark_id);
+    const double key =
+        full ? -static_cast<double>(c.last_seen_us) : (c.p_LinN - m_star).squaredNorm();
+    ranked.emplace_back(group, key, c.landmark_id);
   }
   std::size_t keep = ranked.size();
-  if (o_.kind == MapKind::kKNearest) keep = std::min(keep, static_cast<std::size_t>(o_.k));
+  const int bound = full ? o_.max_landmarks : o_.k;
+  if (bound > 0) keep = std::min(keep, static_cast<std::size_t>(bound));
   std::partial_sort(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(keep),
                     ranked.end());
   std::vector<int64_t> ids;

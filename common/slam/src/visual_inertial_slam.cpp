@@ -143,8 +143,10 @@ Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, Frame
   for (const StateVariable& v : state_.variables()) {
     if (v.key.kind != VariableKey::Kind::kLandmark) continue;
     const auto id = static_cast<int64_t>(v.key.id);
-    candidates.push_back(
-        {id, state_.value(v), std::binary_search(observed.begin(), observed.end(), id)});
+    const LandmarkBookEntry* e = book_.find(id);
+    candidates.push_back({id, state_.value(v),
+                          std::binary_search(observed.begin(), observed.end(), id), false,
+                          e != nullptr ? e->last_seen_us : 0});
   }
   for (const StereoObservation& obs : frame.observations) {
     const int64_t id = obs.landmark_id;

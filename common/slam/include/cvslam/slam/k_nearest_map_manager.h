@@ -5,8 +5,9 @@
 // virtual point m* — the point on the stereo pair's optical axis at the scene depth — plus
 // the landmarks newly initialised in that epoch. Candidates are the landmarks currently in
 // the state and the archived landmarks re-observed now (loop closing, §5.5.2). The rest go
-// to (or stay in) the archive. With `MapKind::kFull` nothing is ever archived (the classical
-// stochastic map, for comparison).
+// to (or stay in) the archive. With `MapKind::kFull` every landmark stays (the classical
+// stochastic map) up to `max_landmarks`; beyond it the least recently observed are archived,
+// so that a long flight cannot grow the O(n²) state without bound.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -34,6 +35,10 @@ struct MapManagerOptions {
   /// mapped (euroc_mh03_hall: 3 of 10 seeds diverged at rest; 0.1: none; docs/filter.md
   /// "The virtual point m*").
   double scene_depth_quantile = 0.1;
+  /// Full map only: at most this many landmarks in the state; beyond it the least recently
+  /// observed go to the archive (0: no bound). 1 000 landmarks cost ≈ 100 ms per frame
+  /// (docs/results/euroc_recorded.md "Map size").
+  int max_landmarks = 1000;
 
   Status load(const ConfigNode& node);
 };
@@ -46,6 +51,7 @@ struct MapCandidate {
   /// An archived landmark observed again (loop closing, §5.5.2): ranked before the other
   /// observed candidates, whose places it takes when more than k are observed.
   bool reactivating = false;
+  int64_t last_seen_us = 0;  ///< when it was last observed (full map with max_landmarks)
 };
 
 class KNearestMapManager {
@@ -62,9 +68,10 @@ class KNearestMapManager {
   /// non-empty, else the nominal depth.
   double sceneDepth(const std::vector<double>& observed_depths) const;
 
-  /// Ids of the candidates that may stay in (or enter) the state: all of them for the full
-  /// map, otherwise k of them: re-observed archived candidates first, then the other observed
-  /// ones, then the rest, each group by distance to m*.
+  /// Ids of the candidates that may stay in (or enter) the state: k of them (the full map:
+  /// all, or max_landmarks of them): re-observed archived candidates first, then the other
+  /// observed ones, then the rest, each group by distance to m* (the full map: most recently
+  /// observed first).
   /// (Departure from §5.8, which ranks by distance alone: after a long drift, m* is placed
   /// from the drifted pose and re-observed old landmarks sit metres away from it, so pure
   /// distance would keep them out of the state exactly when they could close the loop.)
