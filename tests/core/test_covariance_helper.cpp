@@ -169,14 +169,13 @@ TEST(CovarianceHelper, PropagateEqualsDenseTransition) {
   EXPECT_EQ(s.covariance().bottomRightCorner(n - 9, n - 9), P.bottomRightCorner(n - 9, n - 9));
 }
 
-TEST(CovarianceHelper, UpdateKeepsCovarianceSymmetricPositiveDefinite) {
+TEST(CovarianceHelper, JosephUpdateKeepsCovarianceSymmetricPositiveDefinite) {
   std::mt19937 rng(6);
   SlamState s = test::randomSlamState(24, rng);
   MeasurementBatch batch;
   for (int k = 0; k < 30; ++k) {
     const Eigen::MatrixXd P = s.covariance();
-    // Very precise observations: the textbook P − K H P loses positive definiteness here; the
-    // symmetric rank update P − L Lᵀ must not.
+    // Very precise observations: the textbook P − K H P loses positive definiteness here.
     test::randomStereoBatch(s, 20, rng, &batch, 1e-3);
     ASSERT_TRUE(CovarianceHelper::update(s, batch, UpdatePolicy::ekf(), nullptr).ok());
     EXPECT_EQ(s.covariance(), s.covariance().transpose());

@@ -72,8 +72,8 @@ TEST(HeldLandmark, SchmidtUpdateKeepsItsMarginalAndBoundsTheFullUpdate) {
   EXPECT_GT(minEigenvalue(held.covariance()), 0.0);
 }
 
-/// The update's P − L Lᵀ with the held-held block restored is the Schmidt filter's Joseph form
-/// (I − KH) P (I − KH)ᵀ + K R Kᵀ with the held rows of the optimal gain set to zero.
+/// The update's rank-2m form is the Schmidt filter's Joseph form (I − KH) P (I − KH)ᵀ + K R Kᵀ
+/// with the held rows of the optimal gain set to zero, computed densely.
 TEST(HeldLandmark, SchmidtUpdateEqualsTheDenseJosephForm) {
   std::mt19937 rng(12);
   SlamState s = test::randomSlamState(5, rng);

@@ -5,7 +5,7 @@
 //
 // Equations (n: state size, v: the propagated vehicle block, o: every other variable):
 //   propagate   P_vv ← Φ P_vv Φᵀ + c_w² Q,   P_vo ← Φ P_vo                 (eq. 3.20)
-//   update      EKF (eq. 3.22; P − K S Kᵀ as a symmetric rank update); NH∞ per UpdatePolicy (eq. 3.39, 3.48)
+//   update      EKF, Joseph form (eq. 3.22, 3.23, as a symmetric rank-2m update); NH∞ per UpdatePolicy (eq. 3.39, 3.48)
 //   augment     y = g(x, z):  P_yy = J_x P J_xᵀ + J_z R J_zᵀ,  P_yx = J_x P
 //   marginalise drop the variable's rows and columns (exact for a Gaussian)
 //   hold        a landmark becomes a Schmidt (consider) variable and back: the key changes, the
@@ -81,8 +81,8 @@ class CovarianceHelper {
 
   /// Measurement update with a stacked (H, r, R): gates each observation (Mahalanobis), then
   /// applies the EKF (θ = 0) or NH∞ update. Held landmarks (kHeldLandmark) get a zero gain:
-  /// the Schmidt–Kalman update, which keeps their mean and covariance and updates their
-  /// cross-covariances exactly (P − K S Kᵀ with the held-held block restored). `report` may be null.
+  /// the Schmidt–Kalman update, whose Joseph form keeps their mean and covariance and updates
+  /// their cross-covariances exactly. `report` may be null.
   static Status update(SlamState& state, const MeasurementBatch& batch, const UpdatePolicy& policy,
                        UpdateReport* report);
 

@@ -32,7 +32,7 @@ enum class ThetaWeighting {
 
 /// The numbers CovarianceHelper needs to run an EKF or an NH∞ update.
 struct UpdatePolicy {
-  double theta = 0.0;                    ///< θ = 1/γ²; 0 gives the EKF
+  double theta = 0.0;                    ///< θ = 1/γ²; 0 gives the EKF (Joseph form)
   double measurement_noise_scale = 1.0;  ///< c_v² (multiplies R)
   double process_noise_scale = 1.0;      ///< c_w² (multiplies the process noise)
   /// Largest admissible θ·λ_max(P_EKF⁺). 1 is the bare eq. 3.40 condition; below 1 it
