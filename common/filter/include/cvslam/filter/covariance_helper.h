@@ -5,7 +5,7 @@
 //
 // Equations (n: state size, v: the propagated vehicle block, o: every other variable):
 //   propagate   P_vv ← Φ P_vv Φᵀ + c_w² Q,   P_vo ← Φ P_vo                 (eq. 3.20)
-//   update      EKF, Joseph form (eq. 3.22, 3.23, as a symmetric rank-2m update); NH∞ per UpdatePolicy (eq. 3.39, 3.48)
+//   update      EKF, Joseph form (eq. 3.22, 3.23); NH∞ per UpdatePolicy (eq. 3.39, 3.48)
 //   augment     y = g(x, z):  P_yy = J_x P J_xᵀ + J_z R J_zᵀ,  P_yx = J_x P
 //   marginalise drop the variable's rows and columns (exact for a Gaussian)
 //   hold        a landmark becomes a Schmidt (consider) variable and back: the key changes, the
