@@ -28,10 +28,9 @@ double mahalanobis2(const Eigen::Ref<const Eigen::MatrixXd>& S,
   return llt.matrixL().solve(r).squaredNorm();
 }
 
-/// Rows of one accepted observation inside the gathered (accepted-only) system.
+/// Rows of one accepted observation in the batch.
 struct AcceptedGroup {
   int source_row = 0;  ///< first row in the batch
-  int row = 0;         ///< first row among the accepted rows
   int rows = 0;
 };
 
@@ -41,7 +40,6 @@ std::vector<AcceptedGroup> gate(const MeasurementBatch& batch, const Eigen::Matr
   std::vector<AcceptedGroup> accepted;
   accepted.reserve(static_cast<std::size_t>(batch.groups()));
   std::array<double, 17> threshold{};  // per dof, computed on first use
-  int row = 0;
   for (int g = 0; g < batch.groups(); ++g) {
     const int r0 = batch.groupRow(g), nr = batch.groupRows(g);
     bool accept = true;
@@ -58,8 +56,7 @@ std::vector<AcceptedGroup> gate(const MeasurementBatch& batch, const Eigen::Matr
       accept = d2 >= 0.0 && d2 <= limit;
     }
     if (accept) {
-      accepted.push_back({r0, row, nr});
-      row += nr;
+      accepted.push_back({r0, nr});
       ++report->observations_accepted;
     } else {
       ++report->observations_rejected;
