@@ -11,7 +11,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -296,11 +295,6 @@ int main(int argc, char** argv) {
       return fail(s.message());
   }
   std::map<int, AgentCounters> counters;
-  // A recorded IMU's biases are not known (the simulator's are zero there): NaN in biases.csv,
-  // so that no bias NEES is computed against a made-up truth.
-  std::set<int> recorded_imu;
-  for (const cvslam::sim::AgentSpec& a : scenario->agents)
-    if (!a.imu.recording.empty()) recorded_imu.insert(a.id);
   const double duration = scenario->duration;
   int next_progress = 10;
   const auto wall_start = std::chrono::steady_clock::now();
@@ -318,7 +312,7 @@ int main(int argc, char** argv) {
         ++c.frames;
         if (f.report->loop_closure && c.first_loop_t < 0) c.first_loop_t = t;
         const cvslam::Vector9d truth = truthVector(*f.truth);
-        if (recorded_imu.count(f.agent_id) == 0) {
+        if (f.truth->biases_known) {  // a recorded IMU's stay NaN in biases.csv (no bias NEES)
           cvslam::Vector6d bias_truth;
           bias_truth << f.truth->accel_bias, f.truth->gyro_bias;
           recorder.setBiasTruth(bias_truth);

@@ -86,6 +86,7 @@ GroundTruth AgentSimulator::truth(int64_t t_us) const {
   g.omega_B = s.omega_B;
   g.gyro_bias = imu_.gyroBias();
   g.accel_bias = imu_.accelBias();
+  g.biases_known = !imu_.playsRecording();
   return g;
 }
 

@@ -68,6 +68,8 @@ class ImuSimulator {
   const Eigen::Vector3d& gyroBias() const { return gyro_bias_; }
   const Eigen::Vector3d& accelBias() const { return accel_bias_; }
   const ImuOptions& options() const { return o_; }
+  /// A recording is played (useRecording): the biases are unknown.
+  bool playsRecording() const { return recording_ != nullptr; }
   /// From now on samples come from `recording` at file time file_time_at_zero + t (+ the
   /// trajectory time offset); biases read zero (the recording's are unknown).
   void useRecording(std::shared_ptr<const ImuRecording> recording, double file_time_at_zero);

@@ -37,6 +37,8 @@ struct GroundTruth {
   Eigen::Vector3d omega_B = Eigen::Vector3d::Zero();     ///< body rates [rad/s]
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();   ///< IMU gyro bias now [rad/s]
   Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();  ///< IMU accel bias now [m/s²]
+  /// false when the IMU plays a recording: its biases are unknown (the two above read zero).
+  bool biases_known = true;
 };
 
 /// Initial state for an estimator: the truth, or a sample around it (InitialUncertainty).
