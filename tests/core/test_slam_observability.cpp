@@ -115,6 +115,18 @@ TEST(ObservabilityConstraint, ProjectionOptionIsReadAndChecked) {
   const Status s = SlamOptions().load(*bad);
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.message().find("oc_projection"), std::string::npos) << s.message();
+  // The tilt joins the OC-EKF's constraint: alone it would do nothing, silently.
+  EXPECT_FALSE(o.oc_tilt);
+  auto tilt = ConfigNode::fromString("oc_tilt: true\n", "slam.yaml");
+  ASSERT_TRUE(tilt.ok());
+  ASSERT_TRUE(o.load(*tilt).ok());
+  EXPECT_TRUE(o.oc_tilt);
+  auto alone =
+      ConfigNode::fromString("oc_tilt: true\nobservability_constrained: false\n", "s.yaml");
+  ASSERT_TRUE(alone.ok());
+  const Status t = SlamOptions().load(*alone);
+  ASSERT_FALSE(t.ok());
+  EXPECT_NE(t.message().find("oc_tilt"), std::string::npos) << t.message();
 }
 
 /// u_v is the derivative of the state coordinates under a global yaw α about N's z:
@@ -140,6 +152,66 @@ TEST(ObservabilityConstraint, YawDirectionMatchesFiniteDifferences) {
   EXPECT_LT((u_error.head<3>() - dp).norm(), 1e-6);
   EXPECT_LT((u_error.segment<3>(vehicle::kAttitude) - dtheta).norm(), 1e-6);
   EXPECT_EQ(u_error.segment<3>(vehicle::kVelocity), Eigen::Vector3d::Zero());
+}
+
+/// tiltDirections is the derivative of the state coordinates under a rigid rotation α of the
+/// world about N's x or y axis (Euler: central differences of the angles of Rot(α) R; error
+/// state: Log(R̂ᵀ Rot(α) R̂)), and a stereo Jacobian taken at (pose, p_ref) annihilates it.
+TEST(ObservabilityConstraint, TiltDirectionsMatchFiniteDifferencesOfAWorldRotation) {
+  Eigen::Matrix<double, 9, 1> x;
+  x << 12.0, -7.0, -10.0, 3.0, 0.2, 0.0, 0.05, -0.03, 0.8;
+  const Eigen::Vector3d p_ref(13.0, -6.0, 0.5);
+  const double h = 1e-6;
+  for (bool error_state : {false, true}) {
+    EstimatedPose pose = EstimatedPose::fromEuler(x);
+    if (error_state) pose.attitude = vehicle::Attitude::kErrorState;
+    const Eigen::Matrix<double, 12, 2> n = tiltDirections(pose, p_ref);
+    for (int i = 0; i < 2; ++i) {
+      SCOPED_TRACE(std::string(error_state ? "error state" : "euler") + ", axis " +
+                   std::to_string(i));
+      const Eigen::Matrix3d fwd(Eigen::AngleAxisd(h, Eigen::Vector3d::Unit(i)));
+      const Eigen::Matrix3d back(Eigen::AngleAxisd(-h, Eigen::Vector3d::Unit(i)));
+      EXPECT_LT((n.block<3, 1>(vehicle::kPosition, i) -
+                 (fwd * pose.p_BinN - back * pose.p_BinN) / (2.0 * h))
+                    .norm(),
+                1e-6);
+      EXPECT_LT((n.block<3, 1>(9, i) - (fwd * p_ref - back * p_ref) / (2.0 * h)).norm(), 1e-6);
+      EXPECT_EQ((n.block<3, 1>(vehicle::kVelocity, i).norm()), 0.0);
+      const Eigen::Vector3d d_attitude =
+          error_state
+              ? Eigen::Vector3d(so3::log(pose.R_BtoN.transpose() * fwd * pose.R_BtoN) / h)
+              : Eigen::Vector3d((eulerFromRotationNavToBody((fwd * pose.R_BtoN).transpose()) -
+                                 eulerFromRotationNavToBody((back * pose.R_BtoN).transpose())) /
+                                (2.0 * h));
+      EXPECT_LT((n.block<3, 1>(vehicle::kAttitude, i) - d_attitude).norm(), 1e-6);
+    }
+    StereoCamera::Matrix4x9d H_v;
+    StereoCamera::Matrix4x3d H_L;
+    StereoCamera{StereoCameraOptions{}}.project(pose, p_ref, &H_v, &H_L);
+    EXPECT_LT((H_v * n.topRows<9>() + H_L * n.bottomRows<3>()).norm(), 1e-6);
+  }
+}
+
+/// Linearised at a landmark estimate 0.4 m from the first estimate, the Jacobian informs the
+/// tilt about that first estimate; constrained with the tilt, it annihilates translation, yaw
+/// and both tilt directions, and the change stays small.
+TEST(ObservabilityConstraint, ProjectedJacobianAnnihilatesTheTiltToo) {
+  Eigen::Matrix<double, 9, 1> x;
+  x << 12.0, -7.0, -10.0, 3.0, 0.2, 0.0, 0.05, -0.03, 0.8;
+  const Eigen::Vector3d p_L(13.0, -6.0, 0.5), p_first = p_L + Eigen::Vector3d(0.3, -0.2, 0.2);
+  for (bool error_state : {false, true}) {
+    ConstrainedObservation o = observationAt(x, p_L, error_state);
+    EstimatedPose pose = EstimatedPose::fromEuler(x);
+    if (error_state) pose.attitude = vehicle::Attitude::kErrorState;
+    const Eigen::Matrix<double, 12, 2> tilt = tiltDirections(pose, p_first);
+    EXPECT_GT((o.H_v * tilt.topRows<9>() + o.H_L * tilt.bottomRows<3>()).norm(), 1.0);
+    const StereoCamera::Matrix4x9d H_v0 = o.H_v;
+    constrainStereoJacobian(o.u_v, o.u_L, 10.0, &o.H_v, &o.H_L, &tilt);
+    EXPECT_LT((o.H_v * tilt.topRows<9>() + o.H_L * tilt.bottomRows<3>()).norm(), 1e-9);
+    EXPECT_LT((o.H_v * o.u_v.head<9>() + o.H_L * o.u_L).norm(), 1e-9);
+    EXPECT_LT((o.H_v.leftCols<3>() + o.H_L).norm(), 1e-9);
+    EXPECT_LT((o.H_v - H_v0).norm(), 0.1 * H_v0.norm());
+  }
 }
 
 TEST(ObservabilityConstraint, PropagatedYawDirectionFollowsErrorStateResets) {

@@ -35,6 +35,9 @@ Status SlamOptions::load(const ConfigNode& node) {
              "need 0 < reactivation_min_omega ≤ reactivation_max_omega < 1");
   node.get("first_estimate_jacobians", first_estimate_jacobians);
   node.get("observability_constrained", observability_constrained);
+  node.get("oc_tilt", oc_tilt);
+  node.check(!oc_tilt || observability_constrained, "oc_tilt",
+             "needs observability_constrained: true (the tilt joins its constraint)");
   node.getEnum("oc_projection", oc_projection,
                {{"range_weighted", OcProjection::kRangeWeighted},
                 {"unweighted", OcProjection::kUnweighted}});

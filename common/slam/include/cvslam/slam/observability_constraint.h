@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 
 #include "cvslam/camera/stereo_camera.h"
+#include "cvslam/ins/estimated_pose.h"
 
 namespace cvslam {
 
@@ -39,8 +40,18 @@ Eigen::Vector3d yawDirectionOfPoint(const Eigen::Vector3d& p);
 /// w = 1/ℓ² on the attitude columns and 1 elsewhere. ℓ = 1 m: the unweighted projection
 /// H − H N (NᵀN)⁻¹ Nᵀ. The bias entries of u_v are zero by construction (the transition
 /// does not couple yaw into the biases).
+/// With `tilt` (columns: rotations about N's x and y axes, rows as N's), H N = 0 for them too.
 void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
                              double attitude_lever_m, StereoCamera::Matrix4x9d* H_v,
-                             StereoCamera::Matrix4x3d* H_L);
+                             StereoCamera::Matrix4x3d* H_L,
+                             const Eigen::Matrix<double, 12, 2>* tilt = nullptr);
+
+/// The tilt directions of one observation: how the vehicle pose `x` (9 entries: position,
+/// body velocity, attitude in x's coordinates) and a landmark at `p_ref` move per radian of a
+/// rigid rotation of the world about N's x axis (column 0) and y axis (column 1). A stereo
+/// observation alone cannot tell such a rotation, whatever gravity tells the IMU: its
+/// Jacobian at one point (x, p_ref) annihilates them. Linearised at a landmark estimate that
+/// changes between updates, it does not, and the vision updates inform the tilt.
+Eigen::Matrix<double, 12, 2> tiltDirections(const EstimatedPose& x, const Eigen::Vector3d& p_ref);
 
 }  // namespace cvslam

@@ -75,6 +75,10 @@ struct SlamOptions {
   /// position columns). docs/filter.md, "Observability constraint", for the Monte Carlo.
   enum class OcProjection { kRangeWeighted, kUnweighted };
   OcProjection oc_projection = OcProjection::kRangeWeighted;
+  /// OC-EKF also for the two tilt axes of each observation: its Jacobian may not inform a
+  /// rigid rotation about N's x or y axis of the vehicle and the landmark's first estimate
+  /// (observability_constraint.h tiltDirections). Needs observability_constrained.
+  bool oc_tilt = false;
   /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
   /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
   /// this many are observed in one frame and a rigid yaw + translation aligns where the
