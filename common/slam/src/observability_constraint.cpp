@@ -28,8 +28,8 @@ void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& 
   const NullSpace WN = w_inv.asDiagonal() * N;
   Eigen::Matrix<double, 4, kRows> H;
   H << *H_v, *H_L;
-  // NᵀW⁻¹N is positive definite: N has full column rank (the yaw column has a unit ψ, or
-  // R̂ᵀe3, entry the translation columns lack) and W⁻¹ > 0.
+  // NᵀW⁻¹N is positive definite: N has full column rank (the yaw and tilt columns turn the
+  // attitude about three independent axes, which the translation columns do not) and W⁻¹ > 0.
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> NtWN = N.transpose() * WN;
   const Eigen::Matrix<double, 4, kRows> H_oc = H - (H * N) * NtWN.ldlt().solve(WN.transpose());
   *H_v = H_oc.leftCols<kPose>();

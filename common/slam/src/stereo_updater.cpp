@@ -75,14 +75,11 @@ Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book
       const double lever = o_.oc_projection == SlamOptions::OcProjection::kRangeWeighted
                                ? (p_LinN - x.p_BinN).norm()
                                : 1.0;
-      if (o_.oc_tilt) {
-        const Eigen::Matrix<double, 12, 2> tilt = tiltDirections(x, record->first_estimate);
-        constrainStereoJacobian(vehicle_model::yawDirectionAt(x, book.vehicleYawDirection()),
-                                record->yaw_direction, lever, &dz_dxv, &dz_dpL, &tilt);
-      } else {
-        constrainStereoJacobian(vehicle_model::yawDirectionAt(x, book.vehicleYawDirection()),
-                                record->yaw_direction, lever, &dz_dxv, &dz_dpL);
-      }
+      Eigen::Matrix<double, 12, 2> tilt;
+      if (o_.oc_tilt) tilt = tiltDirections(x, record->first_estimate);
+      constrainStereoJacobian(vehicle_model::yawDirectionAt(x, book.vehicleYawDirection()),
+                              record->yaw_direction, lever, &dz_dxv, &dz_dpL,
+                              o_.oc_tilt ? &tilt : nullptr);
     }
     const int g = batch->addObservation(obs.z - z_hat, R);
     if (g < 0) break;
