@@ -165,7 +165,7 @@ TEST(ObservabilityConstraint, TiltDirectionsMatchFiniteDifferencesOfAWorldRotati
   for (bool error_state : {false, true}) {
     EstimatedPose pose = EstimatedPose::fromEuler(x);
     if (error_state) pose.attitude = vehicle::Attitude::kErrorState;
-    const Eigen::Matrix<double, 12, 2> n = tiltDirections(pose, p_ref);
+    const TiltDirections n = tiltDirections(pose, p_ref);
     for (int i = 0; i < 2; ++i) {
       SCOPED_TRACE(std::string(error_state ? "error state" : "euler") + ", axis " +
                    std::to_string(i));
@@ -203,7 +203,7 @@ TEST(ObservabilityConstraint, ProjectedJacobianAnnihilatesTheTiltToo) {
     ConstrainedObservation o = observationAt(x, p_L, error_state);
     EstimatedPose pose = EstimatedPose::fromEuler(x);
     if (error_state) pose.attitude = vehicle::Attitude::kErrorState;
-    const Eigen::Matrix<double, 12, 2> tilt = tiltDirections(pose, p_first);
+    const TiltDirections tilt = tiltDirections(pose, p_first);
     EXPECT_GT((o.H_v * tilt.topRows<9>() + o.H_L * tilt.bottomRows<3>()).norm(), 1.0);
     const StereoCamera::Matrix4x9d H_v0 = o.H_v;
     constrainStereoJacobian(o.u_v, o.u_L, 10.0, &o.H_v, &o.H_L, &tilt);

@@ -70,6 +70,19 @@ struct RunErrors {
   }
 };
 
+const std::string kHallScenario =
+    std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/euroc_mh03_hall.yaml";
+
+/// The options of the shipped config/agent.yaml.
+bool loadShippedOptions(VisualInertialSlamOptions* o) {
+  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  EXPECT_TRUE(shipped.ok()) << shipped.status().message();
+  if (!shipped.ok()) return false;
+  const Status s = o->load(*shipped);
+  EXPECT_TRUE(s.ok()) << s.message();
+  return s.ok();
+}
+
 RunErrors runScenario(const sim::Scenario& scenario, const VisualInertialSlamOptions& options) {
   RunErrors out;
   auto run = SimulatedTeamRun::create(scenario, options);
@@ -188,15 +201,12 @@ TEST(VisualInertialSlam, HeldLandmarksKeepAHoveringVehicleConsistent) {
   // back every few frames. Re-mapped, each return forgets what the map knew and the tilt and
   // gyro bias turn over-confident (docs/filter.md); held, each comes back exactly. Shipped
   // configuration, perturbed starts, seeds no default was chosen on.
-  auto hall = sim::Scenario::loadFile(std::string(CVSLAM_SOURCE_DIR) +
-                                      "/config/scenarios/euroc_mh03_hall.yaml");
+  auto hall = sim::Scenario::loadFile(kHallScenario);
   ASSERT_TRUE(hall.ok()) << hall.status().message();
   hall->agents.resize(1);
   hall->duration = 40.0;
-  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
-  ASSERT_TRUE(shipped.ok());
   VisualInertialSlamOptions remap;
-  ASSERT_TRUE(remap.load(*shipped).ok());
+  ASSERT_TRUE(loadShippedOptions(&remap));
   remap.slam.held_landmarks = 0;
   VisualInertialSlamOptions held = remap;
   held.slam.held_landmarks = 20;  // the default
@@ -231,17 +241,14 @@ TEST(VisualInertialSlam, TiltConstraintTakesTheFullMapCloseToItsNees) {
   // more accurate (docs/filter.md "Tilt constraint"; measured: NEES 114 against 4 071, RMS
   // error 0.24 against 1.98 m). Shipped configuration otherwise (loop closing on), a perturbed
   // start, a seed no setting was chosen on.
-  auto hall = sim::Scenario::loadFile(std::string(CVSLAM_SOURCE_DIR) +
-                                      "/config/scenarios/euroc_mh03_hall.yaml");
+  auto hall = sim::Scenario::loadFile(kHallScenario);
   ASSERT_TRUE(hall.ok()) << hall.status().message();
   hall->agents.erase(hall->agents.begin());
   hall->agents.resize(1);
   hall->duration = 80.0;
   hall->seed = 43;
-  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
-  ASSERT_TRUE(shipped.ok());
   VisualInertialSlamOptions tilt;
-  ASSERT_TRUE(tilt.load(*shipped).ok());
+  ASSERT_TRUE(loadShippedOptions(&tilt));
   tilt.map.kind = MapKind::kFull;
   tilt.slam.first_estimate_jacobians = false;
   tilt.slam.oc_tilt = true;

@@ -13,9 +13,8 @@ Eigen::Vector3d yawDirectionOfPoint(const Eigen::Vector3d& p) {
 
 void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
                              double attitude_lever_m, StereoCamera::Matrix4x9d* H_v,
-                             StereoCamera::Matrix4x3d* H_L,
-                             const Eigen::Matrix<double, 12, 2>* tilt) {
-  constexpr int kPose = 9, kRows = kPose + 3;
+                             StereoCamera::Matrix4x3d* H_L, const TiltDirections* tilt) {
+  constexpr int kPose = kObservedPoseEntries, kRows = kObservedEntries;
   using NullSpace = Eigen::Matrix<double, kRows, Eigen::Dynamic, 0, kRows, 6>;
   NullSpace N = NullSpace::Zero(kRows, tilt != nullptr ? 6 : 4);
   if (tilt != nullptr) N.rightCols<2>() = *tilt;
@@ -36,8 +35,8 @@ void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& 
   *H_L = H_oc.rightCols<3>();
 }
 
-Eigen::Matrix<double, 12, 2> tiltDirections(const EstimatedPose& x, const Eigen::Vector3d& p_ref) {
-  Eigen::Matrix<double, 12, 2> n = Eigen::Matrix<double, 12, 2>::Zero();
+TiltDirections tiltDirections(const EstimatedPose& x, const Eigen::Vector3d& p_ref) {
+  TiltDirections n = TiltDirections::Zero();
   for (int i = 0; i < 2; ++i) {
     const Eigen::Vector3d axis = Eigen::Vector3d::Unit(i);
     // Exp(α a) R = R Exp(α Rᵀa): the body turns by Rᵀa; body velocity does not change.
@@ -45,7 +44,7 @@ Eigen::Matrix<double, 12, 2> tiltDirections(const EstimatedPose& x, const Eigen:
     n.block<3, 1>(vehicle::kPosition, i) = axis.cross(x.p_BinN);
     n.block<3, 1>(vehicle::kAttitude, i) =
         x.attitude == vehicle::Attitude::kEuler ? eulerRates(x.euler, turn_B) : turn_B;
-    n.block<3, 1>(9, i) = axis.cross(p_ref);
+    n.block<3, 1>(kObservedPoseEntries, i) = axis.cross(p_ref);
   }
   return n;
 }

@@ -75,7 +75,7 @@ Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book
       const double lever = o_.oc_projection == SlamOptions::OcProjection::kRangeWeighted
                                ? (p_LinN - x.p_BinN).norm()
                                : 1.0;
-      Eigen::Matrix<double, 12, 2> tilt;
+      TiltDirections tilt;
       if (o_.oc_tilt) tilt = tiltDirections(x, record->first_estimate);
       constrainStereoJacobian(vehicle_model::yawDirectionAt(x, book.vehicleYawDirection()),
                               record->yaw_direction, lever, &dz_dxv, &dz_dpL,

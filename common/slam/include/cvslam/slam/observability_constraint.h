@@ -28,6 +28,13 @@
 
 namespace cvslam {
 
+/// Directions of a stereo observation's joint state: rows 0–8 the vehicle pose (position, body
+/// velocity, attitude), rows 9–11 the landmark; one column per direction.
+constexpr int kObservedPoseEntries = 9;
+constexpr int kObservedEntries = kObservedPoseEntries + 3;
+/// The two tilt directions (tiltDirections), in those rows.
+using TiltDirections = Eigen::Matrix<double, kObservedEntries, 2>;
+
 /// The yaw direction e3 × p of a point p [m]: how p moves per radian of global yaw.
 Eigen::Vector3d yawDirectionOfPoint(const Eigen::Vector3d& p);
 
@@ -43,8 +50,7 @@ Eigen::Vector3d yawDirectionOfPoint(const Eigen::Vector3d& p);
 /// With `tilt` (columns: rotations about N's x and y axes, rows as N's), H N = 0 for them too.
 void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& u_L,
                              double attitude_lever_m, StereoCamera::Matrix4x9d* H_v,
-                             StereoCamera::Matrix4x3d* H_L,
-                             const Eigen::Matrix<double, 12, 2>* tilt = nullptr);
+                             StereoCamera::Matrix4x3d* H_L, const TiltDirections* tilt = nullptr);
 
 /// The tilt directions of one observation: how the vehicle pose `x` (9 entries: position,
 /// body velocity, attitude in x's coordinates) and a landmark at `p_ref` move per radian of a
@@ -52,6 +58,6 @@ void constrainStereoJacobian(const Eigen::VectorXd& u_v, const Eigen::Vector3d& 
 /// observation alone cannot tell such a rotation, whatever gravity tells the IMU: its
 /// Jacobian at one point (x, p_ref) annihilates them. Linearised at a landmark estimate that
 /// changes between updates, it does not, and the vision updates inform the tilt.
-Eigen::Matrix<double, 12, 2> tiltDirections(const EstimatedPose& x, const Eigen::Vector3d& p_ref);
+TiltDirections tiltDirections(const EstimatedPose& x, const Eigen::Vector3d& p_ref);
 
 }  // namespace cvslam
