@@ -21,6 +21,7 @@
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/sim/scenario.h"
+#include "cvslam/simrun/cross_uav_match_audit.h"
 #include "cvslam/simrun/rendered_sensing.h"
 #include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/agent_run_recorder.h"
@@ -262,6 +263,32 @@ Status openOutputs(const Args& args, const cvslam::SimulatedTeamRun& run,
   return (*dc)->open(args.out);
 }
 
+/// DC: the frame of UAV `id` against every peer's state, and the pairs it fused since its last
+/// frame, checked against the simulator's truth (simrun/cross_uav_match_audit.h).
+void auditMatches(const cvslam::SimulatedTeamRun& run, const cvslam::DcTeamLink& dc, int id,
+                  int64_t t_us, cvslam::simrun::CrossUavMatchAudit* audit,
+                  std::map<int, std::size_t>* fused_seen) {
+  std::map<int, std::size_t> index_of;
+  for (std::size_t i = 0; i < run.agentCount(); ++i) index_of[run.agentId(i)] = i;
+  const auto truth = [&](int agent) {
+    const cvslam::FrameSensing& s = run.sensing(index_of.at(agent));
+    return [&s](int64_t landmark, Eigen::Vector3d* p) { return s.landmarkTruth(landmark, p); };
+  };
+  const std::vector<cvslam::StateLandmark> own = run.slam(index_of.at(id)).stateLandmarks();
+  for (const auto& [peer, k] : index_of) {
+    if (peer != id)
+      audit->observe(id, t_us, own, truth(id), peer, run.slam(k).stateLandmarks(), truth(peer));
+  }
+  const std::vector<cvslam::coop::FusedMatch>& fused = dc.agent(id).fusedMatches();
+  for (std::size_t i = (*fused_seen)[id]; i < fused.size(); ++i) {
+    const cvslam::coop::FusedMatch& m = fused[i];
+    const int64_t peer_id =
+        index_of.count(m.peer) > 0 ? dc.agent(m.peer).sentLandmarkId(m.peer_seq, m.slot) : -1;
+    audit->fused(id, m.local_id, truth(id), m.peer, peer_id, truth(m.peer));
+  }
+  (*fused_seen)[id] = fused.size();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -295,6 +322,10 @@ int main(int argc, char** argv) {
       return fail(s.message());
   }
   std::map<int, AgentCounters> counters;
+  cvslam::simrun::CrossUavMatchAuditOptions audit_options;
+  audit_options.max_descriptor_distance = config->coop.max_descriptor_distance;
+  cvslam::simrun::CrossUavMatchAudit match_audit(audit_options);
+  std::map<int, std::size_t> fused_audited;
   const double duration = scenario->duration;
   int next_progress = 10;
   const auto wall_start = std::chrono::steady_clock::now();
@@ -305,6 +336,7 @@ int main(int argc, char** argv) {
           if (Status s = dc->afterFrame(f.agent_id, f.t_us, *f.mutable_slam, &recorder.writer());
               !s.ok())
             return s;
+          auditMatches(run, *dc, f.agent_id, f.t_us, &match_audit, &fused_audited);
         }
         const double t = static_cast<double>(f.t_us) * 1e-6;
         AgentCounters& c = counters[f.agent_id];
@@ -356,6 +388,13 @@ int main(int argc, char** argv) {
       truth = [&](int64_t id, Eigen::Vector3d* p) { return first.landmarkTruth(id, p); };
     if (Status s = cc->close(truth); !s.ok()) return fail(s.message());
   }
+  if (dc) {
+    // docs/run_format.md: cross_uav_matches.json.
+    std::FILE* f = std::fopen((args.out + "/cross_uav_matches.json").c_str(), "w");
+    if (f == nullptr) return fail("cannot write " + args.out + "/cross_uav_matches.json");
+    std::fprintf(f, "%s\n", match_audit.json().c_str());
+    std::fclose(f);
+  }
   const cvslam::RunInfo info = runInfo(args, *scenario, *config);
   if (Status s = cvslam::writeRunInfo(args.out, info); !s.ok()) return fail(s.message());
 
@@ -364,7 +403,10 @@ int main(int argc, char** argv) {
               duration / std::max(wall_s, 1e-9));
   for (std::size_t i = 0; i < run.agentCount(); ++i)
     printAgentSummary(run, i, counters[run.agentId(i)]);
-  if (dc) dc->printSummary(stdout, duration);
+  if (dc) {
+    dc->printSummary(stdout, duration);
+    std::printf("  %s\n", match_audit.summaryLine().c_str());
+  }
   if (cc) cc->printSummary(stdout, duration);
   std::printf("  outputs in %s (evaluate with: cvslam_eval --run %s --summary-json F)\n",
               args.out.c_str(), args.out.c_str());

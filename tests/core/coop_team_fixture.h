@@ -61,6 +61,8 @@ struct TeamResult {
   std::vector<coop::CoopEvent> events[2];
   double final_vehicle_error[2] = {0, 0};
   double final_landmark_error[2] = {0, 0};  ///< mean |p − p_true| of in-state landmarks
+  /// Fused pairs: (own landmark id, the sender's id of its landmark, -1 if unknown).
+  std::vector<std::pair<int64_t, int64_t>> fused_pairs[2];
   bool ok = false;
 };
 
@@ -148,6 +150,9 @@ inline TeamResult runTeam(double duration, uint64_t seed, const TeamOptions& opt
   for (int i = 0; i < 2; ++i) {
     out.stats[i] = agents[i]->statistics();
     out.events[i] = agents[i]->takeEvents();
+    for (const coop::FusedMatch& m : agents[i]->fusedMatches())
+      out.fused_pairs[i].emplace_back(m.local_id,
+                                      agents[1 - i]->sentLandmarkId(m.peer_seq, m.slot));
     const VisualInertialSlam& slam = run->slam(static_cast<std::size_t>(i));
     const sim::GroundTruth truth =
         run->simulator().agent(static_cast<std::size_t>(i)).truth(slam.time());

@@ -57,6 +57,25 @@ TEST(DcCooperation, FusionImprovesTheWorseAgent) {
   EXPECT_EQ(c.stats[0].rejected_duplicate + c.stats[1].rejected_duplicate, 0);
 }
 
+TEST(DcCooperation, FusedMatchesNameTheSenderLandmark) {
+  // With true ids (feature level) a fused pair is one landmark: the receiver's id and the id
+  // the sender recorded for that entry of its message must agree (the audit of
+  // simrun/cross_uav_match_audit.h relies on it).
+  const TeamResult& c = cooperative();
+  ASSERT_TRUE(c.ok);
+  std::size_t pairs = 0;
+  for (int i = 0; i < 2; ++i) {
+    int64_t fused = 0;
+    for (const auto& [own, sender] : c.fused_pairs[i]) {
+      EXPECT_EQ(own, sender);
+      ++pairs;
+      ++fused;
+    }
+    EXPECT_EQ(fused, c.stats[i].landmarks_fused);
+  }
+  EXPECT_GT(pairs, 0u);
+}
+
 TEST(DcCooperation, DuplicatedMessagesAreDroppedAndChangeNothing) {
   TeamOptions o;
   o.transport = [](int64_t, Envelope e) { return std::vector<Envelope>{e, e}; };

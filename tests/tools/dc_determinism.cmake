@@ -1,5 +1,6 @@
 # cvslam_run --mode dc is deterministic: two runs of the same scenario give identical
-# trajectories and cooperation logs, and cooperation actually fused landmarks.
+# trajectories and cooperation logs, cooperation actually fused landmarks, and the audit of
+# the fused pairs against the truth (cross_uav_matches.json) finds them all right.
 # Usage: cmake -DRUN=<cvslam_run> -DSCENARIO=<yaml> -DOUT=<dir> -P dc_determinism.cmake
 file(REMOVE_RECURSE ${OUT})
 foreach(i a b)
@@ -9,7 +10,8 @@ foreach(i a b)
     message(FATAL_ERROR "cvslam_run --mode dc failed (${rc}): ${err}")
   endif()
 endforeach()
-foreach(f agent_1/trajectory.tum agent_2/trajectory.tum agent_1/coop.csv agent_2/coop.csv)
+foreach(f agent_1/trajectory.tum agent_2/trajectory.tum agent_1/coop.csv agent_2/coop.csv
+          cross_uav_matches.json)
   execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${OUT}/a/${f} ${OUT}/b/${f}
                   RESULT_VARIABLE same)
   if(NOT same EQUAL 0)
@@ -24,5 +26,11 @@ endif()
 file(READ ${OUT}/a/agent_1/stats.json stats)
 if(NOT stats MATCHES "bytes_sent_per_stream")
   message(FATAL_ERROR "stats.json lacks bytes_sent_per_stream")
+endif()
+# The audit of the fused pairs against the truth: with true ids every pair is one landmark.
+file(READ ${OUT}/a/cross_uav_matches.json audit)
+if(NOT audit MATCHES "\"fused\": [1-9]" OR NOT audit MATCHES "\"fused_unknown\": 0,"
+   OR NOT audit MATCHES "\"precision\": 1.000000")
+  message(FATAL_ERROR "cross_uav_matches.json: expected fused pairs, all right: ${audit}")
 endif()
 file(REMOVE_RECURSE ${OUT})

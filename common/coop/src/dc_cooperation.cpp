@@ -248,6 +248,9 @@ void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSl
     s.landmarks.push_back({l.index, l.p_LinN, l.covariance, l.descriptor});
     keys.push_back(VariableKey::landmark(static_cast<uint64_t>(l.id)));
   }
+  std::vector<int64_t> ids;
+  for (const VariableKey& k : keys) ids.push_back(static_cast<int64_t>(k.id));
+  recordSent(s.header.seq, std::move(ids));
   // The joint covariance, so that the receiver need not bound the correlations.
   if (Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), keys);
       J.ok() && s.landmarks.size() >= 2)
@@ -384,10 +387,13 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
     back.vehicle_cov_trace = vehiclePositionTrace(slam);
     back.informed_by = informed_by_;
     if (n >= 2) back.joint_covariance = P1.value();
+    std::vector<int64_t> ids;
     for (const ConfirmedPair& pr : pairs) {
       const StateLandmark& l = local[pr.local];
       back.landmarks.push_back({pr.peer->index, l.p_LinN, l.covariance, l.descriptor});
+      ids.push_back(l.id);
     }
+    recordSent(back.header.seq, std::move(ids));
     ++stats_.shared_sent;
     events_.push_back({now_us, CoopEventKind::kSharedSent, j,
                        static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
@@ -432,6 +438,9 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
   std::set_union(informed_by_.begin(), informed_by_.end(), from.begin(), from.end(),
                  std::back_inserter(merged));
   informed_by_ = std::move(merged);
+  for (const ConfirmedPair& pr : pairs)
+    fused_matches_.push_back({now_us, j, local[pr.local].id, m.header.seq,
+                              static_cast<int>(pr.peer - m.landmarks.data())});
   e->fused = static_cast<int>(n);
   stats_.landmarks_fused += n;
   ++stats_.exchanges_completed;
@@ -542,6 +551,17 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
       {now, CoopEventKind::kIndexSent, 0, static_cast<int>(idx.indices.size()), 0, 0, 0, 1.0});
   out->index = std::move(idx);
   return Status::Ok();
+}
+
+void DcCooperation::recordSent(int64_t seq, std::vector<int64_t> ids) {
+  sent_ids_[seq] = std::move(ids);
+  if (sent_ids_.size() > kSentRecords) sent_ids_.erase(sent_ids_.begin());
+}
+
+int64_t DcCooperation::sentLandmarkId(int64_t seq, int slot) const {
+  auto it = sent_ids_.find(seq);
+  if (it == sent_ids_.end() || slot < 0 || slot >= static_cast<int>(it->second.size())) return -1;
+  return it->second[static_cast<std::size_t>(slot)];
 }
 
 }  // namespace cvslam::coop

@@ -167,6 +167,17 @@ struct CoopEvent {
   double r_scale = 1.0;         ///< kFused: scale of the peer's R (peer_consistency.h)
 };
 
+/// A landmark pair this agent fused with a peer's estimate: which of the own landmarks, and
+/// which entry of which of the peer's SharedLandmarks. For an in-process audit of the matches
+/// against a simulator's truth (simrun/cross_uav_match_audit.h); nothing of it is sent.
+struct FusedMatch {
+  int64_t t_us = 0;       ///< frame time of the fusion [µs]
+  int peer = 0;           ///< the sender
+  int64_t local_id = -1;  ///< the own landmark
+  int64_t peer_seq = 0;   ///< header.seq of the sender's SharedLandmarks
+  int slot = 0;           ///< position of the peer's landmark in that message
+};
+
 class DcCooperation {
  public:
   DcCooperation(int self_id, const DcCooperationOptions& options, int64_t boot_id);
@@ -188,6 +199,11 @@ class DcCooperation {
   std::vector<CoopEvent> takeEvents();
   std::vector<int> peers() const;  ///< currently known (not timed out), ascending
   int selfId() const { return self_; }
+  /// Every landmark pair fused so far, in order.
+  const std::vector<FusedMatch>& fusedMatches() const { return fused_matches_; }
+  /// The own landmark id in entry `slot` of the SharedLandmarks this agent sent with header
+  /// seq `seq` (one of the last kSentRecords), or -1.
+  int64_t sentLandmarkId(int64_t seq, int slot) const;
   const DcCooperationOptions& options() const { return o_; }
 
  private:
@@ -249,6 +265,11 @@ class DcCooperation {
   DcCooperationStatistics stats_;
   std::vector<CoopEvent> events_;
   std::vector<int> informed_by_;  ///< provenance of the own state, ascending
+  std::vector<FusedMatch> fused_matches_;
+  static constexpr std::size_t kSentRecords = 256;
+  std::map<int64_t, std::vector<int64_t>> sent_ids_;  ///< SHARED seq -> own landmark ids
+  /// Records the own landmark ids of an outgoing SharedLandmarks (its header.seq).
+  void recordSent(int64_t seq, std::vector<int64_t> ids);
 };
 
 }  // namespace cvslam::coop
