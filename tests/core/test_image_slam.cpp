@@ -389,7 +389,10 @@ TEST(ImageSlam, ShippedFrontendConfigLoads) {
   EXPECT_TRUE(o.loop_detection.enabled);
   EXPECT_EQ(o.loop_detection.min_inliers, 6);
   EXPECT_EQ(o.tracked_landmarks, 0);
+  EXPECT_EQ(o.new_landmark_order, NewLandmarkOrder::kConfirmation);
+  EXPECT_EQ(o.new_landmark_grid, 4);
   for (const char* text : {"confirm_gate_px: -1\n", "tracked_landmarks: -2\n",
+                           "new_landmark_order: strongest\n", "new_landmark_grid: 0\n",
                            "loop_detection: {min_inliers: 1}\n", "loop_detection: {typo: 1}\n"}) {
     auto bad = ConfigNode::fromString(text, "bad.yaml");
     ASSERT_TRUE(bad.ok());

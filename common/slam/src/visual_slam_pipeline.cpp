@@ -64,6 +64,32 @@ int removeDuplicatePoints(std::vector<StereoObservation>* observations) {
   return removed;
 }
 
+/// A new point confirmed frame to frame, for the offer to the filter.
+struct ConfirmedPoint {
+  double rank;  ///< smaller is offered first: the confirmation residual (max |z − ẑ|, px)
+  std::size_t obs;
+};
+
+/// new_landmark_order: response. The strongest point of every grid cell first, then the second
+/// strongest of every cell, …: the scene's most distinctive points, spread over the view.
+void rankByResponse(const std::vector<StereoObservation>& observations, int grid,
+                    const StereoCameraOptions& camera, std::vector<ConfirmedPoint>* found) {
+  std::sort(found->begin(), found->end(), [&](const ConfirmedPoint& p, const ConfirmedPoint& q) {
+    const float rp = observations[p.obs].response, rq = observations[q.obs].response;
+    return rp > rq || (rp == rq && p.obs < q.obs);
+  });
+  std::vector<int> taken(static_cast<std::size_t>(grid * grid), 0);
+  for (std::size_t k = 0; k < found->size(); ++k) {
+    const Eigen::Vector4d& z = observations[(*found)[k].obs].z;
+    const int cx = std::clamp(static_cast<int>(z(0) * grid / camera.width), 0, grid - 1);
+    const int cy = std::clamp(static_cast<int>(z(1) * grid / camera.height), 0, grid - 1);
+    // Round in the cell, then position in the strength order.
+    (*found)[k].rank = static_cast<double>(taken[static_cast<std::size_t>(cy * grid + cx)]++) *
+                           static_cast<double>(found->size()) +
+                       static_cast<double>(k);
+  }
+}
+
 }  // namespace
 
 Status VisualFrontEndOptions::load(const ConfigNode& node) {
@@ -78,6 +104,12 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
   node.get("confirm_gate_px", confirm_gate_px);
   node.get("tracked_landmarks", tracked_landmarks);
   node.get("drop_duplicate_points", drop_duplicate_points);
+  node.getEnum("new_landmark_order", new_landmark_order,
+               {{"response", NewLandmarkOrder::kResponse},
+                {"confirmation", NewLandmarkOrder::kConfirmation}});
+  node.get("new_landmark_grid", new_landmark_grid);
+  node.check(new_landmark_grid >= 1 && new_landmark_grid <= 64, "new_landmark_grid",
+             "must be in [1, 64]");
   // Overrides of slam options: set only when the key is present.
   auto override = [&node](const char* key, std::optional<bool>* out) {
     if (!node.has(key)) return;
@@ -310,11 +342,7 @@ void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
   const int bytes = vision::descriptorBytes(a.descriptor_type);
   const vision::MatchNorm norm = descriptorNorm();
   std::vector<bool> taken(previous_.size(), false);
-  struct Confirmed {
-    double residual;
-    std::size_t obs;
-  };
-  std::vector<Confirmed> found;
+  std::vector<ConfirmedPoint> found;
   for (std::size_t i = 0; i < observations->size(); ++i) {
     const StereoObservation& obs = (*observations)[i];
     if (obs.landmark_id >= 0) continue;
@@ -339,9 +367,10 @@ void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
     taken[best] = true;
     found.push_back({(obs.z - expected_[best]).cwiseAbs().maxCoeff(), i});
   }
-  // Offer the filter only as many as it initialises, best confirmed first: its own choice,
-  // nearest first, would favour the matches whose disparity error is positive (too near).
-  // And only as many as the map has room for besides the landmarks it tracks now.
+  // Offer the filter only as many as it initialises, in new_landmark_order (the strongest or
+  // the best confirmed first): its own choice, nearest first, would favour the matches whose
+  // disparity error is positive (too near). And only as many as the map has room for besides
+  // the landmarks it tracks now.
   const int target = o_.tracked_landmarks > 0 ? o_.tracked_landmarks : slam.options().map.k;
   int tracked = 0;
   for (const StereoObservation& obs : *observations) {
@@ -352,9 +381,11 @@ void VisualSlamPipeline::confirmNew(const VisualInertialSlam& slam,
   }
   const int room = std::clamp(target - tracked, 0, slam.options().slam.max_new_landmarks_per_frame);
   const auto n_offer = std::min(found.size(), static_cast<std::size_t>(room));
+  if (o_.new_landmark_order == NewLandmarkOrder::kResponse)
+    rankByResponse(*observations, o_.new_landmark_grid, slam.camera().options(), &found);
   std::partial_sort(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(n_offer),
-                    found.end(), [](const Confirmed& p, const Confirmed& q) {
-                      return p.residual < q.residual || (p.residual == q.residual && p.obs < q.obs);
+                    found.end(), [](const ConfirmedPoint& p, const ConfirmedPoint& q) {
+                      return p.rank < q.rank || (p.rank == q.rank && p.obs < q.obs);
                     });
   for (std::size_t k = 0; k < n_offer; ++k) {
     (*observations)[found[k].obs].landmark_id = next_landmark_id_++;

@@ -198,6 +198,7 @@ Status StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
     obs.index = vocabulary_ ? vocabulary_->word(d) : 0u;
     obs.type = ObservationType::kNew;
     obs.landmark_id = -1;
+    obs.response = kl.response;
     observations->push_back(std::move(obs));
   }
   frame_.timings.index_ms = msSince(t0);

@@ -22,6 +22,7 @@ struct StereoObservation {
   ObservationType type = ObservationType::kNew;
   int64_t landmark_id = -1;         ///< map landmark this was associated with, or −1
   std::vector<uint8_t> descriptor;  ///< raw descriptor bytes (may be empty)
+  float response = 0.0f;            ///< detector response of the left keypoint (0: unknown)
 };
 
 /// All observations of one stereo epoch.

@@ -52,6 +52,12 @@ namespace cvslam {
 
 class ConfigNode;
 
+/// Which confirmed new points the filter is offered first (VisualFrontEndOptions).
+enum class NewLandmarkOrder {
+  kResponse,      ///< the detector's strongest keypoints first
+  kConfirmation,  ///< the smallest frame-to-frame confirmation residual first
+};
+
 struct VisualFrontEndOptions {
   vision::StereoFrontEndOptions front_end;    ///< detector, stereo, max_observations
   vision::MapAssociationOptions association;  ///< `association:` (descriptor type follows the
@@ -72,6 +78,17 @@ struct VisualFrontEndOptions {
   /// it is tracked: initialising new ones beyond what the k-nearest map keeps would push
   /// still-visible landmarks into the archive after two or three frames (docs/image_sensing.md).
   int tracked_landmarks = 0;
+  /// The order in which confirmed new points are offered (as many as the map has room for).
+  /// `confirmation`: the points that confirmed best, a choice that depends on the view.
+  /// `response`: the scene's most distinctive points, which another UAV flying over the same
+  /// ground detects and maps too: 3–4× more cross-UAV landmark pairs for DC to find, but
+  /// less accurate alone on the recordings and on thesis_loop's UAV2 (docs/image_sensing.md
+  /// "New landmarks by detector response"), hence not the default.
+  NewLandmarkOrder new_landmark_order = NewLandmarkOrder::kConfirmation;
+  /// With `response`: the image is cut into this many cells per side and the strongest point
+  /// of every cell is offered before the second strongest of any, so that the new landmarks
+  /// spread over the view (1: the strongest wherever they are).
+  int new_landmark_grid = 4;
   /// Keep one observation per left pixel (SIFT gives one keypoint per dominant orientation,
   /// i.e. the same point twice with different descriptors). Off by default: on thesis_loop it
   /// changed the drift by several metres either way (docs/image_sensing.md).
