@@ -20,7 +20,6 @@
 
 #include <Eigen/Core>
 
-#include "cvslam/core/status.h"
 
 namespace cvslam {
 struct StateLandmark;
