@@ -20,7 +20,6 @@
 
 #include <Eigen/Core>
 
-
 namespace cvslam {
 struct StateLandmark;
 }
