@@ -19,6 +19,7 @@
 #include "cvslam/coop/agent_config.h"
 #include "cvslam/io/cli.h"
 #include "cvslam/io/config_node.h"
+#include "cvslam/io/json_file.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/simrun/cross_uav_match_audit.h"
@@ -265,11 +266,10 @@ Status openOutputs(const Args& args, const cvslam::SimulatedTeamRun& run,
 
 /// DC: the frame of UAV `id` against every peer's state, and the pairs it fused since its last
 /// frame, checked against the simulator's truth (simrun/cross_uav_match_audit.h).
-void auditMatches(const cvslam::SimulatedTeamRun& run, const cvslam::DcTeamLink& dc, int id,
-                  int64_t t_us, cvslam::simrun::CrossUavMatchAudit* audit,
+void auditMatches(const cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t>& index_of,
+                  const cvslam::DcTeamLink& dc, int id, int64_t t_us,
+                  cvslam::simrun::CrossUavMatchAudit* audit,
                   std::map<int, std::size_t>* fused_seen) {
-  std::map<int, std::size_t> index_of;
-  for (std::size_t i = 0; i < run.agentCount(); ++i) index_of[run.agentId(i)] = i;
   const auto truth = [&](int agent) {
     const cvslam::FrameSensing& s = run.sensing(index_of.at(agent));
     return [&s](int64_t landmark, Eigen::Vector3d* p) { return s.landmarkTruth(landmark, p); };
@@ -326,6 +326,8 @@ int main(int argc, char** argv) {
   audit_options.max_descriptor_distance = config->coop.max_descriptor_distance;
   cvslam::simrun::CrossUavMatchAudit match_audit(audit_options);
   std::map<int, std::size_t> fused_audited;
+  std::map<int, std::size_t> index_of;  // agent id -> index in `run`
+  for (std::size_t i = 0; i < run.agentCount(); ++i) index_of[run.agentId(i)] = i;
   const double duration = scenario->duration;
   int next_progress = 10;
   const auto wall_start = std::chrono::steady_clock::now();
@@ -336,7 +338,7 @@ int main(int argc, char** argv) {
           if (Status s = dc->afterFrame(f.agent_id, f.t_us, *f.mutable_slam, &recorder.writer());
               !s.ok())
             return s;
-          auditMatches(run, *dc, f.agent_id, f.t_us, &match_audit, &fused_audited);
+          auditMatches(run, index_of, *dc, f.agent_id, f.t_us, &match_audit, &fused_audited);
         }
         const double t = static_cast<double>(f.t_us) * 1e-6;
         AgentCounters& c = counters[f.agent_id];
@@ -389,11 +391,9 @@ int main(int argc, char** argv) {
     if (Status s = cc->close(truth); !s.ok()) return fail(s.message());
   }
   if (dc) {
-    // docs/run_format.md: cross_uav_matches.json.
-    std::FILE* f = std::fopen((args.out + "/cross_uav_matches.json").c_str(), "w");
-    if (f == nullptr) return fail("cannot write " + args.out + "/cross_uav_matches.json");
-    std::fprintf(f, "%s\n", match_audit.json().c_str());
-    std::fclose(f);
+    if (Status s = cvslam::writeJsonFile(args.out + "/cross_uav_matches.json", match_audit.json());
+        !s.ok())
+      return fail(s.message());
   }
   const cvslam::RunInfo info = runInfo(args, *scenario, *config);
   if (Status s = cvslam::writeRunInfo(args.out, info); !s.ok()) return fail(s.message());

@@ -98,7 +98,7 @@ TEST_F(CrossUavMatchAuditTest, FusedPairsAreRightOnlyWhenTheyAreTwins) {
   audit.fused(1, 3, truthOf(own_truth), 2, 13, truthOf(peer_truth));
   EXPECT_EQ(audit.report().distinct_twin_pairs, 3);
   EXPECT_DOUBLE_EQ(audit.report().recall(), 2.0 / 3.0);
-  EXPECT_NE(audit.json().find("\"precision\": 0.750000"), std::string::npos) << audit.json();
+  EXPECT_DOUBLE_EQ(audit.json()["precision"].get<double>(), 0.75) << audit.json().dump();
 }
 
 TEST(CrossUavMatchReport, PrecisionIsOneAndRecallZeroWhenNothingHappened) {

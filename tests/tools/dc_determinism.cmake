@@ -29,8 +29,10 @@ if(NOT stats MATCHES "bytes_sent_per_stream")
 endif()
 # The audit of the fused pairs against the truth: with true ids every pair is one landmark.
 file(READ ${OUT}/a/cross_uav_matches.json audit)
-if(NOT audit MATCHES "\"fused\": [1-9]" OR NOT audit MATCHES "\"fused_unknown\": 0,"
-   OR NOT audit MATCHES "\"precision\": 1.000000")
+string(JSON fused GET "${audit}" fused)
+string(JSON unknown GET "${audit}" fused_unknown)
+string(JSON precision GET "${audit}" precision)
+if(fused LESS 1 OR NOT unknown EQUAL 0 OR NOT precision EQUAL 1)
   message(FATAL_ERROR "cross_uav_matches.json: expected fused pairs, all right: ${audit}")
 endif()
 file(REMOVE_RECURSE ${OUT})

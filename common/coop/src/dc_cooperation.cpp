@@ -242,14 +242,14 @@ void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSl
   s.vehicle_cov_trace = vehiclePositionTrace(slam);
   s.informed_by = informed_by_;
   std::vector<VariableKey> keys;
+  std::vector<int64_t> ids;
   for (const StateLandmark& l : slam.stateLandmarks()) {
     if (static_cast<int>(s.landmarks.size()) >= o_.max_landmarks_per_message) break;
     if (!std::binary_search(wanted.begin(), wanted.end(), l.index)) continue;
     s.landmarks.push_back({l.index, l.p_LinN, l.covariance, l.descriptor});
     keys.push_back(VariableKey::landmark(static_cast<uint64_t>(l.id)));
+    ids.push_back(l.id);
   }
-  std::vector<int64_t> ids;
-  for (const VariableKey& k : keys) ids.push_back(static_cast<int64_t>(k.id));
   recordSent(s.header.seq, std::move(ids));
   // The joint covariance, so that the receiver need not bound the correlations.
   if (Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), keys);

@@ -82,18 +82,21 @@ void CrossUavMatchAudit::fused(int agent, int64_t own_id, const Truth& own_truth
   report_.distinct_twin_pairs_fused = static_cast<long>(twins_fused_.size());
 }
 
-std::string CrossUavMatchAudit::json() const {
+Json CrossUavMatchAudit::json() const {
   const CrossUavMatchReport& r = report_;
-  char buf[640];
-  std::snprintf(buf, sizeof(buf),
-                "{\"twin_radius_m\": %.3f, \"twin_observations\": %ld, \"twin_same_index\": %ld, "
-                "\"twin_descriptor_ok\": %ld, \"distinct_twin_pairs\": %ld, \"fused\": %ld, "
-                "\"fused_right\": %ld, \"fused_unknown\": %ld, \"distinct_twin_pairs_fused\": %ld, "
-                "\"precision\": %.6f, \"recall\": %.6f}",
-                o_.twin_radius_m, r.twin_observations, r.twin_same_index, r.twin_descriptor_ok,
-                r.distinct_twin_pairs, r.fused, r.fused_right, r.fused_unknown,
-                r.distinct_twin_pairs_fused, r.precision(), r.recall());
-  return buf;
+  Json j;
+  j["twin_radius_m"] = o_.twin_radius_m;
+  j["twin_observations"] = r.twin_observations;
+  j["twin_same_index"] = r.twin_same_index;
+  j["twin_descriptor_ok"] = r.twin_descriptor_ok;
+  j["distinct_twin_pairs"] = r.distinct_twin_pairs;
+  j["fused"] = r.fused;
+  j["fused_right"] = r.fused_right;
+  j["fused_unknown"] = r.fused_unknown;
+  j["distinct_twin_pairs_fused"] = r.distinct_twin_pairs_fused;
+  j["precision"] = r.precision();
+  j["recall"] = r.recall();
+  return j;
 }
 
 std::string CrossUavMatchAudit::summaryLine() const {

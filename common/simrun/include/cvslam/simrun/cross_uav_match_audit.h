@@ -20,6 +20,8 @@
 
 #include <Eigen/Core>
 
+#include "cvslam/io/json_file.h"
+
 namespace cvslam {
 struct StateLandmark;
 }
@@ -65,8 +67,8 @@ class CrossUavMatchAudit {
              const Truth& peer_truth);
 
   const CrossUavMatchReport& report() const { return report_; }
-  /// The report as a JSON object (one line).
-  std::string json() const;
+  /// The report as a JSON object (cross_uav_matches.json, docs/run_format.md).
+  Json json() const;
   /// One line for a run summary.
   std::string summaryLine() const;
 
