@@ -87,6 +87,9 @@ def parse_args(argv):
     p.add_argument('--duration', type=float, help='simulate only the first S seconds')
     p.add_argument('--config', help='agent configuration (default: config/agent.yaml)')
     p.add_argument('--build-dir', default='build', help='build folder with tools/cvslam_run')
+    p.add_argument('--run-arg', action='append', default=[], metavar='ARG',
+                   help='one more cvslam_run argument (repeatable), e.g. '
+                        '--run-arg=--linearise-at-truth for the ideal EKF')
     only = p.add_mutually_exclusive_group()
     only.add_argument('--runs-only', action='store_true', help='run the seeds, no analysis')
     only.add_argument('--analyse-only', action='store_true', help='analyse the existing runs')
@@ -135,6 +138,7 @@ def run_seed(args, exe, seed):
         cmd += ['--duration', str(args.duration)]
     if args.config:
         cmd += ['--config', args.config]
+    cmd += args.run_arg
     log = final + '.log'
     with open(log, 'w') as f:
         rc = subprocess.call(cmd, stdout=f, stderr=subprocess.STDOUT)

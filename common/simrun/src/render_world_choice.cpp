@@ -7,7 +7,8 @@ Expected<RenderWorldChoice> chooseRenderWorld(const sim::Scenario& scenario,
   RenderWorldChoice choice;
   choice.options.seed = scenario.seed;
   if (requested == "aerial" || requested == "hall") {
-    choice.options.kind = requested == "hall" ? render::WorldKind::kHall : render::WorldKind::kAerial;
+    choice.options.kind =
+        requested == "hall" ? render::WorldKind::kHall : render::WorldKind::kAerial;
     choice.reason = requested + " (requested)";
     return choice;
   }

@@ -28,7 +28,8 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
     AgentFilterSetup setup = simulatedAgentSetup(as, options);
     auto pipeline = AgentPipeline::create(as.id(), setup, as.camera());
     if (!pipeline.ok()) return pipeline.status();
-    Agent a{as.id(), std::move(pipeline.value()), std::move(agent_sensing), std::move(setup), {}};
+    Agent a{as.id(), std::move(pipeline.value()), std::move(agent_sensing), std::move(setup), {},
+            nullptr};
     if (as.spec().has_gps) {
       sim::GpsSimulator gps(as.sharedTrajectory(), as.spec().gps,
                             deriveSeed(scenario.seed, as.id(), RngStream::kGps));
@@ -40,6 +41,13 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
     run->agents_.push_back(std::move(a));
   }
   return run;
+}
+
+void SimulatedTeamRun::lineariseAtTruth() {
+  for (Agent& a : agents_) {
+    a.oracle = std::make_unique<SimulationTruthOracle>(a.sensing.get());
+    a.pipeline->slam().setLinearisationOracle(a.oracle.get());
+  }
 }
 
 Status SimulatedTeamRun::run(const FrameCallback& on_frame, const ImuCallback& on_imu) {
@@ -61,6 +69,7 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame, const ImuCallback& o
       a.gps.pop_front();
     }
     FrameSensing& sensing = *a.sensing;
+    if (a.oracle) a.oracle->setFrameTruth(ev.truth);
     if (Status s = p.processWith(
             ev.t_us,
             [&](VisualInertialSlam& slam, FrameReport* report) {

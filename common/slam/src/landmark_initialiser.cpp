@@ -5,6 +5,7 @@
 
 #include "cvslam/filter/covariance_helper.h"
 #include "cvslam/filter/vehicle_model.h"
+#include "cvslam/slam/linearisation_oracle.h"
 
 namespace cvslam {
 
@@ -50,10 +51,21 @@ Status LandmarkInitialiser::initialise(SlamState& state, LandmarkBook& book,
   StereoCamera::Matrix3x9d dpL_dxv;
   StereoCamera::Matrix3x4d dpL_dz;
   Eigen::MatrixXd dpL_dvehicle = Eigen::MatrixXd::Zero(3, veh->size);
+  vehicle_model::Pose x_true;  // the ideal EKF's diagnostic (linearisation_oracle.h)
+  const bool at_truth = oracle_ != nullptr && truePose(*oracle_, t_us, x, &x_true);
   for (std::size_t k = 0; k < n_new; ++k) {
     const StereoObservation& obs = frame.observations[fresh[k].obs];
     Eigen::Vector3d p_LinN;
     if (!camera_.triangulate(obs.z, x, &p_LinN, &dpL_dxv, &dpL_dz).ok()) continue;
+    Eigen::Vector3d p_true, p_unused;
+    if (at_truth && obs.landmark_id >= 0 && oracle_->landmark(obs.landmark_id, &p_true)) {
+      // The inverse observation model's Jacobians at the true pose and noise-free pixels.
+      if (!camera_
+               .triangulate(camera_.project(x_true, p_true), x_true, &p_unused, &dpL_dxv, &dpL_dz)
+               .ok()) {
+        continue;
+      }
+    }
     const int64_t id = obs.landmark_id >= 0 ? obs.landmark_id : (*next_fresh_id)++;
     vehicle_model::poseToBlockJacobian(dpL_dxv, &dpL_dvehicle);
     if (Status s =

@@ -5,6 +5,7 @@
 #include "cvslam/filter/covariance_helper.h"
 #include "cvslam/filter/vehicle_model.h"
 #include "cvslam/ins/vehicle_state_layout.h"
+#include "cvslam/slam/linearisation_oracle.h"
 #include "cvslam/slam/observability_constraint.h"
 
 namespace cvslam {
@@ -42,6 +43,10 @@ Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book
   if (veh == nullptr) return Status::Error("stereo update: the vehicle is not in the state");
   const vehicle_model::Pose x = vehicle_model::pose(state, *veh);
   const bool filter_jacobians = jacobians == Jacobians::kFilter;
+  // The ideal EKF's diagnostic (linearisation_oracle.h): H at the true pose and landmarks.
+  vehicle_model::Pose x_true;
+  const bool at_truth =
+      filter_jacobians && oracle_ != nullptr && truePose(*oracle_, frame.t_us, x, &x_true);
   const Eigen::Matrix4d R =
       Eigen::Matrix4d::Identity() * (o_.pixel_sigma * o_.pixel_sigma * noise_scale);
   batch->reset(state.size(), 4 * static_cast<int>(frame.observations.size()));
@@ -63,13 +68,19 @@ Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book
     }
     Eigen::Vector4d z_hat;
     const LandmarkBookEntry* record = book.find(id);
-    if (filter_jacobians && o_.first_estimate_jacobians && record != nullptr) {
+    Eigen::Vector3d p_true;
+    const bool jacobian_at_truth = at_truth && oracle_->landmark(id, &p_true);
+    if (jacobian_at_truth) {
+      z_hat = camera_.project(x, p_LinN);
+      camera_.project(x_true, p_true, &dz_dxv, &dz_dpL);
+    } else if (filter_jacobians && o_.first_estimate_jacobians && record != nullptr) {
       z_hat = camera_.project(x, p_LinN);
       camera_.project(x, record->first_estimate, &dz_dxv, &dz_dpL);
     } else {
       z_hat = camera_.project(x, p_LinN, &dz_dxv, &dz_dpL);
     }
-    if (filter_jacobians && o_.observability_constrained && record != nullptr &&
+    // At the truth the Jacobians have the true null space already: no projection.
+    if (filter_jacobians && !jacobian_at_truth && o_.observability_constrained && record != nullptr &&
         record->constrained) {
       // Range-weighted: the landmark's distance puts attitude and position on one scale.
       const double lever = o_.oc_projection == SlamOptions::OcProjection::kRangeWeighted

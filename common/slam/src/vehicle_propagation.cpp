@@ -4,6 +4,7 @@
 
 #include "cvslam/filter/covariance_helper.h"
 #include "cvslam/filter/vehicle_model.h"
+#include "cvslam/slam/linearisation_oracle.h"
 
 namespace cvslam {
 
@@ -63,6 +64,17 @@ Status VehiclePropagation::propagateTo(int64_t t_us, const InsPropagator& propag
             state.value(*v), vehicle_model::nominalAttitude(state, vehicle), segment, &tr);
         !s.ok()) {
       return s;
+    }
+    Eigen::Matrix<double, 15, 1> x_true;
+    if (oracle_ != nullptr && oracle_->vehicleState(segment.front().t_us, &x_true)) {
+      // The ideal EKF's diagnostic: Φ and Q_d along the true state (the mean stays tr.x).
+      Eigen::VectorXd x0;
+      Eigen::Quaterniond q0;
+      propagator.fromEulerLayout(x_true.head(propagator.stateSize()), &x0, &q0);
+      InsTransition at_truth;
+      if (Status s = propagator.propagate(x0, q0, segment, &at_truth); !s.ok()) return s;
+      tr.Phi = at_truth.Phi;
+      tr.Qd = at_truth.Qd;
     }
     if (Status s = CovarianceHelper::propagate(state, vehicle, tr.x, tr.Phi, tr.Qd, policy);
         !s.ok()) {

@@ -42,6 +42,14 @@ void VisualInertialSlam::configureModels() {
   updater_ = StereoUpdater(vehicle_, camera_, o_.slam);
   initialiser_ = LandmarkInitialiser(vehicle_, camera_, o_.slam);
   loop_closer_ = LoopCloser(vehicle_, camera_, o_.slam);
+  updater_.setOracle(oracle_);
+  initialiser_.setOracle(oracle_);
+  propagation_.setOracle(oracle_);
+}
+
+void VisualInertialSlam::setLinearisationOracle(const LinearisationOracle* oracle) {
+  oracle_ = oracle;
+  configureModels();
 }
 
 void VisualInertialSlam::setFirstEstimateJacobians(bool on) {

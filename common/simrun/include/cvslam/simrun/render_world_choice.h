@@ -14,7 +14,7 @@ namespace cvslam {
 
 struct RenderWorldChoice {
   render::WorldOptions options;  ///< kind chosen, seed = the scenario's seed
-  std::string reason;    ///< one line for the user, e.g. "aerial (outdoor scenario)"
+  std::string reason;            ///< one line for the user, e.g. "aerial (outdoor scenario)"
 };
 
 /// `requested`: "" (choose), "aerial" or "hall"; anything else is an error.

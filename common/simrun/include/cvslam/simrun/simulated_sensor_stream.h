@@ -14,11 +14,11 @@
 namespace cvslam {
 
 struct SimulatedSensorOptions {
-  bool render = true;         ///< true: rendered images; false: feature observations
+  bool render = true;                 ///< true: rendered images; false: feature observations
   render::WorldOptions render_world;  ///< the textured world the images show (aerial | hall)
   render::RenderOptions rendering;    ///< renderer options (clipping, effects)
-  bool ground_truth = true;   ///< emit ground truth at every IMU sample
-  double start = 0.0;         ///< skip (without rendering) everything before this [s]
+  bool ground_truth = true;           ///< emit ground truth at every IMU sample
+  double start = 0.0;                 ///< skip (without rendering) everything before this [s]
 };
 
 /// A simulated team: the simulator (ground-truth landmarks), the rendered world (if any) and

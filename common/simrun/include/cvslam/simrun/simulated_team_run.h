@@ -14,6 +14,7 @@
 #include "cvslam/sim/scenario.h"
 #include "cvslam/sim/simulator.h"
 #include "cvslam/simrun/frame_sensing.h"
+#include "cvslam/simrun/simulation_truth_oracle.h"
 #include "cvslam/slam/agent_pipeline.h"
 #include "cvslam/slam/agent_setup.h"
 #include "cvslam/slam/visual_inertial_slam.h"
@@ -66,6 +67,9 @@ class SimulatedTeamRun {
   const FrameSensing& sensing(std::size_t i) const { return *agents_[i].sensing; }
   int agentId(std::size_t i) const { return agents_[i].id; }
   const sim::Simulator& simulator() const { return simulator_; }
+  /// From now on every agent's filter takes its Jacobians at the truth (the ideal EKF,
+  /// slam/linearisation_oracle.h): a consistency diagnostic, `cvslam_run --linearise-at-truth`.
+  void lineariseAtTruth();
 
  private:
   // Filter and dead reckoning are the agent process's (agent_pipeline.h), so that
@@ -78,6 +82,7 @@ class SimulatedTeamRun {
     /// The UAV's GPS fixes not yet used (scenario `gps:`), applied before the first frame
     /// at or after each (VisualInertialSlam::addGps; nothing happens unless gps.enabled).
     std::deque<GpsFix> gps;
+    std::unique_ptr<SimulationTruthOracle> oracle;  ///< lineariseAtTruth() only
   };
   SimulatedTeamRun(sim::Simulator simulator) : simulator_(std::move(simulator)) {}
 

@@ -20,6 +20,8 @@
 
 namespace cvslam {
 
+class LinearisationOracle;
+
 class LandmarkInitialiser {
  public:
   LandmarkInitialiser(const VariableKey& vehicle, const StereoCamera& camera,
@@ -31,11 +33,14 @@ class LandmarkInitialiser {
   Status initialise(SlamState& state, LandmarkBook& book, const LandmarkArchive& archive,
                     const StereoFrameObservations& frame, int64_t t_us, int64_t* next_fresh_id,
                     int* initialised) const;
+  /// Initialisation Jacobians at the truth (linearisation_oracle.h; simulation diagnostics).
+  void setOracle(const LinearisationOracle* oracle) { oracle_ = oracle; }
 
  private:
   VariableKey vehicle_;
   StereoCamera camera_;
   SlamOptions o_;
+  const LinearisationOracle* oracle_ = nullptr;
 };
 
 }  // namespace cvslam

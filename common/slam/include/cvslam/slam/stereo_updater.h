@@ -22,6 +22,8 @@
 
 namespace cvslam {
 
+class LinearisationOracle;
+
 class StereoUpdater {
  public:
   /// Which observations the passes use, by their landmark's membership in a sorted id list
@@ -51,12 +53,15 @@ class StereoUpdater {
                    MeasurementBatch* batch) const;
 
   const VariableKey& vehicle() const { return vehicle_; }
+  /// Filter Jacobians at the truth (linearisation_oracle.h; simulation diagnostics); null: off.
+  void setOracle(const LinearisationOracle* oracle) { oracle_ = oracle; }
 
  private:
   VariableKey vehicle_;
   StereoCamera camera_;
   SlamOptions o_;
   MeasurementBatch batch_;  // reused every pass
+  const LinearisationOracle* oracle_ = nullptr;
 };
 
 }  // namespace cvslam

@@ -21,6 +21,8 @@
 
 namespace cvslam {
 
+class LinearisationOracle;
+
 class VehiclePropagation {
  public:
   /// Empties the buffer; the vehicle's state is at t_us.
@@ -34,10 +36,13 @@ class VehiclePropagation {
   int64_t lastSampleTime() const { return buffer_.empty() ? t_us_ - 1 : buffer_.back().t_us; }
   /// The vehicle's state time.
   int64_t time() const { return t_us_; }
+  /// Φ and Q_d at the truth (linearisation_oracle.h; simulation diagnostics); null: off.
+  void setOracle(const LinearisationOracle* oracle) { oracle_ = oracle; }
 
  private:
   std::vector<ImuSample> buffer_;  // front() is at the state time
   int64_t t_us_ = 0;
+  const LinearisationOracle* oracle_ = nullptr;
 };
 
 }  // namespace cvslam

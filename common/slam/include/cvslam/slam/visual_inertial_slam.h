@@ -40,6 +40,7 @@
 #include "cvslam/slam/landmark_archive.h"
 #include "cvslam/slam/landmark_book.h"
 #include "cvslam/slam/landmark_initialiser.h"
+#include "cvslam/slam/linearisation_oracle.h"
 #include "cvslam/slam/loop_closer.h"
 #include "cvslam/slam/reactivation_intersection.h"
 #include "cvslam/slam/slam_options.h"
@@ -162,6 +163,10 @@ class VisualInertialSlam {
   /// The same for the observability-constrained updates (SlamOptions): their bookkeeping is
   /// always kept, only the projection of the Jacobians is switched.
   void setObservabilityConstrained(bool on);
+  /// Takes the Jacobians of propagation, stereo update and initialisation at the truth the
+  /// oracle gives (linearisation_oracle.h: the ideal EKF, a diagnostic of simulation; null:
+  /// off). The loop update keeps its own. The oracle must outlive this filter.
+  void setLinearisationOracle(const LinearisationOracle* oracle);
   const VisualInertialSlamOptions& options() const { return o_; }
   const StereoCamera& camera() const { return camera_; }
 
@@ -193,6 +198,7 @@ class VisualInertialSlam {
   VehiclePropagation propagation_;  // the IMU buffer of step 1
   FilterStatistics stats_;
   int64_t t_us_ = 0;
+  const LinearisationOracle* oracle_ = nullptr;
   int64_t next_fresh_id_ = int64_t{1} << 40;  // ids for landmarks the front end left unnamed
   bool initialized_ = false;
 };
