@@ -71,7 +71,10 @@ int main(int argc, char** argv) {
 
   if (!quiet) {
     std::cout << "run " << run_dir << "  mode " << (info->mode.empty() ? "?" : info->mode)
-              << "  filter " << (info->filter.empty() ? "?" : info->filter) << '\n'
+              << "  filter " << (info->filter.empty() ? "?" : info->filter)
+              << (info->linearised_at_truth ? "  Jacobians at the truth (ideal EKF diagnostic)"
+                                            : "")
+              << '\n'
               << cvslam::summaryTable(*agents);
     for (const auto& ev : *agents)
       for (const auto& n : ev.notes) std::cout << "  agent " << ev.id << ": " << n << '\n';

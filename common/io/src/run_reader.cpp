@@ -54,6 +54,8 @@ Expected<RunInfo> readRunInfo(const std::string& run_dir) {
     info.seed = j->get<uint64_t>();
   if (const auto j = json->find("duration_s"); j != json->end() && j->is_number())
     info.duration_s = j->get<double>();
+  if (const auto j = json->find("linearised_at_truth"); j != json->end() && j->is_boolean())
+    info.linearised_at_truth = j->get<bool>();
   if (const auto j = json->find("agents"); j != json->end() && j->is_array()) {
     for (const auto& id : *j)
       if (id.is_number_integer()) info.agents.push_back(id.get<int>());

@@ -304,6 +304,7 @@ Status writeRunInfo(const std::string& run_dir, const RunInfo& info) {
   text("world", info.world);
   text("pixel_noise", info.pixel_noise);
   if (!info.agents.empty()) root["agents"] = info.agents;
+  if (info.linearised_at_truth) root["linearised_at_truth"] = true;
   text("config", info.config);
   text("program", info.program);
   root["commit"] = info.commit.empty() ? std::string(buildCommit()) : info.commit;

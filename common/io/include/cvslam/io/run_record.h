@@ -86,8 +86,11 @@ struct RunInfo {
   std::string world;                 ///< --world (render world kind), when given
   std::string pixel_noise;           ///< --pixel-noise, when given
   std::vector<int> agents;           ///< the UAVs that ran (ids)
-  std::string config;                ///< the configuration file given (before overrides)
-  std::string program;               ///< cvslam_run | cvslam_agent
+  /// cvslam_run --linearise-at-truth: the filters took their Jacobians at the simulator's
+  /// truth (the ideal EKF, a consistency diagnostic), not an estimator a UAV could run.
+  bool linearised_at_truth = false;
+  std::string config;   ///< the configuration file given (before overrides)
+  std::string program;  ///< cvslam_run | cvslam_agent
   /// The code the run came from (`git describe --always --dirty` at build time): with
   /// config_used.yaml, which holds the file and overrides but not the built-in defaults,
   /// it pins every option. writeRunInfo fills it in when empty.
