@@ -10,6 +10,7 @@ namespace cvslam {
 
 Status SlamOptions::load(const ConfigNode& node) {
   node.get("pixel_sigma", pixel_sigma);
+  node.get("second_order_noise", second_order_noise);
   node.get("observation_passes", observation_passes);
   node.get("scale_noise_per_pass", scale_noise_per_pass);
   node.get("max_new_landmarks_per_frame", max_new_landmarks_per_frame);

@@ -7,6 +7,7 @@
 #include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/slam/linearisation_oracle.h"
 #include "cvslam/slam/observability_constraint.h"
+#include "cvslam/slam/stereo_second_order_noise.h"
 
 namespace cvslam {
 
@@ -80,8 +81,8 @@ Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book
       z_hat = camera_.project(x, p_LinN, &dz_dxv, &dz_dpL);
     }
     // At the truth the Jacobians have the true null space already: no projection.
-    if (filter_jacobians && !jacobian_at_truth && o_.observability_constrained && record != nullptr &&
-        record->constrained) {
+    if (filter_jacobians && !jacobian_at_truth && o_.observability_constrained &&
+        record != nullptr && record->constrained) {
       // Range-weighted: the landmark's distance puts attitude and position on one scale.
       const double lever = o_.oc_projection == SlamOptions::OcProjection::kRangeWeighted
                                ? (p_LinN - x.p_BinN).norm()
@@ -92,7 +93,17 @@ Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book
                               record->yaw_direction, lever, &dz_dxv, &dz_dpL,
                               o_.oc_tilt ? &tilt : nullptr);
     }
-    const int g = batch->addObservation(obs.z - z_hat, R);
+    Eigen::Matrix4d R_obs = R;
+    if (filter_jacobians && o_.second_order_noise) {
+      const Eigen::MatrixXd& P = state.covariance();
+      Eigen::Matrix<double, 12, 12> P_xl;
+      P_xl.topLeftCorner<9, 9>() = P.block<9, 9>(veh->index, veh->index);
+      P_xl.topRightCorner<9, 3>() = P.block<9, 3>(veh->index, lm->index);
+      P_xl.bottomLeftCorner<3, 9>() = P.block<3, 9>(lm->index, veh->index);
+      P_xl.bottomRightCorner<3, 3>() = P.block<3, 3>(lm->index, lm->index);
+      R_obs += noise_scale * stereoSecondOrderNoise(camera_, x, p_LinN, P_xl);
+    }
+    const int g = batch->addObservation(obs.z - z_hat, R_obs);
     if (g < 0) break;
     vehicle_model::setPoseJacobian(*batch, g, *veh, dz_dxv);
     batch->setJacobian(g, *lm, dz_dpL);

@@ -19,6 +19,10 @@ struct SlamOptions {
   /// With n passes, use R·n in each pass so that the information of one observation is
   /// counted once (an iterated update). false: the thesis's literal n updates with R.
   bool scale_noise_per_pass = true;
+  /// Add the second-order term of the prediction, ½ tr(∇²h_i P ∇²h_j P), to each stereo
+  /// observation's R (the Gaussian second-order filter; stereo_second_order_noise.h): the
+  /// linearisation error of landmarks whose depth is still uncertain.
+  bool second_order_noise = false;
   int max_new_landmarks_per_frame = 8;  ///< new landmarks initialised per frame, nearest to m*
   double min_init_disparity_px = 1.0;   ///< farther points (smaller disparity) are not mapped
   /// An archived landmark re-enters the state only when it left it at least this long ago
