@@ -24,6 +24,7 @@ Status CcTeamLink::open(const std::string& run_dir, const RunInfo& info,
     starts_[id] = {slam.time(), slam.vehicleState(), slam.vehicleCovariance(), &setup.options.ins,
                    &slam.camera()};
     builders_.emplace(id, coop::CcBatchBuilder(id));
+    filter_.setLinearisationOracle(id, run.truthOracle(i));  // null unless --linearise-at-truth
   }
   return recorder_.open(run_dir, info);
 }

@@ -83,6 +83,7 @@ Status CcTeamFilter::addVehicle(int agent_id, const StereoCamera& camera, int64_
     it->second->has_batch = false;
   }
   CcVehicle& v = *it->second;
+  if (auto o = impl_->oracles.find(agent_id); o != impl_->oracles.end()) v.setOracle(o->second);
   // x_v, P_v in the Euler layout (messages, setups); the block takes the configured attitude.
   if (Status s = vehicle_model::addVehicle(impl_->state, v.key, x_v, P_v, ins_options.attitude);
       !s.ok()) {
@@ -94,6 +95,13 @@ Status CcTeamFilter::addVehicle(int agent_id, const StereoCamera& camera, int64_
   stats_.agents[agent_id];
   ++map_version_;
   return Status::Ok();
+}
+
+void CcTeamFilter::setLinearisationOracle(int agent_id, const LinearisationOracle* oracle) {
+  impl_->oracles[agent_id] = oracle;
+  if (auto it = impl_->vehicles.find(agent_id); it != impl_->vehicles.end()) {
+    it->second->setOracle(oracle);
+  }
 }
 
 Status CcTeamFilter::removeVehicle(int agent_id) {

@@ -30,6 +30,12 @@ struct CcVehicle {
         initialiser(key, cam, slam),
         loop_closer(key, cam, slam) {}
 
+  void setOracle(const LinearisationOracle* oracle) {
+    propagation.setOracle(oracle);
+    updater.setOracle(oracle);
+    initialiser.setOracle(oracle);
+  }
+
   int agent_id;
   VariableKey key;
   StereoCamera camera;
@@ -61,6 +67,7 @@ struct CcTeamFilter::Impl {
   UpdatePolicy policy;
   Status policy_status;
   std::map<int, std::unique_ptr<CcVehicle>> vehicles;
+  std::map<int, const LinearisationOracle*> oracles;      // setLinearisationOracle
   std::unordered_map<int64_t, CcLandmarkInfo> landmarks;  // every landmark of the joint map
   std::unordered_map<uint32_t, std::vector<int64_t>> by_index;
   /// Last time two UAVs (lower id first) shared an observed landmark outside a pending loop.

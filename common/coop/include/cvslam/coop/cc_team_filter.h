@@ -187,6 +187,10 @@ class CcTeamFilter {
   const CcTeamFilterOptions& options() const { return o_; }
   /// Landmark ids active for this UAV (its k nearest), ascending; empty if unknown.
   std::vector<int64_t> activeLandmarks(int agent_id) const;
+  /// UAV `agent_id`'s models take their Jacobians at the truth this oracle gives (the ideal
+  /// EKF, slam/linearisation_oracle.h: a diagnostic of simulation; null: off), now and
+  /// whenever the vehicle is (re-)added. The oracle must outlive the filter.
+  void setLinearisationOracle(int agent_id, const LinearisationOracle* oracle);
 
  private:
   struct Impl;

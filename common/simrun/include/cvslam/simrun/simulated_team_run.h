@@ -70,6 +70,9 @@ class SimulatedTeamRun {
   /// From now on every agent's filter takes its Jacobians at the truth (the ideal EKF,
   /// slam/linearisation_oracle.h): a consistency diagnostic, `cvslam_run --linearise-at-truth`.
   void lineariseAtTruth();
+  /// Agent i's truth oracle after lineariseAtTruth() (the ground station's models of that UAV
+  /// take it too, cc_team_link.h); null before.
+  const LinearisationOracle* truthOracle(std::size_t i) const { return agents_[i].oracle.get(); }
 
  private:
   // Filter and dead reckoning are the agent process's (agent_pipeline.h), so that
