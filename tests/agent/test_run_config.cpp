@@ -119,6 +119,23 @@ TEST(RunConfig, LinearisationAtTheTruthIsRecordedAndRefusedWhereItCannotBeWhole)
   ASSERT_TRUE(info.ok()) << info.status().message();
   EXPECT_FALSE(info->linearised_at_truth);
   EXPECT_NE(slurp(tmp / "ideal/agent_1/states.csv"), slurp(tmp / "own/agent_1/states.csv"));
+  // In cc mode the ground station's models of each UAV take its truth too.
+  for (const bool ideal : {true, false}) {
+    std::vector<std::string> args = {CVSLAM_RUN_EXE,
+                                     "--scenario",
+                                     scenario,
+                                     "--mode",
+                                     "cc",
+                                     "--duration",
+                                     "2",
+                                     "--out",
+                                     tmp / (ideal ? "cc_ideal" : "cc"),
+                                     "--quiet"};
+    if (ideal) args.push_back("--linearise-at-truth");
+    ASSERT_EQ(test::run(args, tmp / (ideal ? "cc_ideal" : "cc"), nullptr, &err), 0) << err;
+  }
+  EXPECT_NE(slurp(tmp / "cc_ideal/ground_station/agent_2/states.csv"),
+            slurp(tmp / "cc/ground_station/agent_2/states.csv"));
   EXPECT_EQ(test::run({CVSLAM_RUN_EXE, "--scenario", scenario, "--duration", "1", "--out",
                        tmp / "bad", "--linearise-at-truth", "--sensing", "images"},
                       tmp / "bad", &out, &err),
