@@ -3,7 +3,7 @@
 
     scripts/mc_consistency.py --scenario FILE --seeds FIRST-LAST --out DIR [--mode single|dc|cc]
                               [--sensing features|images] [--jobs 2] [--duration S]
-                              [--config FILE] [--build-dir build]
+                              [--config FILE] [--build-dir build] [--run-arg=ARG ...]
                               [--runs-only | --analyse-only]
 
 Runs `cvslam_run --seed N` for every seed N of the range (up to --jobs at a time) into

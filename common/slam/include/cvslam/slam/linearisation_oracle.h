@@ -5,7 +5,8 @@
 // the stereo update and the Jacobians of a new landmark's initialisation are taken at the
 // truth. A filter that is inconsistent even so has a modelling error (noise, timing, data used
 // twice, map management); one that is consistent only so is inconsistent by its linearisation.
-// A diagnostic: `cvslam_run --linearise-at-truth` (docs/filter.md); an agent never has one.
+// A diagnostic: `cvslam_run --linearise-at-truth` (docs/results/ideal_ekf.md); an agent never
+// has one.
 
 #include <Eigen/Core>
 #include <cstdint>

@@ -4,7 +4,9 @@
 // (UpdatePolicy, §3.4, §3.6), n passes relinearising in between (§5.7.3). The observation model
 // is the vehicle's camera (eq. 5.20) at its pose (filter/vehicle_model.h); the landmark book
 // supplies the first estimates (first-estimates Jacobians) and the yaw directions of the
-// observability-constrained projection (observability_constraint.h).
+// observability-constrained projection (observability_constraint.h). Options: R may carry the
+// prediction's second-order term (slam.second_order_noise, stereo_second_order_noise.h); a
+// simulation diagnostic may put H at the truth (setOracle, linearisation_oracle.h).
 // Works on VariableKey::vehicle(i) of a state that may hold several vehicles: the Jacobian has
 // entries in that vehicle's block and the observed landmarks' only.
 
