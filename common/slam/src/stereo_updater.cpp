@@ -44,10 +44,11 @@ Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book
   if (veh == nullptr) return Status::Error("stereo update: the vehicle is not in the state");
   const vehicle_model::Pose x = vehicle_model::pose(state, *veh);
   const bool filter_jacobians = jacobians == Jacobians::kFilter;
-  // The ideal EKF's diagnostic (linearisation_oracle.h): H at the true pose and landmarks.
+  // The ideal EKF's diagnostic (linearisation_oracle.h): H at the true pose and landmarks, for
+  // the filter's updates and the iterated ones (loop, rendezvous) alike, whose iterations then
+  // move the residual only.
   vehicle_model::Pose x_true;
-  const bool at_truth =
-      filter_jacobians && oracle_ != nullptr && truePose(*oracle_, frame.t_us, x, &x_true);
+  const bool at_truth = oracle_ != nullptr && truePose(*oracle_, frame.t_us, x, &x_true);
   const Eigen::Matrix4d R =
       Eigen::Matrix4d::Identity() * (o_.pixel_sigma * o_.pixel_sigma * noise_scale);
   batch->reset(state.size(), 4 * static_cast<int>(frame.observations.size()));

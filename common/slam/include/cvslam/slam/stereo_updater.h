@@ -55,7 +55,8 @@ class StereoUpdater {
                    MeasurementBatch* batch) const;
 
   const VariableKey& vehicle() const { return vehicle_; }
-  /// Filter Jacobians at the truth (linearisation_oracle.h; simulation diagnostics); null: off.
+  /// Jacobians (kFilter and kPlain) at the truth (linearisation_oracle.h; simulation
+  /// diagnostics); null: off.
   void setOracle(const LinearisationOracle* oracle) { oracle_ = oracle; }
 
  private:

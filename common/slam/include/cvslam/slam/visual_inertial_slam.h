@@ -165,7 +165,7 @@ class VisualInertialSlam {
   void setObservabilityConstrained(bool on);
   /// Takes the Jacobians of propagation, stereo update and initialisation at the truth the
   /// oracle gives (linearisation_oracle.h: the ideal EKF, a diagnostic of simulation; null:
-  /// off). The loop update keeps its own. The oracle must outlive this filter.
+  /// off); the loop update's iterated Jacobians too. The oracle must outlive this filter.
   void setLinearisationOracle(const LinearisationOracle* oracle);
   const VisualInertialSlamOptions& options() const { return o_; }
   const StereoCamera& camera() const { return camera_; }
