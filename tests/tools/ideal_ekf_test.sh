@@ -4,7 +4,7 @@
 # each UAV's mean vehicle and position NEES lie inside the χ² 95 % band of the 10 runs
 # (scripts/mc_consistency.py). This checks the filter's models against the simulator's — noise
 # densities, discretisation, the augmentation of new landmarks, the map's bookkeeping — apart
-# from linearisation, which the shipped filter adds (docs/filter.md "The ideal EKF").
+# from linearisation, which the shipped filter adds (docs/results/ideal_ekf.md).
 #   tests/tools/ideal_ekf_test.sh SOURCE_DIR BUILD_DIR OUT_DIR
 set -uo pipefail
 ROOT="$1" BUILD="$2" OUT="$3"
