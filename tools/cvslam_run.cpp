@@ -192,12 +192,6 @@ struct AgentCounters {
   double first_loop_t = -1.0;
 };
 
-cvslam::Vector9d truthVector(const cvslam::sim::GroundTruth& g) {
-  cvslam::Vector9d x;
-  x << g.p_BinN, g.v_B, g.euler;
-  return x;
-}
-
 void printAgentSummary(const cvslam::SimulatedTeamRun& run, std::size_t i, const AgentCounters& c) {
   const cvslam::FilterStatistics& st = run.slam(i).statistics();
   const std::string loop =
@@ -359,7 +353,7 @@ int main(int argc, char** argv) {
         c.cpu_ms += f.time_ms;
         ++c.frames;
         if (f.report->loop_closure && c.first_loop_t < 0) c.first_loop_t = t;
-        const cvslam::Vector9d truth = truthVector(*f.truth);
+        const cvslam::Vector9d truth = f.truth->eulerLayout();
         if (f.truth->biases_known) {  // a recorded IMU's stay NaN in biases.csv (no bias NEES)
           cvslam::Vector6d bias_truth;
           bias_truth << f.truth->accel_bias, f.truth->gyro_bias;

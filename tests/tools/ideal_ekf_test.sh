@@ -8,10 +8,7 @@
 #   tests/tools/ideal_ekf_test.sh SOURCE_DIR BUILD_DIR OUT_DIR
 set -uo pipefail
 ROOT="$1" BUILD="$2" OUT="$3"
-PY=${PYTHON:-python3}
-[ -x /usr/bin/python3 ] && PY=/usr/bin/python3
-"$PY" -c 'import numpy, matplotlib' 2>/dev/null ||
-  { echo "ideal_ekf_test: needs python3 with numpy and matplotlib: skipped"; exit 77; }
+source "$(dirname "$0")/python_modules.sh" ideal_ekf_test numpy matplotlib
 rm -rf "$OUT"
 "$PY" "$ROOT/scripts/mc_consistency.py" --scenario "$ROOT/config/scenarios/team3_aerial.yaml" \
   --seeds 51-60 --duration 40 --jobs 2 --build-dir "$BUILD" --out "$OUT" \

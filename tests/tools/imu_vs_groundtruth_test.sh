@@ -5,9 +5,7 @@
 # Exit 77 (skipped) without python3 and numpy.
 set -uo pipefail
 SRC="$1" OUT="$2"
-PY=/usr/bin/python3
-[ -x "$PY" ] || PY=python3
-"$PY" -c "import numpy" 2>/dev/null || exit 77
+source "$(dirname "$0")/python_modules.sh" imu_vs_groundtruth_test numpy
 rm -rf "$OUT" && mkdir -p "$OUT" || exit 1
 fail() { echo "FAIL: $*"; exit 1; }
 "$PY" - "$OUT" <<'PYEOF' || fail "generator"

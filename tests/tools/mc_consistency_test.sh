@@ -7,10 +7,7 @@
 #   tests/tools/mc_consistency_test.sh SOURCE_DIR BUILD_DIR OUT_DIR
 set -uo pipefail
 ROOT="$1" BUILD="$2" OUT="$3"
-PY=${PYTHON:-python3}
-[ -x /usr/bin/python3 ] && PY=/usr/bin/python3
-"$PY" -c 'import numpy, matplotlib' 2>/dev/null ||
-  { echo "mc_consistency_test: needs python3 with numpy and matplotlib: skipped"; exit 77; }
+source "$(dirname "$0")/python_modules.sh" mc_consistency_test numpy matplotlib
 SCRIPT="$ROOT/scripts/mc_consistency.py"
 SCENARIO="$ROOT/config/scenarios/team3_aerial.yaml"
 rm -rf "$OUT"

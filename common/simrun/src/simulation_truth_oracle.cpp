@@ -8,9 +8,7 @@ void SimulationTruthOracle::setFrameTruth(const sim::GroundTruth& truth) {
   known_[0] = known_[1];
   Known& k = known_[1];
   k.t_us = truth.t_us;
-  k.x.segment<3>(vehicle::kPosition) = truth.p_BinN;
-  k.x.segment<3>(vehicle::kVelocity) = truth.v_B;
-  k.x.segment<3>(vehicle::kAttitude) = truth.euler;
+  k.x.head<vehicle::kSizeNoBias>() = truth.eulerLayout();
   k.x.segment<3>(vehicle::kAccelBias) = truth.accel_bias;
   k.x.segment<3>(vehicle::kGyroBias) = truth.gyro_bias;
 }

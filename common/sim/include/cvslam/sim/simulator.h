@@ -39,6 +39,13 @@ struct GroundTruth {
   Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();  ///< IMU accel bias now [m/s²]
   /// false when the IMU plays a recording: its biases are unknown (the two above read zero).
   bool biases_known = true;
+
+  /// The filter's Euler layout [p_BinN, v_B, φ θ ψ] (ins/vehicle_state_layout.h).
+  Eigen::Matrix<double, 9, 1> eulerLayout() const {
+    Eigen::Matrix<double, 9, 1> x;
+    x << p_BinN, v_B, euler;
+    return x;
+  }
 };
 
 /// Initial state for an estimator: the truth, or a sample around it (InitialUncertainty).

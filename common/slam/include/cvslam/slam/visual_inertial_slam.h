@@ -40,7 +40,6 @@
 #include "cvslam/slam/landmark_archive.h"
 #include "cvslam/slam/landmark_book.h"
 #include "cvslam/slam/landmark_initialiser.h"
-#include "cvslam/slam/linearisation_oracle.h"
 #include "cvslam/slam/loop_closer.h"
 #include "cvslam/slam/reactivation_intersection.h"
 #include "cvslam/slam/slam_options.h"
@@ -50,6 +49,7 @@
 namespace cvslam {
 
 class ConfigNode;
+class LinearisationOracle;
 
 /// Everything configurable about one agent's VSLAM (agent.yaml sections).
 struct VisualInertialSlamOptions {
