@@ -129,6 +129,36 @@ TEST(AgentConfig, DefaultFileToolSectionsAndErrors) {
   EXPECT_EQ(e.status().message().rfind("--map: kind:", 0), 0u) << e.status().message();
 }
 
+TEST(AgentConfig, TheInvariantChartRefusesTheAdditiveChartsYawFixes) {
+  // First estimates and the observability constraint pin the yaw direction of the additive
+  // chart; with the invariant chart they would break it (docs/filter.md), so asking for both
+  // is an error that names the keys, in the slam: section and in the front end's overrides.
+  test::TempFolder tmp;
+  const auto load = [&](const std::string& yaml) {
+    const std::string path = tmp / "agent.yaml";
+    std::ofstream(path) << yaml;
+    AgentConfigArgs args;
+    args.config = path;
+    return AgentConfig::load(args, "", {});
+  };
+  const std::string invariant =
+      "slam: {error_chart: right_invariant, first_estimate_jacobians: false, "
+      "observability_constrained: false}\n";
+  auto ok = load(invariant);
+  ASSERT_TRUE(ok.ok()) << ok.status().message();
+  EXPECT_EQ(ok->slam.slam.error_chart, ErrorChart::kRightInvariant);
+  auto with_oc = load(
+      "slam: {error_chart: right_invariant, first_estimate_jacobians: false, "
+      "observability_constrained: true}\n");
+  ASSERT_FALSE(with_oc.ok());
+  EXPECT_NE(with_oc.status().message().find("error_chart"), std::string::npos)
+      << with_oc.status().message();
+  auto with_fej = load(invariant + "frontend: {first_estimate_jacobians: true}\n");
+  ASSERT_FALSE(with_fej.ok());
+  EXPECT_NE(with_fej.status().message().find("error_chart"), std::string::npos)
+      << with_fej.status().message();
+}
+
 TEST(AgentConfig, RunJsonRecordsWhatRepeatsTheRun) {
   test::TempFolder tmp;
   RunInfo info;

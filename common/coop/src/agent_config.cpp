@@ -45,6 +45,13 @@ Expected<AgentConfig> AgentConfig::load(
   const ConfigNode& root = c.effective.node();
   c.slam.load(root);
   c.frontend.load(root.child("frontend"));
+  if (c.slam.slam.error_chart == ErrorChart::kRightInvariant &&
+      (c.frontend.first_estimate_jacobians.value_or(false) ||
+       c.frontend.observability_constrained.value_or(false))) {
+    return Status::Error(
+        "frontend: first_estimate_jacobians / observability_constrained true need "
+        "slam.error_chart: additive (they belong to the additive chart)");
+  }
   c.coop.load(root.child("coop"));
   if (tool_sections) tool_sections(root);
   root.skip("lcm");  // read by the LCM tools (lcm-spy), not by an agent

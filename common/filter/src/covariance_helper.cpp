@@ -205,17 +205,29 @@ Status CovarianceHelper::scaleCovariance(SlamState& state, const std::vector<Var
 }
 
 void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx) {
+  const bool invariant = state.chart_ == ErrorChart::kRightInvariant;
+  Eigen::VectorXd x_prior;
+  std::vector<vehicle_model::Pose> prior_poses;  // per vehicle, in index order
+  if (invariant) {
+    x_prior = state.x_;
+    for (const StateVariable& v : state.vars_) {
+      if (v.key.kind == VariableKey::Kind::kVehicle) {
+        prior_poses.push_back(vehicle_model::pose(state, v));
+      }
+    }
+  }
   for (const StateVariable& v : state.vars_) {
     auto x = state.x_.segment(v.index, v.size);
     const auto d = dx.segment(v.index, v.size);
     if (v.key.kind == VariableKey::Kind::kVehicle) {
       // The vehicle block's own correction: angles wrapped, or δθ folded into the nominal.
       const auto nominal = state.nominal_.find(v.key);
-      if (nominal != state.nominal_.end()) {
+      if (nominal != state.nominal_.end() && !invariant) {
         // The reset R̂ ← R̂ Exp(δθ̂) moves the error-state chart: the error in the new chart is
         // J_r(δθ̂) times the old one, so P's attitude rows and columns are mapped by it. Taken
         // as I, every update leaked global-yaw information the observability constraint had
         // kept out (ObservabilityConstraint.ErrorStateTurns…: yaw σ 1° → 0.73° on a turn).
+        // (The invariant chart's reset, below, includes it.)
         const int a = v.index + vehicle::kAttitude;
         const Eigen::Matrix3d G =
             so3::rightJacobian<double>(Eigen::Vector3d(d.segment<3>(vehicle::kAttitude)));
@@ -227,6 +239,69 @@ void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx) 
       x += d;
     }
   }
+  if (invariant) resetInvariantChart(state, x_prior, prior_poses);
+}
+
+void CovarianceHelper::resetInvariantChart(SlamState& state, const Eigen::VectorXd& x_prior,
+                                           const std::vector<vehicle_model::Pose>& prior_poses) {
+  // The update kept the covariance of the invariant error ξ = A(x̂⁻) δ (slam_state.h); in the
+  // stored coordinates at the corrected mean that is δ⁺ = A(x̂⁺)⁻¹ A(x̂⁻) δ =: J δ, with
+  //   attitude   M⁺⁻¹ M⁻            (M = ∂ξθ/∂a, vehicle_model::navRotationPerAttitude)
+  //   velocity   R⁺ᵀ R⁻             (ξ_v = R̂ δv_B)
+  //   position   I, and −[p̂⁺ − p̂⁻]× M⁻ on the attitude columns
+  //   landmark   I, and −[l̂⁺ − l̂⁻]× M⁻ of the first vehicle (all vehicles share global yaw)
+  // so P ← J P Jᵀ. J maps the yaw direction at x̂⁻ to the one at x̂⁺ exactly, which the
+  // additive chart does not: that mismatch is where an EKF gains spurious yaw information.
+  struct Coupling {
+    int row;       // first row of the position or landmark
+    int attitude;  // first row of the attitude it couples to
+    Eigen::Matrix3d C;
+  };
+  struct Rotation {
+    int row;
+    Eigen::Matrix3d R;
+  };
+  std::vector<Coupling> couplings;
+  std::vector<Rotation> rotations;  // velocity and attitude blocks
+  int anchor_attitude = -1;
+  Eigen::Matrix3d anchor_M;
+  std::size_t j = 0;
+  for (const StateVariable& v : state.vars_) {
+    if (v.key.kind == VariableKey::Kind::kVehicle) {
+      const vehicle_model::Pose& before = prior_poses[j++];
+      const vehicle_model::Pose after = vehicle_model::pose(state, v);
+      const Eigen::Matrix3d M_before = vehicle_model::navRotationPerAttitude(before);
+      const Eigen::Matrix3d M_after = vehicle_model::navRotationPerAttitude(after);
+      const int a = v.index + vehicle::kAttitude;
+      if (anchor_attitude < 0) {
+        anchor_attitude = a;
+        anchor_M = M_before;
+      }
+      const Eigen::Vector3d dp = after.p_BinN - before.p_BinN;
+      couplings.push_back({v.index + vehicle::kPosition, a, -so3::skew<double>(dp) * M_before});
+      rotations.push_back({v.index + vehicle::kVelocity, after.R_BtoN.transpose() * before.R_BtoN});
+      rotations.push_back({a, M_after.inverse() * M_before});
+    } else if (anchor_attitude >= 0) {
+      const Eigen::Vector3d dl = state.x_.segment<3>(v.index) - x_prior.segment<3>(v.index);
+      if (dl.isZero(0.0)) continue;  // held landmarks: their mean never moves
+      couplings.push_back({v.index, anchor_attitude, -so3::skew<double>(dl) * anchor_M});
+    }
+  }
+  if (anchor_attitude < 0) return;
+  Eigen::MatrixXd& P = state.P_;
+  // Rows, then columns; every coupling reads the attitude rows before they are rotated.
+  for (const Coupling& c : couplings) {
+    P.middleRows(c.row, 3) += c.C * P.middleRows(c.attitude, 3);
+  }
+  for (const Rotation& r : rotations)
+    P.middleRows(r.row, 3) = (r.R * P.middleRows(r.row, 3)).eval();
+  for (const Coupling& c : couplings) {
+    P.middleCols(c.row, 3) += P.middleCols(c.attitude, 3) * c.C.transpose();
+  }
+  for (const Rotation& r : rotations) {
+    P.middleCols(r.row, 3) = (P.middleCols(r.row, 3) * r.R.transpose()).eval();
+  }
+  symmetrize(P);
 }
 
 }  // namespace cvslam

@@ -164,6 +164,12 @@ void moveRigidly(SlamState& state, const StateVariable& vehicle, const Eigen::Ve
   state.setValue(vehicle, x_v);
 }
 
+Eigen::Matrix3d navRotationPerAttitude(const Pose& pose) {
+  // R(e + de) = R(e) Exp(W de) = Exp(R(e) W de) R(e); R̂ Exp(δθ) = Exp(R̂ δθ) R̂.
+  if (pose.attitude == vehicle::Attitude::kEuler) return pose.R_BtoN * errorPerEuler(pose.euler);
+  return pose.R_BtoN;
+}
+
 Eigen::VectorXd yawDirection(const Pose& pose, int block_size) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(block_size);
   const Eigen::Vector3d& p = pose.p_BinN;

@@ -42,6 +42,16 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.getEnum("oc_projection", oc_projection,
                {{"range_weighted", OcProjection::kRangeWeighted},
                 {"unweighted", OcProjection::kUnweighted}});
+  node.getEnum(
+      "error_chart", error_chart,
+      {{"additive", ErrorChart::kAdditive}, {"right_invariant", ErrorChart::kRightInvariant}});
+  // First estimates and the constraint fix the yaw direction of the additive chart; in the
+  // invariant chart it is fixed already, and Jacobians at first estimates break it.
+  node.check(error_chart != ErrorChart::kRightInvariant ||
+                 (!first_estimate_jacobians && !observability_constrained),
+             "error_chart",
+             "right_invariant needs first_estimate_jacobians: false and "
+             "observability_constrained: false (they belong to the additive chart)");
   node.get("loop_closure_min_landmarks", loop_closure_min_landmarks);
   node.get("loop_closure_max_residual_m", loop_closure_max_residual_m);
   node.get("loop_closure_passes", loop_closure_passes);

@@ -88,6 +88,7 @@ Status VisualInertialSlam::initializeVehicle(int64_t t_us, const Eigen::VectorXd
     return Status::Error("initial vehicle state is not finite");
   }
   state_ = SlamState();
+  state_.setErrorChart(o_.slam.error_chart);
   archive_ = LandmarkArchive();
   book_.clear();
   const Status added = q_BtoN != nullptr

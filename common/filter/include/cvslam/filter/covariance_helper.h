@@ -19,6 +19,7 @@
 #include "cvslam/filter/measurement_batch.h"
 #include "cvslam/filter/slam_state.h"
 #include "cvslam/filter/update_policy.h"
+#include "cvslam/filter/vehicle_model.h"
 
 namespace cvslam {
 
@@ -108,6 +109,10 @@ class CovarianceHelper {
   /// the rotation error folded into the nominal, P's attitude rows and columns mapped by the
   /// reset Jacobian J_r(δθ̂)).
   static void correctMean(SlamState& state, const Eigen::VectorXd& dx);
+  /// After correctMean in the right-invariant chart (slam_state.h): maps P from the chart at
+  /// the prior mean to the chart at the corrected one.
+  static void resetInvariantChart(SlamState& state, const Eigen::VectorXd& x_prior,
+                                  const std::vector<vehicle_model::Pose>& prior_poses);
   static Status append(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value);
 };
 

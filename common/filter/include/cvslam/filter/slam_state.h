@@ -47,6 +47,17 @@ struct StateVariable {
   int size = 0;
 };
 
+/// What the covariance's error coordinates are (docs/filter.md "Invariant error chart").
+///  - kAdditive: x = x̂ + δ for positions, velocities, biases and landmarks; the attitude per
+///    the vehicle's parametrisation (vehicle_model.h).
+///  - kRightInvariant: the same stored coordinates, but the chart of the right-invariant EKF
+///    (Barrau & Bonnabel 2017): an update keeps the covariance of the invariant error
+///    ξ = (ξθ, R̂ δv_B, δp + p̂ × ξθ, δl + l̂ × ξθ, δb), ξθ the rotation error about N's axes,
+///    rather than the covariance of δ. In that chart the directions no observation can inform
+///    (global translation and yaw) do not depend on the estimate, so a correction of the mean
+///    cannot turn them into spurious information (CovarianceHelper::update).
+enum class ErrorChart : uint8_t { kAdditive, kRightInvariant };
+
 class SlamState {
  public:
   int size() const { return static_cast<int>(x_.size()); }
@@ -77,6 +88,9 @@ class SlamState {
     x_.segment(v.index, v.size) = value;
   }
 
+  ErrorChart errorChart() const { return chart_; }
+  void setErrorChart(ErrorChart chart) { chart_ = chart; }
+
   /// The nominal rotation R̂ (body to N) of a vehicle whose attitude entries are a rotation
   /// error δθ, R_BtoN = R̂ Exp(δθ); nullptr for a vehicle with Euler angles (or none). Only
   /// vehicle_model and the INS read it (vehicle_model.h).
@@ -93,6 +107,7 @@ class SlamState {
   std::vector<StateVariable> vars_;                    // index order
   std::map<VariableKey, int> slot_;                    // key -> position in vars_
   std::map<VariableKey, Eigen::Quaterniond> nominal_;  // error-state vehicles' R̂
+  ErrorChart chart_ = ErrorChart::kAdditive;
 };
 
 }  // namespace cvslam

@@ -99,6 +99,10 @@ Eigen::VectorXd difference(const Eigen::Ref<const Eigen::VectorXd>& x_a,
 void moveRigidly(SlamState& state, const StateVariable& vehicle, const Eigen::Vector3d& position,
                  double delta_yaw);
 
+/// M = ∂ξθ/∂a: how the attitude entries a of the block at `pose` turn the vehicle about N's
+/// axes, R(a + da) ≈ Exp(M da) R(a). Euler: R(e) W(e) (W = ∂δθ/∂e); error state: R̂.
+Eigen::Matrix3d navRotationPerAttitude(const Pose& pose);
+
 /// u_v: how the vehicle block (size `block_size`) at `pose` moves per radian of global yaw
 /// (observability_constraint.h): e3 × p for the position, and for the attitude 1 on ψ (Euler)
 /// or R̂ᵀ e3 (error state: Rz(α) R̂ = R̂ Exp(α R̂ᵀ e3)); 0 elsewhere.

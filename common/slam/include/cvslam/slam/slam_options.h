@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include "cvslam/core/status.h"
+#include "cvslam/filter/slam_state.h"
 
 namespace cvslam {
 
@@ -83,6 +84,12 @@ struct SlamOptions {
   /// rigid rotation about N's x or y axis of the vehicle and the landmark's first estimate
   /// (observability_constraint.h tiltDirections). Needs observability_constrained.
   bool oc_tilt = false;
+  /// The error chart of the covariance (slam_state.h ErrorChart): additive (the thesis's EKF)
+  /// or right_invariant (the invariant EKF's: updates keep the covariance of the invariant
+  /// error, whose unobservable directions do not depend on the estimate). With it the
+  /// filter's own Jacobians stay consistent without first estimates or the constraint;
+  /// docs/filter.md "Invariant error chart".
+  ErrorChart error_chart = ErrorChart::kAdditive;
   /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
   /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
   /// this many are observed in one frame and a rigid yaw + translation aligns where the
