@@ -53,8 +53,9 @@ options:
                           in-process ground station (joint filter), whose estimate it
                           records; also writes DIR/ground_station/
   --gs-config FILE        cc: the ground station's options (config/ground_station.yaml);
-                          default: the agents' filter/ins/map/slam sections and `cc:`
-                          defaults (association by true ids for features, by the agents'
+                          default: the agents' filter/ins/map/slam sections (but the
+                          joint filter's additive error chart with first-estimate Jacobians
+                          and the observability constraint) and `cc:` defaults (association by true ids for features, by the agents'
                           local ids for images)
   --ci METHOD             dc: overrides coop.ci_method (adaptive | fast |
                           optimal_trace | optimal_determinant | optimal_vehicle)
@@ -248,6 +249,12 @@ cvslam::Expected<cvslam::coop::CcTeamFilterOptions> groundStationOptions(
   if (!args.gs_config.empty()) return cvslam::coop::CcTeamFilterOptions::loadFile(args.gs_config);
   cvslam::coop::CcTeamFilterOptions o;
   o.slam = config.slam;
+  // The joint filter's own chart (CcTeamFilterOptions, config/ground_station.yaml): the
+  // agents' invariant chart measured worse with several vehicles (docs/cooperation.md).
+  const cvslam::coop::CcTeamFilterOptions joint;
+  o.slam.slam.error_chart = joint.slam.slam.error_chart;
+  o.slam.slam.first_estimate_jacobians = joint.slam.slam.first_estimate_jacobians;
+  o.slam.slam.observability_constrained = joint.slam.slam.observability_constrained;
   o.association = args.sensing == "features" ? cvslam::coop::CcAssociation::kTrueIds
                                              : cvslam::coop::CcAssociation::kLocalIds;
   return o;

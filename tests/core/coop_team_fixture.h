@@ -85,19 +85,21 @@ inline void deliver(coop::DcCooperation& to, const Envelope& e) {
 }
 
 /// The pair's filters, not yet flown; nullptr, with a test failure, if they cannot be built.
-inline std::unique_ptr<SimulatedTeamRun> createPair(double duration, uint64_t seed) {
+inline std::unique_ptr<SimulatedTeamRun> createPair(
+    double duration, uint64_t seed, const VisualInertialSlamOptions& options = {}) {
   auto sc = sim::Scenario::fromString(twoUavScenario(duration, seed), "coop_pair.yaml");
   EXPECT_TRUE(sc.ok()) << sc.status().message();
   if (!sc.ok()) return nullptr;
-  auto run = SimulatedTeamRun::create(*sc, VisualInertialSlamOptions{});
+  auto run = SimulatedTeamRun::create(*sc, options);
   EXPECT_TRUE(run.ok()) << run.status().message();
   return run.ok() ? std::move(*run) : nullptr;
 }
 
 /// The pair's own filters flown for `duration` s without cooperation (for tests of one fusion
 /// on UAV2's filter, whose start is offset); nullptr, with a test failure, if it cannot run.
-inline std::unique_ptr<SimulatedTeamRun> flyPairAlone(double duration, uint64_t seed) {
-  std::unique_ptr<SimulatedTeamRun> run = createPair(duration, seed);
+inline std::unique_ptr<SimulatedTeamRun> flyPairAlone(
+    double duration, uint64_t seed, const VisualInertialSlamOptions& options = {}) {
+  std::unique_ptr<SimulatedTeamRun> run = createPair(duration, seed, options);
   if (run == nullptr) return nullptr;
   const Status s = run->run({});
   EXPECT_TRUE(s.ok()) << s.message();

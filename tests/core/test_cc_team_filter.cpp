@@ -107,10 +107,10 @@ coop::CcTeamFilterOptions defaultOptions() {
   return coop::CcTeamFilterOptions{};
 }
 
-/// The project's configuration (config/agent.yaml: bias states, FEJ, OC) for the joint filter.
+/// The ground station's configuration (config/ground_station.yaml: bias states, FEJ, OC).
 coop::CcTeamFilterOptions projectOptions() {
   coop::CcTeamFilterOptions o;
-  auto root = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  auto root = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/ground_station.yaml");
   EXPECT_TRUE(root.ok());
   if (root.ok()) {
     EXPECT_TRUE(o.slam.load(*root).ok());
@@ -124,9 +124,9 @@ TEST(CcTeamFilter, OneVehicleIsVisualInertialSlamExactly) {
   auto sc = sim::Scenario::fromString(knownPosePair(6.0, 3), "cc_test.yaml");
   ASSERT_TRUE(sc.ok());
   sc->agents.resize(1);
-  auto run = SimulatedTeamRun::create(*sc, VisualInertialSlamOptions{});
-  ASSERT_TRUE(run.ok());
   coop::CcTeamFilterOptions o = defaultOptions();
+  auto run = SimulatedTeamRun::create(*sc, o.slam);  // the joint filter's (additive) chart
+  ASSERT_TRUE(run.ok());
   o.reactivation_inflation = 0.0;
   coop::CcTeamFilter gs(o);
   const AgentFilterSetup& setup = (*run)->setup(0);

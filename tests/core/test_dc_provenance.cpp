@@ -89,7 +89,11 @@ TEST(PeerConsistency, ConsistentPeerKeepsItsWeightOverConfidentOneIsScaled) {
 }
 
 TEST(CiUpdater, IndependentUpdateIsTheInformationFormFusion) {
-  const std::unique_ptr<SimulatedTeamRun> run = cooptest::flyPairAlone(6.0, 5);
+  // In the additive chart, where P is the covariance of x − x̂ before and after. (The
+  // invariant chart re-expresses the same posterior at the moved mean: test_invariant_error_chart.)
+  VisualInertialSlamOptions additive;
+  additive.slam.error_chart = ErrorChart::kAdditive;
+  const std::unique_ptr<SimulatedTeamRun> run = cooptest::flyPairAlone(6.0, 5, additive);
   ASSERT_NE(run, nullptr);
   const VisualInertialSlam& slam = run->slam(1);
   std::vector<int64_t> ids;

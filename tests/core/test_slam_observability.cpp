@@ -117,7 +117,8 @@ TEST(ObservabilityConstraint, ProjectionOptionIsReadAndChecked) {
   EXPECT_NE(s.message().find("oc_projection"), std::string::npos) << s.message();
   // The tilt joins the OC-EKF's constraint: alone it would do nothing, silently.
   EXPECT_FALSE(o.oc_tilt);
-  auto tilt = ConfigNode::fromString("oc_tilt: true\n", "slam.yaml");
+  auto tilt = ConfigNode::fromString(
+      "error_chart: additive\nobservability_constrained: true\noc_tilt: true\n", "slam.yaml");
   ASSERT_TRUE(tilt.ok());
   ASSERT_TRUE(o.load(*tilt).ok());
   EXPECT_TRUE(o.oc_tilt);
@@ -379,6 +380,9 @@ double thesisLoopNees(SlamOptions::OcProjection projection, double duration,
                       std::initializer_list<uint64_t> seeds) {
   VisualInertialSlamOptions o;
   o.ins.estimate_imu_bias = true;
+  o.slam.error_chart = ErrorChart::kAdditive;  // the constraint's chart, with first estimates
+  o.slam.first_estimate_jacobians = true;
+  o.slam.observability_constrained = true;
   o.slam.oc_projection = projection;
   double sum = 0.0;
   int n = 0;

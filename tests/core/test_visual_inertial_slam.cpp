@@ -250,6 +250,8 @@ TEST(VisualInertialSlam, TiltConstraintTakesTheFullMapCloseToItsNees) {
   VisualInertialSlamOptions tilt;
   ASSERT_TRUE(loadShippedOptions(&tilt));
   tilt.map.kind = MapKind::kFull;
+  tilt.slam.error_chart = ErrorChart::kAdditive;  // the constraints belong to this chart
+  tilt.slam.observability_constrained = true;
   tilt.slam.first_estimate_jacobians = false;
   tilt.slam.oc_tilt = true;
   VisualInertialSlamOptions fej = tilt;

@@ -204,7 +204,8 @@ Status CovarianceHelper::scaleCovariance(SlamState& state, const std::vector<Var
   return Status::Ok();
 }
 
-void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx) {
+void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx,
+                                   const VariableKey* anchor) {
   const bool invariant = state.chart_ == ErrorChart::kRightInvariant;
   Eigen::VectorXd x_prior;
   std::vector<vehicle_model::Pose> prior_poses;  // per vehicle, in index order
@@ -239,19 +240,22 @@ void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx) 
       x += d;
     }
   }
-  if (invariant) resetInvariantChart(state, x_prior, prior_poses);
+  if (invariant) resetInvariantChart(state, x_prior, prior_poses, anchor);
 }
 
 void CovarianceHelper::resetInvariantChart(SlamState& state, const Eigen::VectorXd& x_prior,
-                                           const std::vector<vehicle_model::Pose>& prior_poses) {
+                                           const std::vector<vehicle_model::Pose>& prior_poses,
+                                           const VariableKey* anchor) {
   // The update kept the covariance of the invariant error ξ = A(x̂⁻) δ (slam_state.h); in the
   // stored coordinates at the corrected mean that is δ⁺ = A(x̂⁺)⁻¹ A(x̂⁻) δ =: J δ, with
   //   attitude   M⁺⁻¹ M⁻            (M = ∂ξθ/∂a, vehicle_model::navRotationPerAttitude)
   //   velocity   R⁺ᵀ R⁻             (ξ_v = R̂ δv_B)
   //   position   I, and −[p̂⁺ − p̂⁻]× M⁻ on the attitude columns
-  //   landmark   I, and −[l̂⁺ − l̂⁻]× M⁻ of the first vehicle (all vehicles share global yaw)
+  //   landmark   I, and −[l̂⁺ − l̂⁻]× M⁻ of the anchor vehicle
   // so P ← J P Jᵀ. J maps the yaw direction at x̂⁻ to the one at x̂⁺ exactly, which the
   // additive chart does not: that mismatch is where an EKF gains spurious yaw information.
+  // The landmarks' rotation error is the anchor's: the observing vehicle's, in whose chart its
+  // observations are invariant (any vehicle keeps the yaw direction: they share global yaw).
   struct Coupling {
     int row;       // first row of the position or landmark
     int attitude;  // first row of the attitude it couples to
@@ -267,34 +271,36 @@ void CovarianceHelper::resetInvariantChart(SlamState& state, const Eigen::Vector
   Eigen::Matrix3d anchor_M;
   std::size_t j = 0;
   for (const StateVariable& v : state.vars_) {
-    if (v.key.kind == VariableKey::Kind::kVehicle) {
-      const vehicle_model::Pose& before = prior_poses[j++];
-      const vehicle_model::Pose after = vehicle_model::pose(state, v);
-      const Eigen::Matrix3d M_before = vehicle_model::navRotationPerAttitude(before);
-      const Eigen::Matrix3d M_after = vehicle_model::navRotationPerAttitude(after);
-      const int a = v.index + vehicle::kAttitude;
-      if (anchor_attitude < 0) {
-        anchor_attitude = a;
-        anchor_M = M_before;
-      }
-      const Eigen::Vector3d dp = after.p_BinN - before.p_BinN;
-      couplings.push_back({v.index + vehicle::kPosition, a, -so3::skew<double>(dp) * M_before});
-      rotations.push_back({v.index + vehicle::kVelocity, after.R_BtoN.transpose() * before.R_BtoN});
-      rotations.push_back({a, M_after.inverse() * M_before});
-    } else if (anchor_attitude >= 0) {
-      const Eigen::Vector3d dl = state.x_.segment<3>(v.index) - x_prior.segment<3>(v.index);
-      if (dl.isZero(0.0)) continue;  // held landmarks: their mean never moves
-      couplings.push_back({v.index, anchor_attitude, -so3::skew<double>(dl) * anchor_M});
+    if (v.key.kind != VariableKey::Kind::kVehicle) continue;
+    const vehicle_model::Pose& before = prior_poses[j++];
+    const vehicle_model::Pose after = vehicle_model::pose(state, v);
+    const Eigen::Matrix3d M_before = vehicle_model::navRotationPerAttitude(before);
+    const Eigen::Matrix3d M_after = vehicle_model::navRotationPerAttitude(after);
+    const int a = v.index + vehicle::kAttitude;
+    if (anchor_attitude < 0 || (anchor != nullptr && v.key == *anchor)) {
+      anchor_attitude = a;
+      anchor_M = M_before;
     }
+    const Eigen::Vector3d dp = after.p_BinN - before.p_BinN;
+    couplings.push_back({v.index + vehicle::kPosition, a, -so3::skew<double>(dp) * M_before});
+    rotations.push_back({v.index + vehicle::kVelocity, after.R_BtoN.transpose() * before.R_BtoN});
+    rotations.push_back({a, M_after.inverse() * M_before});
   }
   if (anchor_attitude < 0) return;
+  for (const StateVariable& v : state.vars_) {
+    if (v.key.kind == VariableKey::Kind::kVehicle) continue;
+    const Eigen::Vector3d dl = state.x_.segment<3>(v.index) - x_prior.segment<3>(v.index);
+    if (dl.isZero(0.0)) continue;  // held landmarks: their mean never moves
+    couplings.push_back({v.index, anchor_attitude, -so3::skew<double>(dl) * anchor_M});
+  }
   Eigen::MatrixXd& P = state.P_;
   // Rows, then columns; every coupling reads the attitude rows before they are rotated.
   for (const Coupling& c : couplings) {
     P.middleRows(c.row, 3) += c.C * P.middleRows(c.attitude, 3);
   }
-  for (const Rotation& r : rotations)
+  for (const Rotation& r : rotations) {
     P.middleRows(r.row, 3) = (r.R * P.middleRows(r.row, 3)).eval();
+  }
   for (const Coupling& c : couplings) {
     P.middleCols(c.row, 3) += P.middleCols(c.attitude, 3) * c.C.transpose();
   }

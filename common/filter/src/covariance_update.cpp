@@ -207,7 +207,19 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   report.theta_used = theta;
 
   state.P_ = std::move(P_post);
-  correctMean(state, dx);
+  // The invariant chart's landmarks take the rotation error of the vehicle these observations
+  // are of (the first whose attitude columns H uses).
+  const VariableKey* observer = nullptr;
+  if (state.chart_ == ErrorChart::kRightInvariant) {
+    for (const StateVariable& v : state.variables()) {
+      if (v.key.kind == VariableKey::Kind::kVehicle &&
+          !batch.H().middleCols(v.index + vehicle::kAttitude, 3).isZero(0.0)) {
+        observer = &v.key;
+        break;
+      }
+    }
+  }
+  correctMean(state, dx, observer);
   if (report_out) *report_out = report;
   return Status::Ok();
 }

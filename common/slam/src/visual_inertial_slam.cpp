@@ -33,6 +33,7 @@ VisualInertialSlam::VisualInertialSlam(const VisualInertialSlamOptions& options,
   Expected<UpdatePolicy> policy = o_.filter.policy();
   if (policy.ok()) {
     policy_ = *policy;
+    policy_status_ = o_.slam.checkChart();
   } else {
     policy_status_ = policy.status();
   }
@@ -49,17 +50,26 @@ void VisualInertialSlam::configureModels() {
 
 void VisualInertialSlam::setLinearisationOracle(const LinearisationOracle* oracle) {
   oracle_ = oracle;
+  state_.setErrorChart(chart());
   configureModels();
+}
+
+ErrorChart VisualInertialSlam::chart() const {
+  // The ideal EKF's Jacobians are at the truth, which an update does not move: its chart is
+  // the additive one whatever the configuration (docs/results/ideal_ekf.md).
+  return oracle_ != nullptr ? ErrorChart::kAdditive : o_.slam.error_chart;
 }
 
 void VisualInertialSlam::setFirstEstimateJacobians(bool on) {
   o_.slam.first_estimate_jacobians = on;
   configureModels();
+  if (policy_status_.ok()) policy_status_ = o_.slam.checkChart();
 }
 
 void VisualInertialSlam::setObservabilityConstrained(bool on) {
   o_.slam.observability_constrained = on;
   configureModels();
+  if (policy_status_.ok()) policy_status_ = o_.slam.checkChart();
 }
 
 Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,
@@ -88,7 +98,7 @@ Status VisualInertialSlam::initializeVehicle(int64_t t_us, const Eigen::VectorXd
     return Status::Error("initial vehicle state is not finite");
   }
   state_ = SlamState();
-  state_.setErrorChart(o_.slam.error_chart);
+  state_.setErrorChart(chart());
   archive_ = LandmarkArchive();
   book_.clear();
   const Status added = q_BtoN != nullptr
@@ -226,6 +236,7 @@ Status VisualInertialSlam::updateObserved(const StereoFrameObservations& frame,
 
 Status VisualInertialSlam::processFrame(const StereoFrameObservations& frame, FrameReport* report) {
   if (!initialized_) return Status::Error("processFrame before initialize");
+  if (!policy_status_.ok()) return policy_status_;
   FrameReport local;
   FrameReport& r = report != nullptr ? *report : local;
   r = FrameReport();

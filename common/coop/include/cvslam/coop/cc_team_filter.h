@@ -75,6 +75,14 @@ enum class CcAssociation {
 
 /// Options of the joint filter (config/ground_station.yaml).
 struct CcTeamFilterOptions {
+  /// The joint filter keeps the additive chart with first estimates and the observability
+  /// constraint: the invariant chart's landmark errors take one vehicle's rotation error, and
+  /// with several vehicles that measured worse (docs/cooperation.md "Error chart").
+  CcTeamFilterOptions() {
+    slam.slam.error_chart = ErrorChart::kAdditive;
+    slam.slam.first_estimate_jacobians = true;
+    slam.slam.observability_constrained = true;
+  }
   /// The recipe's options, sections `filter:`, `ins:`, `map:`, `slam:` as in agent.yaml (the
   /// per-vehicle IMU noise may be given to addVehicle).
   VisualInertialSlamOptions slam;

@@ -108,11 +108,15 @@ class CovarianceHelper {
   /// x ← x + dx; a vehicle block through vehicle_model::correct (angles kept in (−π, π], or
   /// the rotation error folded into the nominal, P's attitude rows and columns mapped by the
   /// reset Jacobian J_r(δθ̂)).
-  static void correctMean(SlamState& state, const Eigen::VectorXd& dx);
+  /// `anchor`: in the right-invariant chart, the vehicle whose rotation error the landmarks'
+  /// errors take (the observing vehicle; null: the first).
+  static void correctMean(SlamState& state, const Eigen::VectorXd& dx,
+                          const VariableKey* anchor = nullptr);
   /// After correctMean in the right-invariant chart (slam_state.h): maps P from the chart at
   /// the prior mean to the chart at the corrected one.
   static void resetInvariantChart(SlamState& state, const Eigen::VectorXd& x_prior,
-                                  const std::vector<vehicle_model::Pose>& prior_poses);
+                                  const std::vector<vehicle_model::Pose>& prior_poses,
+                                  const VariableKey* anchor);
   static Status append(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value);
 };
 

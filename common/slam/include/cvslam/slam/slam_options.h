@@ -66,12 +66,15 @@ struct SlamOptions {
   /// landmark's observations at the estimate it had when it entered the state, so that
   /// successive updates cannot fabricate information about the unobservable yaw and
   /// translation — the main cause of EKF-SLAM over-confidence (cf. thesis §5.7.3, Rco < 1).
-  bool first_estimate_jacobians = true;
+  /// For the additive chart only (error_chart), where it was the default until the invariant
+  /// chart, which fixes the same yaw direction without it (docs/filter.md).
+  bool first_estimate_jacobians = false;
   /// Observability-constrained updates (observability_constraint.h): every observation
   /// Jacobian is projected so that it cannot inform the global translation and yaw, along
   /// directions carried through the filter's own transitions. Without it, the changing
   /// linearisation points make the yaw look observable and the filter over-confident.
-  bool observability_constrained = true;
+  /// For the additive chart only, like first_estimate_jacobians.
+  bool observability_constrained = false;
   /// How the observability constraint changes a Jacobian (observability_constraint.h):
   /// the smallest change with the attitude columns weighted by the landmark's range
   /// (kRangeWeighted: ∂h/∂attitude and ∂h/∂position on one scale, so the yaw correction lands
@@ -88,8 +91,9 @@ struct SlamOptions {
   /// or right_invariant (the invariant EKF's: updates keep the covariance of the invariant
   /// error, whose unobservable directions do not depend on the estimate). With it the
   /// filter's own Jacobians stay consistent without first estimates or the constraint;
-  /// docs/filter.md "Invariant error chart".
-  ErrorChart error_chart = ErrorChart::kAdditive;
+  /// docs/filter.md "Invariant error chart". The ground station keeps the additive chart
+  /// (CcTeamFilterOptions).
+  ErrorChart error_chart = ErrorChart::kRightInvariant;
   /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
   /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
   /// this many are observed in one frame and a rigid yaw + translation aligns where the
@@ -114,6 +118,10 @@ struct SlamOptions {
   Eigen::Vector3d initial_accel_bias = Eigen::Vector3d::Zero();  ///< [m/s²]
   Eigen::Vector3d initial_gyro_bias = Eigen::Vector3d::Zero();   ///< [rad/s]
 
+  /// Fails when error_chart is right_invariant with first_estimate_jacobians or
+  /// observability_constrained (load() checks it; so does VisualInertialSlam for options set
+  /// in code).
+  Status checkChart() const;
   Status load(const ConfigNode& node);
 };
 

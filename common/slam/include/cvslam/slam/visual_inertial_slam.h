@@ -178,6 +178,8 @@ class VisualInertialSlam {
   Status updateObserved(const StereoFrameObservations& frame, FrameReport* report);
   /// (Re)creates the models from the options (after a setter changed them).
   void configureModels();
+  /// The state's error chart: the configured one, additive under a linearisation oracle.
+  ErrorChart chart() const;
 
   VisualInertialSlamOptions o_;
   StereoCamera camera_;
