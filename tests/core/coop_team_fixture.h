@@ -85,8 +85,8 @@ inline void deliver(coop::DcCooperation& to, const Envelope& e) {
 }
 
 /// The pair's filters, not yet flown; nullptr, with a test failure, if they cannot be built.
-inline std::unique_ptr<SimulatedTeamRun> createPair(
-    double duration, uint64_t seed, const VisualInertialSlamOptions& options = {}) {
+inline std::unique_ptr<SimulatedTeamRun> createPair(double duration, uint64_t seed,
+                                                    const VisualInertialSlamOptions& options = {}) {
   auto sc = sim::Scenario::fromString(twoUavScenario(duration, seed), "coop_pair.yaml");
   EXPECT_TRUE(sc.ok()) << sc.status().message();
   if (!sc.ok()) return nullptr;
