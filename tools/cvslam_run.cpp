@@ -250,7 +250,8 @@ cvslam::Expected<cvslam::coop::CcTeamFilterOptions> groundStationOptions(
   cvslam::coop::CcTeamFilterOptions o;
   o.slam = config.slam;
   // The joint filter's own chart (CcTeamFilterOptions, config/ground_station.yaml): the
-  // agents' invariant chart measured worse with several vehicles (docs/cooperation.md).
+  // agents' invariant chart measured worse with several vehicles (docs/results/cc_vs_dc.md "Error
+  // chart").
   const cvslam::coop::CcTeamFilterOptions joint;
   o.slam.slam.error_chart = joint.slam.slam.error_chart;
   o.slam.slam.first_estimate_jacobians = joint.slam.slam.first_estimate_jacobians;

@@ -77,7 +77,7 @@ enum class CcAssociation {
 struct CcTeamFilterOptions {
   /// The joint filter keeps the additive chart with first estimates and the observability
   /// constraint: the invariant chart's landmark errors take one vehicle's rotation error, and
-  /// with several vehicles that measured worse (docs/cooperation.md "Error chart").
+  /// with several vehicles that measured worse (docs/results/cc_vs_dc.md "Error chart").
   CcTeamFilterOptions() {
     slam.slam.error_chart = ErrorChart::kAdditive;
     slam.slam.first_estimate_jacobians = true;
