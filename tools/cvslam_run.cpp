@@ -54,8 +54,9 @@ options:
                           records; also writes DIR/ground_station/
   --gs-config FILE        cc: the ground station's options (config/ground_station.yaml);
                           default: the agents' filter/ins/map/slam sections (but the
-                          joint filter's additive error chart with first-estimate Jacobians
-                          and the observability constraint) and `cc:` defaults (association by true ids for features, by the agents'
+                          joint filter's Euler angles and additive error chart with
+                          first-estimate Jacobians and the observability constraint) and
+                          `cc:` defaults (association by true ids for features, by the agents'
                           local ids for images)
   --ci METHOD             dc: overrides coop.ci_method (adaptive | fast |
                           optimal_trace | optimal_determinant | optimal_vehicle)
@@ -253,6 +254,7 @@ cvslam::Expected<cvslam::coop::CcTeamFilterOptions> groundStationOptions(
   // agents' invariant chart measured worse with several vehicles (docs/results/cc_vs_dc.md "Error
   // chart").
   const cvslam::coop::CcTeamFilterOptions joint;
+  o.slam.ins.attitude = joint.slam.ins.attitude;
   o.slam.slam.error_chart = joint.slam.slam.error_chart;
   o.slam.slam.first_estimate_jacobians = joint.slam.slam.first_estimate_jacobians;
   o.slam.slam.observability_constrained = joint.slam.slam.observability_constrained;

@@ -281,7 +281,7 @@ TEST(InsPropagatorOptions, LoadsAndValidates) {
   EXPECT_EQ(back.print(), o.print());
   EXPECT_EQ(back.gravity, 9.80665);
   EXPECT_TRUE(back.estimate_imu_bias);
-  EXPECT_EQ(back.attitude, vehicle::Attitude::kEuler);
+  EXPECT_EQ(back.attitude, vehicle::Attitude::kErrorState);  // the default
   auto error_state = ConfigNode::fromString("{attitude: error_state}", "t.yaml");
   InsPropagatorOptions o3;
   ASSERT_TRUE(o3.load(*error_state).ok());

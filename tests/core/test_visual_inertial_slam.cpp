@@ -250,6 +250,7 @@ TEST(VisualInertialSlam, TiltConstraintTakesTheFullMapCloseToItsNees) {
   VisualInertialSlamOptions tilt;
   ASSERT_TRUE(loadShippedOptions(&tilt));
   tilt.map.kind = MapKind::kFull;
+  tilt.ins.attitude = vehicle::Attitude::kEuler;  // as measured in docs/filter.md
   tilt.slam.error_chart = ErrorChart::kAdditive;  // the constraints belong to this chart
   tilt.slam.observability_constrained = true;
   tilt.slam.first_estimate_jacobians = false;

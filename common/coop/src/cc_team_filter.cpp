@@ -53,7 +53,9 @@ Status CcTeamFilter::addVehicle(int agent_id, const StereoCamera& camera, int64_
                                 const Eigen::VectorXd& x_v, const Eigen::MatrixXd& P_v,
                                 const InsPropagatorOptions* ins) {
   if (!impl_->policy_status.ok()) return impl_->policy_status;
-  const InsPropagatorOptions& ins_options = ins != nullptr ? *ins : o_.slam.ins;
+  // The vehicle's IMU (noise densities); the joint filter's own attitude parametrisation.
+  InsPropagatorOptions ins_options = ins != nullptr ? *ins : o_.slam.ins;
+  ins_options.attitude = o_.slam.ins.attitude;
   if (ins_options.estimate_imu_bias != o_.slam.ins.estimate_imu_bias) {
     return Status::Error(
         "addVehicle: the vehicle's ins.estimate_imu_bias differs from the "

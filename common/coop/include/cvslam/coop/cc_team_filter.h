@@ -75,10 +75,11 @@ enum class CcAssociation {
 
 /// Options of the joint filter (config/ground_station.yaml).
 struct CcTeamFilterOptions {
-  /// The joint filter keeps the additive chart with first estimates and the observability
-  /// constraint: the invariant chart's landmark errors take one vehicle's rotation error, and
-  /// with several vehicles that measured worse (docs/results/cc_vs_dc.md "Error chart").
+  /// The joint filter keeps Euler angles and the additive chart with first estimates and the
+  /// observability constraint: the invariant chart's landmark errors take one vehicle's rotation
+  /// error, and with several vehicles that measured worse (docs/results/cc_vs_dc.md "Error chart").
   CcTeamFilterOptions() {
+    slam.ins.attitude = vehicle::Attitude::kEuler;  // with the constraint (docs/filter.md)
     slam.slam.error_chart = ErrorChart::kAdditive;
     slam.slam.first_estimate_jacobians = true;
     slam.slam.observability_constrained = true;
