@@ -294,20 +294,19 @@ void CovarianceHelper::resetInvariantChart(SlamState& state, const Eigen::Vector
     couplings.push_back({v.index, anchor_attitude, -so3::skew<double>(dl) * anchor_M});
   }
   Eigen::MatrixXd& P = state.P_;
-  // Rows, then columns; every coupling reads the attitude rows before they are rotated.
-  for (const Coupling& c : couplings) {
-    P.middleRows(c.row, 3) += c.C * P.middleRows(c.attitude, 3);
-  }
-  for (const Rotation& r : rotations) {
-    P.middleRows(r.row, 3) = (r.R * P.middleRows(r.row, 3)).eval();
-  }
-  for (const Coupling& c : couplings) {
-    P.middleCols(c.row, 3) += P.middleCols(c.attitude, 3) * c.C.transpose();
-  }
-  for (const Rotation& r : rotations) {
-    P.middleCols(r.row, 3) = (P.middleCols(r.row, 3) * r.R.transpose()).eval();
-  }
-  symmetrize(P);
+  // P Jᵀ by columns (contiguous in memory; every coupling reads the attitude columns before they
+  // are rotated), then (P Jᵀ)ᵀ = J P and the same again: J P Jᵀ.
+  const auto multiplyByJt = [&](Eigen::MatrixXd& M) {
+    for (const Coupling& c : couplings) {  // distinct columns: no aliasing
+      M.middleCols<3>(c.row).noalias() += M.middleCols<3>(c.attitude) * c.C.transpose();
+    }
+    for (const Rotation& r : rotations) {
+      M.middleCols<3>(r.row) = (M.middleCols<3>(r.row) * r.R.transpose()).eval();
+    }
+  };
+  multiplyByJt(P);
+  P.transposeInPlace();
+  multiplyByJt(P);  // symmetric up to rounding (the next update mirrors its lower triangle)
 }
 
 }  // namespace cvslam
