@@ -45,12 +45,15 @@ Expected<AgentConfig> AgentConfig::load(
   const ConfigNode& root = c.effective.node();
   c.slam.load(root);
   c.frontend.load(root.child("frontend"));
-  if (c.slam.slam.error_chart == ErrorChart::kRightInvariant &&
-      (c.frontend.first_estimate_jacobians.value_or(false) ||
-       c.frontend.observability_constrained.value_or(false))) {
-    return Status::Error(
-        "frontend: first_estimate_jacobians / observability_constrained true need "
-        "slam.error_chart: additive (they belong to the additive chart)");
+  {  // the slam options as the front end's overrides leave them, for images
+    SlamOptions with_images = c.slam.slam;
+    with_images.first_estimate_jacobians =
+        c.frontend.first_estimate_jacobians.value_or(with_images.first_estimate_jacobians);
+    with_images.observability_constrained =
+        c.frontend.observability_constrained.value_or(with_images.observability_constrained);
+    if (Status s = with_images.checkChart(); !s.ok()) {
+      return Status::Error("frontend: error_chart: " + s.message());
+    }
   }
   c.coop.load(root.child("coop"));
   if (tool_sections) tool_sections(root);

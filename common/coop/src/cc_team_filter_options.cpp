@@ -5,6 +5,13 @@
 
 namespace cvslam::coop {
 
+void CcTeamFilterOptions::setJointEstimator() {
+  slam.ins.attitude = vehicle::Attitude::kEuler;  // with the constraint (docs/filter.md)
+  slam.slam.error_chart = ErrorChart::kAdditive;
+  slam.slam.first_estimate_jacobians = true;
+  slam.slam.observability_constrained = true;
+}
+
 Status CcTeamFilterOptions::load(const ConfigNode& root) {
   slam.load(root);
   const ConfigNode cc = root.child("cc");

@@ -244,7 +244,7 @@ void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx,
 }
 
 void CovarianceHelper::resetInvariantChart(SlamState& state, const Eigen::VectorXd& x_prior,
-                                           const std::vector<vehicle_model::Pose>& prior_poses,
+                                           const std::vector<EstimatedPose>& prior_poses,
                                            const VariableKey* anchor) {
   // The update kept the covariance of the invariant error ξ = A(x̂⁻) δ (slam_state.h); in the
   // stored coordinates at the corrected mean that is δ⁺ = A(x̂⁺)⁻¹ A(x̂⁻) δ =: J δ, with

@@ -46,6 +46,7 @@ void VisualInertialSlam::configureModels() {
   updater_.setOracle(oracle_);
   initialiser_.setOracle(oracle_);
   propagation_.setOracle(oracle_);
+  if (policy_status_.ok()) policy_status_ = o_.slam.checkChart();  // a setter may break it
 }
 
 void VisualInertialSlam::setLinearisationOracle(const LinearisationOracle* oracle) {
@@ -63,13 +64,11 @@ ErrorChart VisualInertialSlam::chart() const {
 void VisualInertialSlam::setFirstEstimateJacobians(bool on) {
   o_.slam.first_estimate_jacobians = on;
   configureModels();
-  if (policy_status_.ok()) policy_status_ = o_.slam.checkChart();
 }
 
 void VisualInertialSlam::setObservabilityConstrained(bool on) {
   o_.slam.observability_constrained = on;
   configureModels();
-  if (policy_status_.ok()) policy_status_ = o_.slam.checkChart();
 }
 
 Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,

@@ -78,11 +78,12 @@ struct CcTeamFilterOptions {
   /// The joint filter keeps Euler angles and the additive chart with first estimates and the
   /// observability constraint: the invariant chart's landmark errors take one vehicle's rotation
   /// error, and with several vehicles that measured worse (docs/results/cc_vs_dc.md "Error chart").
-  CcTeamFilterOptions() {
-    slam.ins.attitude = vehicle::Attitude::kEuler;  // with the constraint (docs/filter.md)
-    slam.slam.error_chart = ErrorChart::kAdditive;
-    slam.slam.first_estimate_jacobians = true;
-    slam.slam.observability_constrained = true;
+  CcTeamFilterOptions() { setJointEstimator(); }
+  /// The agents' sections as `slam` (cvslam_run --mode cc without --gs-config), with the
+  /// joint filter's estimator choices above.
+  void useAgentOptions(const VisualInertialSlamOptions& agent) {
+    slam = agent;
+    setJointEstimator();
   }
   /// The recipe's options, sections `filter:`, `ins:`, `map:`, `slam:` as in agent.yaml (the
   /// per-vehicle IMU noise may be given to addVehicle).
@@ -117,6 +118,10 @@ struct CcTeamFilterOptions {
   /// Loads and validates a YAML file (unknown keys are errors; `ground_station:`, the
   /// process's own section, is skipped).
   static Expected<CcTeamFilterOptions> loadFile(const std::string& path);
+
+ private:
+  /// Euler angles, the additive chart, first-estimate Jacobians, the constraint.
+  void setJointEstimator();
 };
 
 /// What one processBatch did.

@@ -19,7 +19,7 @@
 #include "cvslam/filter/measurement_batch.h"
 #include "cvslam/filter/slam_state.h"
 #include "cvslam/filter/update_policy.h"
-#include "cvslam/filter/vehicle_model.h"
+#include "cvslam/ins/estimated_pose.h"
 
 namespace cvslam {
 
@@ -115,7 +115,7 @@ class CovarianceHelper {
   /// After correctMean in the right-invariant chart (slam_state.h): maps P from the chart at
   /// the prior mean to the chart at the corrected one.
   static void resetInvariantChart(SlamState& state, const Eigen::VectorXd& x_prior,
-                                  const std::vector<vehicle_model::Pose>& prior_poses,
+                                  const std::vector<EstimatedPose>& prior_poses,
                                   const VariableKey* anchor);
   static Status append(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value);
 };
