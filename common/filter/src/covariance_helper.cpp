@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "cvslam/filter/invariant_chart_transport.h"
 #include "cvslam/filter/vehicle_model.h"
 #include "cvslam/geometry/so3.h"
 #include "cvslam/ins/vehicle_state_layout.h"
@@ -211,11 +212,7 @@ void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx,
   std::vector<vehicle_model::Pose> prior_poses;  // per vehicle, in index order
   if (invariant) {
     x_prior = state.x_;
-    for (const StateVariable& v : state.vars_) {
-      if (v.key.kind == VariableKey::Kind::kVehicle) {
-        prior_poses.push_back(vehicle_model::pose(state, v));
-      }
-    }
+    prior_poses = InvariantChartTransport::vehiclePoses(state);
   }
   for (const StateVariable& v : state.vars_) {
     auto x = state.x_.segment(v.index, v.size);
@@ -247,66 +244,16 @@ void CovarianceHelper::resetInvariantChart(SlamState& state, const Eigen::Vector
                                            const std::vector<EstimatedPose>& prior_poses,
                                            const VariableKey* anchor) {
   // The update kept the covariance of the invariant error ξ = A(x̂⁻) δ (slam_state.h); in the
-  // stored coordinates at the corrected mean that is δ⁺ = A(x̂⁺)⁻¹ A(x̂⁻) δ =: J δ, with
-  //   attitude   M⁺⁻¹ M⁻            (M = ∂ξθ/∂a, vehicle_model::navRotationPerAttitude)
-  //   velocity   R⁺ᵀ R⁻             (ξ_v = R̂ δv_B)
-  //   position   I, and −[p̂⁺ − p̂⁻]× M⁻ on the attitude columns
-  //   landmark   I, and −[l̂⁺ − l̂⁻]× M⁻ of the anchor vehicle
-  // so P ← J P Jᵀ. J maps the yaw direction at x̂⁻ to the one at x̂⁺ exactly, which the
-  // additive chart does not: that mismatch is where an EKF gains spurious yaw information.
-  // The landmarks' rotation error is the anchor's: the observing vehicle's, in whose chart its
-  // observations are invariant (any vehicle keeps the yaw direction: they share global yaw).
-  struct Coupling {
-    int row;       // first row of the position or landmark
-    int attitude;  // first row of the attitude it couples to
-    Eigen::Matrix3d C;
-  };
-  struct Rotation {
-    int row;
-    Eigen::Matrix3d R;
-  };
-  std::vector<Coupling> couplings;
-  std::vector<Rotation> rotations;  // velocity and attitude blocks
-  int anchor_attitude = -1;
-  Eigen::Matrix3d anchor_M;
-  std::size_t j = 0;
-  for (const StateVariable& v : state.vars_) {
-    if (v.key.kind != VariableKey::Kind::kVehicle) continue;
-    const vehicle_model::Pose& before = prior_poses[j++];
-    const vehicle_model::Pose after = vehicle_model::pose(state, v);
-    const Eigen::Matrix3d M_before = vehicle_model::navRotationPerAttitude(before);
-    const Eigen::Matrix3d M_after = vehicle_model::navRotationPerAttitude(after);
-    const int a = v.index + vehicle::kAttitude;
-    if (anchor_attitude < 0 || (anchor != nullptr && v.key == *anchor)) {
-      anchor_attitude = a;
-      anchor_M = M_before;
-    }
-    const Eigen::Vector3d dp = after.p_BinN - before.p_BinN;
-    couplings.push_back({v.index + vehicle::kPosition, a, -so3::skew<double>(dp) * M_before});
-    rotations.push_back({v.index + vehicle::kVelocity, after.R_BtoN.transpose() * before.R_BtoN});
-    rotations.push_back({a, M_after.inverse() * M_before});
-  }
-  if (anchor_attitude < 0) return;
-  for (const StateVariable& v : state.vars_) {
-    if (v.key.kind == VariableKey::Kind::kVehicle) continue;
-    const Eigen::Vector3d dl = state.x_.segment<3>(v.index) - x_prior.segment<3>(v.index);
-    if (dl.isZero(0.0)) continue;  // held landmarks: their mean never moves
-    couplings.push_back({v.index, anchor_attitude, -so3::skew<double>(dl) * anchor_M});
-  }
-  Eigen::MatrixXd& P = state.P_;
-  // P Jᵀ by columns (contiguous in memory; every coupling reads the attitude columns before they
-  // are rotated), then (P Jᵀ)ᵀ = J P and the same again: J P Jᵀ.
-  const auto multiplyByJt = [&](Eigen::MatrixXd& M) {
-    for (const Coupling& c : couplings) {  // distinct columns: no aliasing
-      M.middleCols<3>(c.row).noalias() += M.middleCols<3>(c.attitude) * c.C.transpose();
-    }
-    for (const Rotation& r : rotations) {
-      M.middleCols<3>(r.row) = (M.middleCols<3>(r.row) * r.R.transpose()).eval();
-    }
-  };
-  multiplyByJt(P);
-  P.transposeInPlace();
-  multiplyByJt(P);  // symmetric up to rounding (the next update mirrors its lower triangle)
+  // stored coordinates at the corrected mean that is J δ (invariant_chart_transport.h), so
+  // P ← J P Jᵀ. The landmarks' rotation error is the anchor's: the observing vehicle's, in
+  // whose chart its observations are invariant (any vehicle keeps the yaw direction: they
+  // share global yaw).
+  const InvariantChartTransport J(x_prior, prior_poses, state, anchor);
+  // P Jᵀ, then (P Jᵀ)ᵀ = J P and the same again: J P Jᵀ.
+  J.multiplyByTransposeFromRight(state.P_);
+  state.P_.transposeInPlace();
+  J.multiplyByTransposeFromRight(state.P_);  // symmetric up to rounding (the next update
+                                             // mirrors its lower triangle)
 }
 
 }  // namespace cvslam

@@ -7,6 +7,7 @@
 
 #include "cvslam/filter/chi_square.h"
 #include "cvslam/filter/covariance_helper.h"
+#include "cvslam/filter/invariant_chart_transport.h"
 
 namespace cvslam {
 namespace {
@@ -209,16 +210,8 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   state.P_ = std::move(P_post);
   // The invariant chart's landmarks take the rotation error of the vehicle these observations
   // are of (the first whose attitude columns H uses).
-  const VariableKey* observer = nullptr;
-  if (state.chart_ == ErrorChart::kRightInvariant) {
-    for (const StateVariable& v : state.variables()) {
-      if (v.key.kind == VariableKey::Kind::kVehicle &&
-          !batch.H().middleCols(v.index + vehicle::kAttitude, 3).isZero(0.0)) {
-        observer = &v.key;
-        break;
-      }
-    }
-  }
+  const VariableKey* observer =
+      state.chart_ == ErrorChart::kRightInvariant ? observingVehicle(state, batch) : nullptr;
   correctMean(state, dx, observer);
   if (report_out) *report_out = report;
   return Status::Ok();

@@ -58,4 +58,31 @@ void MeasurementBatch::multiplyH(const Eigen::Ref<const Eigen::MatrixXd>& M,
   }
 }
 
+bool MeasurementBatch::touches(const Group& g, int col, int cols) const {
+  for (const Block& b : blocks_) {
+    if (b.row == g.row && b.col < col + cols && col < b.col + b.cols) return true;
+  }
+  return false;
+}
+
+void MeasurementBatch::cover(const Group& g, int col) {
+  for (int c = col; c < col + 3; ++c) {
+    if (!touches(g, c, 1)) blocks_.push_back({g.row, g.rows, c, 1});
+  }
+}
+
+void MeasurementBatch::rotateColumns(int col, const Eigen::Matrix3d& R) {
+  for (const Group& g : groups_) {
+    if (touches(g, col, 3)) cover(g, col);
+  }
+  H_.topRows(m_).middleCols<3>(col) = (H_.topRows(m_).middleCols<3>(col) * R).eval();
+}
+
+void MeasurementBatch::addColumns(int dst, int src, const Eigen::Matrix3d& C) {
+  for (const Group& g : groups_) {
+    if (touches(g, src, 3)) cover(g, dst);
+  }
+  H_.topRows(m_).middleCols<3>(dst).noalias() += H_.topRows(m_).middleCols<3>(src) * C;
+}
+
 }  // namespace cvslam

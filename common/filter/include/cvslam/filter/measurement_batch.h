@@ -34,6 +34,11 @@ class MeasurementBatch {
     setJacobian(group, v.index, J);
   }
 
+  /// H(:, [col, col + 3)) ← H(:, [col, col + 3)) R (a change of error coordinates,
+  /// invariant_chart_transport.h); the block sparsity follows.
+  void rotateColumns(int col, const Eigen::Matrix3d& R);
+  /// H(:, [dst, dst + 3)) += H(:, [src, src + 3)) C; the block sparsity follows.
+  void addColumns(int dst, int src, const Eigen::Matrix3d& C);
   /// r ← r + d over the used rows (an iterated update's H (x_i ⊟ x_prior) term).
   void shiftResidual(const Eigen::Ref<const Eigen::VectorXd>& d) { r_.head(m_) += d; }
   int stateSize() const { return n_; }
@@ -65,6 +70,10 @@ class MeasurementBatch {
   Eigen::MatrixXd H_;
   Eigen::VectorXd r_;
   Eigen::MatrixXd R_;
+  /// Whether a block of the rows of `g` touches a column of [col, col + cols).
+  bool touches(const Group& g, int col, int cols) const;
+  /// Adds one-column blocks so that the rows of `g` cover every column of [col, col + 3).
+  void cover(const Group& g, int col);
   std::vector<Group> groups_;
   std::vector<Block> blocks_;
 };
