@@ -43,20 +43,23 @@ struct SlamOptions {
   /// it was last seen (a hovering vehicle, a short excursion), `reactivation` to loop landmarks.
   /// kIndependent for recent ones made a hovering UAV over-confident (euroc_mh03_hall UAV1:
   /// position σ 0.10 m → 4 mm at an error of 0.2 m, NEES 2.6·10⁴); kIntersection for loop
-  /// landmarks let thesis_loop loops go wrong (seed 303: yaw 9° off, NEES 879 against 46).
-  /// docs/filter.md, "Re-activation".
+  /// landmarks let thesis_loop loops go wrong in the additive chart (seed 303: yaw 9° off);
+  /// with the invariant chart's iterated loop update it is the consistent choice and the
+  /// default (thesis_loop UAV1 NEES after its loop 5.5 against 145–226 for kIndependent,
+  /// seeds 301–320). docs/filter.md, "Re-activation".
   enum class Reentry { kRemap, kIntersection, kIndependent };
   Reentry recent_reentry = Reentry::kRemap;
-  Reentry reactivation = Reentry::kIndependent;  ///< kRemap is not allowed: loops need the archive
+  Reentry reactivation = Reentry::kIntersection;  ///< kRemap is not allowed: loops need the archive
   /// How many of the most recently archived landmarks stay in the state as held (Schmidt)
   /// variables (slam_state.h, kHeldLandmark): their correlations with the vehicle and the map
   /// are kept, so one that is observed again re-enters exactly, at any age and whatever
   /// recent_reentry / reactivation say, and landmarks swapping in and out of the k nearest
   /// cost neither information nor consistency. Each costs 3 state entries in every update.
-  /// 0: the thesis's archive only. 20 chosen on 20 seeds and the recordings (docs/filter.md,
-  /// "Held landmarks"): more held means more returns after loop_closure_min_age_s through
-  /// `reactivation`, whose uncorrelated re-entry is over-confident (euroc_mh03_hall NEES).
-  int held_landmarks = 20;
+  /// 0: the thesis's archive only. 100 chosen on seeds 301–320 and the recordings with
+  /// kIntersection re-entry (docs/filter.md, "Held landmarks"): the real-IMU recordings gain
+  /// from the map they keep exactly (V1_02 9.8 → 7.1 cm); 300 was less consistent on
+  /// euroc_mh03_hall (UAV2 NEES 12.9 against 11.7) at 6 ms per frame instead of 1.6.
+  int held_landmarks = 100;
   double reactivation_min_omega = 0.05;  ///< kIntersection: bounds of the weight ω of the state
   double reactivation_max_omega = 0.99;  ///< (the landmarks get n·Q/(1 − ω))
   /// A landmark observed again after at least this long unseen is a loop landmark [s]
