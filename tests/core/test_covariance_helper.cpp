@@ -203,6 +203,31 @@ TEST(CovarianceHelper, SparseProductsEqualDense) {
   EXPECT_TRUE(PHt.isApprox(s.covariance() * H.transpose(), 1e-12));
 }
 
+TEST(CovarianceHelper, ColumnTransformsOfTheJacobianKeepTheSparseProductsExact) {
+  // H ← H T for the chart's transport (invariant_chart_transport.h): rotated columns, and
+  // columns added into blocks an observation did not have (here another landmark's, which
+  // only the blocks added by addColumns cover).
+  std::mt19937 rng(8);
+  const SlamState s = test::randomSlamState(5, rng);
+  MeasurementBatch batch;
+  test::randomStereoBatch(s, 7, rng, &batch);
+  const Eigen::Matrix3d R = randomMatrix(3, 3, rng), C = randomMatrix(3, 3, rng);
+  const int attitude = s.find(VariableKey::vehicle(0))->index + 6;
+  const int a = s.variables()[1].index, b = s.variables()[2].index;  // two landmarks
+  Eigen::MatrixXd T = Eigen::MatrixXd::Identity(s.size(), s.size());
+  T.block<3, 3>(attitude, attitude) = R;
+  T.block<3, 3>(a, b) = C;  // H(:, b) += H(:, a) C
+  const Eigen::MatrixXd expected = batch.H() * T;
+  batch.rotateColumns(attitude, R);
+  batch.addColumns(b, a, C);
+  EXPECT_TRUE(batch.H().isApprox(expected, 1e-12));
+  Eigen::MatrixXd PHt, HP;
+  batch.multiplyByHt(s.covariance(), &PHt);
+  batch.multiplyH(s.covariance(), &HP);
+  EXPECT_TRUE(PHt.isApprox(s.covariance() * expected.transpose(), 1e-12));
+  EXPECT_TRUE(HP.isApprox(expected * s.covariance(), 1e-12));
+}
+
 /// Linear-Gaussian toy: 6-state constant-velocity "vehicle" and one static landmark, observed
 /// through the relative position (touches both) and an absolute position fix. The helper's
 /// EKF must equal a textbook dense Kalman filter.
