@@ -54,8 +54,8 @@ options:
                           records; also writes DIR/ground_station/
   --gs-config FILE        cc: the ground station's options (config/ground_station.yaml);
                           default: the agents' filter/ins/map/slam sections (but the
-                          joint filter's Euler angles and additive error chart with
-                          first-estimate Jacobians and the observability constraint) and
+                          joint filter's Euler angles and invariant error chart, without
+                          first-estimate Jacobians or the observability constraint) and
                           `cc:` defaults (association by true ids for features, by the agents'
                           local ids for images)
   --ci METHOD             dc: overrides coop.ci_method (adaptive | fast |

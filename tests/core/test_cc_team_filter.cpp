@@ -125,7 +125,7 @@ TEST(CcTeamFilter, OneVehicleIsVisualInertialSlamExactly) {
   ASSERT_TRUE(sc.ok());
   sc->agents.resize(1);
   coop::CcTeamFilterOptions o = defaultOptions();
-  auto run = SimulatedTeamRun::create(*sc, o.slam);  // the joint filter's (additive) chart
+  auto run = SimulatedTeamRun::create(*sc, o.slam);  // the joint filter's estimator choices
   ASSERT_TRUE(run.ok());
   o.reactivation_inflation = 0.0;
   coop::CcTeamFilter gs(o);

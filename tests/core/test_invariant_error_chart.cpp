@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "cvslam/filter/covariance_helper.h"
+#include "cvslam/filter/invariant_chart_transport.h"
 #include "cvslam/filter/vehicle_model.h"
 #include "cvslam/geometry/so3.h"
 
@@ -184,6 +185,52 @@ TEST(InvariantErrorChart, IteratedUpdatesAwayFromThePriorAddNoInformationAboutTh
     EXPECT_NEAR(gained[1], 1.0, 1e-3);
     EXPECT_GT(gained[0], 2.0);
   }
+}
+
+// In a joint state of several vehicles each landmark keeps the rotation error of the vehicle
+// that mapped it (SlamState::landmarkAnchor), whoever observes it later: the chart's transport
+// couples the landmark's rows to that vehicle's attitude columns, and the anchor follows the
+// landmark through rekey (held and back) and leaves with it.
+TEST(InvariantErrorChart, LandmarksKeepTheRotationErrorOfTheVehicleThatMappedThem) {
+  SlamState state = makeState(vehicle::Attitude::kEuler, ErrorChart::kRightInvariant);
+  const VariableKey other = VariableKey::vehicle(2);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(vehicle::kSizeWithBias);
+  x.head<9>() << -5.0, 3.0, -8.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.2;
+  ASSERT_TRUE(vehicle_model::addVehicle(state, other, x,
+                                        0.05 * Eigen::MatrixXd::Identity(x.size(), x.size()),
+                                        vehicle::Attitude::kEuler)
+                  .ok());
+  const VariableKey landmark = VariableKey::landmark(100);
+  ASSERT_NE(state.landmarkAnchor(landmark), nullptr);
+  EXPECT_EQ(*state.landmarkAnchor(landmark), kVehicle);
+  // Move every mean; the transport with the other vehicle as the observer.
+  SlamState moved = state;
+  Eigen::VectorXd shift = Eigen::VectorXd::Constant(state.size(), 0.05);
+  for (const StateVariable& v : state.variables()) {
+    moved.setValue(v, state.value(v) + shift.segment(v.index, v.size));
+  }
+  const InvariantChartTransport J(state.mean(), InvariantChartTransport::vehiclePoses(state), moved,
+                                  &other);
+  Eigen::MatrixXd Jt = Eigen::MatrixXd::Identity(state.size(), state.size());
+  J.multiplyByTransposeFromRight(Jt);  // I Jᵀ
+  const int l = state.find(landmark)->index;
+  const int own = state.find(kVehicle)->index + vehicle::kAttitude;
+  const int observer = state.find(other)->index + vehicle::kAttitude;
+  EXPECT_GT(Jt.block(own, l, 3, 3).norm(), 1e-3);      // J(l, own attitude) ≠ 0
+  EXPECT_EQ(Jt.block(observer, l, 3, 3).norm(), 0.0);  // nothing from the observer's
+  // Held and back: the same anchor; marginalised: gone.
+  ASSERT_TRUE(CovarianceHelper::rekey(state, landmark, VariableKey::heldLandmark(100)).ok());
+  ASSERT_NE(state.landmarkAnchor(VariableKey::heldLandmark(100)), nullptr);
+  EXPECT_EQ(state.landmarkAnchor(landmark), nullptr);
+  ASSERT_TRUE(CovarianceHelper::rekey(state, VariableKey::heldLandmark(100), landmark).ok());
+  EXPECT_EQ(*state.landmarkAnchor(landmark), kVehicle);
+  ASSERT_TRUE(CovarianceHelper::marginalize(state, landmark).ok());
+  EXPECT_EQ(state.landmarkAnchor(landmark), nullptr);
+  // An independent prior has no anchor: it takes the observer's.
+  ASSERT_TRUE(CovarianceHelper::addVariable(state, landmark, Eigen::Vector3d(1.0, 2.0, 3.0),
+                                            Eigen::Matrix3d::Identity())
+                  .ok());
+  EXPECT_EQ(state.landmarkAnchor(landmark), nullptr);
 }
 
 }  // namespace

@@ -93,6 +93,7 @@ Status CovarianceHelper::augment(SlamState& state, const VariableKey& key,
   state.P_.bottomLeftCorner(k, n) = P_yx;
   state.P_.topRightCorner(n, k) = P_yx.transpose();
   state.P_.bottomRightCorner(k, k) = P_yy;
+  if (source.kind == VariableKey::Kind::kVehicle) state.anchor_[key] = source;
   return Status::Ok();
 }
 
@@ -112,6 +113,7 @@ Status CovarianceHelper::marginalize(SlamState& state, const VariableKey& key) {
   state.vars_.erase(state.vars_.begin() + static_cast<std::ptrdiff_t>(pos));
   state.slot_.erase(it);
   state.nominal_.erase(key);
+  state.anchor_.erase(key);
   for (std::size_t j = pos; j < state.vars_.size(); ++j) {
     state.vars_[j].index -= removed.size;
     state.slot_[state.vars_[j].key] = static_cast<int>(j);
@@ -127,6 +129,11 @@ Status CovarianceHelper::rekey(SlamState& state, const VariableKey& from, const 
   state.slot_.erase(it);
   state.slot_[to] = pos;
   state.vars_[static_cast<std::size_t>(pos)].key = to;
+  if (const auto a = state.anchor_.find(from); a != state.anchor_.end()) {
+    const VariableKey anchor = a->second;
+    state.anchor_.erase(a);
+    state.anchor_[to] = anchor;
+  }
   return Status::Ok();
 }
 

@@ -9,8 +9,12 @@ namespace cvslam {
 InvariantChartTransport::InvariantChartTransport(const Eigen::VectorXd& x_from,
                                                  const std::vector<EstimatedPose>& poses_from,
                                                  const SlamState& to, const VariableKey* anchor) {
-  int anchor_attitude = -1;
-  Eigen::Matrix3d anchor_M;
+  struct Attitude {
+    VariableKey key;
+    int index;          // first row of the attitude
+    Eigen::Matrix3d M;  // M at the "from" estimate
+  };
+  std::vector<Attitude> attitudes;
   std::size_t j = 0;
   for (const StateVariable& v : to.variables()) {
     if (v.key.kind != VariableKey::Kind::kVehicle) continue;
@@ -19,21 +23,29 @@ InvariantChartTransport::InvariantChartTransport(const Eigen::VectorXd& x_from,
     const Eigen::Matrix3d M_from = vehicle_model::navRotationPerAttitude(from);
     const Eigen::Matrix3d M_to = vehicle_model::navRotationPerAttitude(at);
     const int a = v.index + vehicle::kAttitude;
-    if (anchor_attitude < 0 || (anchor != nullptr && v.key == *anchor)) {
-      anchor_attitude = a;
-      anchor_M = M_from;
-    }
+    attitudes.push_back({v.key, a, M_from});
     const Eigen::Vector3d dp = at.p_BinN - from.p_BinN;
     couplings_.push_back({v.index + vehicle::kPosition, a, -so3::skew<double>(dp) * M_from});
     rotations_.push_back({v.index + vehicle::kVelocity, at.R_BtoN.transpose() * from.R_BtoN});
     rotations_.push_back({a, M_to.inverse() * M_from});
   }
-  if (anchor_attitude < 0) return;
+  if (attitudes.empty()) return;
+  const auto find = [&](const VariableKey* key) -> const Attitude* {
+    if (key == nullptr) return nullptr;
+    for (const Attitude& a : attitudes) {
+      if (a.key == *key) return &a;
+    }
+    return nullptr;
+  };
+  const Attitude* fallback = find(anchor);  // `anchor`, else the first vehicle
+  if (fallback == nullptr) fallback = &attitudes.front();
   for (const StateVariable& v : to.variables()) {
     if (v.key.kind == VariableKey::Kind::kVehicle) continue;
     const Eigen::Vector3d dl = to.value(v).head<3>() - x_from.segment<3>(v.index);
     if (dl.isZero(0.0)) continue;  // held landmarks: their mean never moves
-    couplings_.push_back({v.index, anchor_attitude, -so3::skew<double>(dl) * anchor_M});
+    const Attitude* own = find(to.landmarkAnchor(v.key));
+    const Attitude& a = own != nullptr ? *own : *fallback;
+    couplings_.push_back({v.index, a.index, -so3::skew<double>(dl) * a.M});
   }
 }
 

@@ -9,6 +9,11 @@ const StateVariable* SlamState::find(const VariableKey& key) const {
   return it == slot_.end() ? nullptr : &vars_[static_cast<std::size_t>(it->second)];
 }
 
+const VariableKey* SlamState::landmarkAnchor(const VariableKey& landmark) const {
+  const auto it = anchor_.find(landmark);
+  return it == anchor_.end() ? nullptr : &it->second;
+}
+
 const Eigen::Quaterniond* SlamState::nominalAttitude(const VariableKey& vehicle) const {
   const auto it = nominal_.find(vehicle);
   return it == nominal_.end() ? nullptr : &it->second;

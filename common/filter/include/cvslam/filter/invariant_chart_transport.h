@@ -29,7 +29,8 @@ namespace cvslam {
 class InvariantChartTransport {
  public:
   /// J from the estimate (x_from, its vehicles' poses in index order) to `to`'s mean (same
-  /// variables in the same slots). The landmarks take the rotation error of `anchor` (the
+  /// variables in the same slots). A landmark takes the rotation error of its own anchor
+  /// (SlamState::landmarkAnchor: the vehicle it was mapped from), else of `anchor` (the
   /// observing vehicle; null or absent: the first vehicle). Identity when `to` has no vehicle.
   InvariantChartTransport(const Eigen::VectorXd& x_from,
                           const std::vector<EstimatedPose>& poses_from, const SlamState& to,

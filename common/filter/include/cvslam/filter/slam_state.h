@@ -100,6 +100,14 @@ class SlamState {
     nominal_[vehicle] = q_BtoN;
   }
 
+  /// The vehicle whose rotation error a landmark's invariant error takes (ErrorChart::
+  /// kRightInvariant): the vehicle it was triangulated from (CovarianceHelper::augment from a
+  /// vehicle), kept through rekey; nullptr for a landmark added as an independent prior (it then
+  /// takes the observing vehicle's). One fixed anchor per landmark keeps a joint state of several
+  /// vehicles in one chart: the observer's would switch a landmark's chart between vehicles whose
+  /// rotation errors differ (docs/results/cc_vs_dc.md "Error chart").
+  const VariableKey* landmarkAnchor(const VariableKey& landmark) const;
+
  private:
   friend class CovarianceHelper;
   Eigen::VectorXd x_;
@@ -107,6 +115,7 @@ class SlamState {
   std::vector<StateVariable> vars_;                    // index order
   std::map<VariableKey, int> slot_;                    // key -> position in vars_
   std::map<VariableKey, Eigen::Quaterniond> nominal_;  // error-state vehicles' R̂
+  std::map<VariableKey, VariableKey> anchor_;          // landmark -> vehicle it was mapped from
   ErrorChart chart_ = ErrorChart::kAdditive;
 };
 

@@ -94,8 +94,8 @@ struct SlamOptions {
   /// or right_invariant (the invariant EKF's: updates keep the covariance of the invariant
   /// error, whose unobservable directions do not depend on the estimate). With it the
   /// filter's own Jacobians stay consistent without first estimates or the constraint;
-  /// docs/filter.md "Invariant error chart". The ground station keeps the additive chart
-  /// (CcTeamFilterOptions).
+  /// docs/filter.md "Invariant error chart". The ground station uses it too, each landmark
+  /// in the chart of the vehicle that mapped it (CcTeamFilterOptions).
   ErrorChart error_chart = ErrorChart::kRightInvariant;
   /// Loop closing (§5.5.2): landmarks seen again after at least loop_closure_min_age_s
   /// re-locate a drifted vehicle, often by far more than the χ² gate allows. When at least
