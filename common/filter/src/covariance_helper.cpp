@@ -252,9 +252,9 @@ void CovarianceHelper::resetInvariantChart(SlamState& state, const Eigen::Vector
                                            const VariableKey* anchor) {
   // The update kept the covariance of the invariant error ξ = A(x̂⁻) δ (slam_state.h); in the
   // stored coordinates at the corrected mean that is J δ (invariant_chart_transport.h), so
-  // P ← J P Jᵀ. The landmarks' rotation error is the anchor's: the observing vehicle's, in
-  // whose chart its observations are invariant (any vehicle keeps the yaw direction: they
-  // share global yaw).
+  // P ← J P Jᵀ. A landmark's rotation error is that of the vehicle it was mapped from
+  // (SlamState::landmarkAnchor), else the observing vehicle's (`anchor`); any vehicle's keeps
+  // the global yaw direction, which they share.
   const InvariantChartTransport J(x_prior, prior_poses, state, anchor);
   // P Jᵀ, then (P Jᵀ)ᵀ = J P and the same again: J P Jᵀ.
   J.multiplyByTransposeFromRight(state.P_);

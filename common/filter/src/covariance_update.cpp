@@ -208,8 +208,8 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   report.theta_used = theta;
 
   state.P_ = std::move(P_post);
-  // The invariant chart's landmarks take the rotation error of the vehicle these observations
-  // are of (the first whose attitude columns H uses).
+  // In the invariant chart a landmark without an anchor of its own takes the rotation error of
+  // the vehicle these observations are of (the first whose attitude columns H uses).
   const VariableKey* observer =
       state.chart_ == ErrorChart::kRightInvariant ? observingVehicle(state, batch) : nullptr;
   correctMean(state, dx, observer);

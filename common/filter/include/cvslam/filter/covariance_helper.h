@@ -108,8 +108,9 @@ class CovarianceHelper {
   /// x ← x + dx; a vehicle block through vehicle_model::correct (angles kept in (−π, π], or
   /// the rotation error folded into the nominal, P's attitude rows and columns mapped by the
   /// reset Jacobian J_r(δθ̂)).
-  /// `anchor`: in the right-invariant chart, the vehicle whose rotation error the landmarks'
-  /// errors take (the observing vehicle; null: the first).
+  /// `anchor`: in the right-invariant chart, the vehicle whose rotation error the errors of
+  /// landmarks without an anchor of their own take (SlamState::landmarkAnchor; the observing
+  /// vehicle; null: the first).
   static void correctMean(SlamState& state, const Eigen::VectorXd& dx,
                           const VariableKey* anchor = nullptr);
   /// After correctMean in the right-invariant chart (slam_state.h): maps P from the chart at
