@@ -244,23 +244,18 @@ void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx,
       x += d;
     }
   }
-  if (invariant) resetInvariantChart(state, x_prior, prior_poses, anchor);
-}
-
-void CovarianceHelper::resetInvariantChart(SlamState& state, const Eigen::VectorXd& x_prior,
-                                           const std::vector<EstimatedPose>& prior_poses,
-                                           const VariableKey* anchor) {
+  if (!invariant) return;
   // The update kept the covariance of the invariant error ξ = A(x̂⁻) δ (slam_state.h); in the
   // stored coordinates at the corrected mean that is J δ (invariant_chart_transport.h), so
   // P ← J P Jᵀ. A landmark's rotation error is that of the vehicle it was mapped from
   // (SlamState::landmarkAnchor), else the observing vehicle's (`anchor`); any vehicle's keeps
   // the global yaw direction, which they share.
   const InvariantChartTransport J(x_prior, prior_poses, state, anchor);
-  // P Jᵀ, then (P Jᵀ)ᵀ = J P and the same again: J P Jᵀ.
+  // P Jᵀ, then (P Jᵀ)ᵀ = J P and the same again: J P Jᵀ, symmetric up to rounding (the next
+  // update mirrors its lower triangle).
   J.multiplyByTransposeFromRight(state.P_);
   state.P_.transposeInPlace();
-  J.multiplyByTransposeFromRight(state.P_);  // symmetric up to rounding (the next update
-                                             // mirrors its lower triangle)
+  J.multiplyByTransposeFromRight(state.P_);
 }
 
 }  // namespace cvslam

@@ -19,7 +19,6 @@
 #include "cvslam/filter/measurement_batch.h"
 #include "cvslam/filter/slam_state.h"
 #include "cvslam/filter/update_policy.h"
-#include "cvslam/ins/estimated_pose.h"
 
 namespace cvslam {
 
@@ -108,16 +107,13 @@ class CovarianceHelper {
   /// x ← x + dx; a vehicle block through vehicle_model::correct (angles kept in (−π, π], or
   /// the rotation error folded into the nominal, P's attitude rows and columns mapped by the
   /// reset Jacobian J_r(δθ̂)).
+  /// In the right-invariant chart (slam_state.h) P is then mapped from the chart at the prior
+  /// mean to the chart at the corrected one (invariant_chart_transport.h).
   /// `anchor`: in the right-invariant chart, the vehicle whose rotation error the errors of
   /// landmarks without an anchor of their own take (SlamState::landmarkAnchor; the observing
   /// vehicle; null: the first).
   static void correctMean(SlamState& state, const Eigen::VectorXd& dx,
                           const VariableKey* anchor = nullptr);
-  /// After correctMean in the right-invariant chart (slam_state.h): maps P from the chart at
-  /// the prior mean to the chart at the corrected one.
-  static void resetInvariantChart(SlamState& state, const Eigen::VectorXd& x_prior,
-                                  const std::vector<EstimatedPose>& prior_poses,
-                                  const VariableKey* anchor);
   static Status append(SlamState& state, const VariableKey& key, const Eigen::VectorXd& value);
 };
 
