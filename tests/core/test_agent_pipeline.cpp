@@ -112,6 +112,9 @@ TEST(AgentCalibration, EurocFolderGivesTheRectifiedCameraAndImuNoise) {
   EXPECT_TRUE(o.p_CinB.isApprox(Eigen::Vector3d(0.1, 0.0, 0.05), 1e-12));
   EXPECT_DOUBLE_EQ(c->options.ins.gyro_noise_density, 3e-4);
   EXPECT_DOUBLE_EQ(c->options.ins.accel_random_walk, 4e-3);
+  // A sensor.yaml is a datasheet: its random walks keep the datasheet factor.
+  EXPECT_DOUBLE_EQ(c->options.ins.datasheet_random_walk_scale,
+                   InsPropagatorOptions().datasheet_random_walk_scale);
 
   // An IMU mounted x-up with a lever arm (as the EuRoC VI-sensor's): the body frame is the
   // IMU frame, the cameras are re-expressed relative to it.

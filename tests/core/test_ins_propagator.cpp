@@ -309,6 +309,17 @@ TEST(InsPropagatorOptions, ScalesMultiplyTheDensitiesWhateverSetThem) {
   for (int i = 6; i < 12; ++i) EXPECT_NEAR(qs(i), 9.0 * q(i), 1e-12 * q(i)) << i;
   auto bad = ConfigNode::fromString("{random_walk_scale: 0}", "t.yaml");
   EXPECT_EQ(InsPropagatorOptions().load(*bad).message(), "t.yaml: random_walk_scale: must be > 0");
+
+  // The datasheet factor multiplies the random walks only, on top of random_walk_scale.
+  InsPropagatorOptions truth = o;
+  truth.datasheet_random_walk_scale = 1.0;
+  const Eigen::VectorXd qt = InsPropagator(truth).noiseVariances(0.005);
+  const double f = o.datasheet_random_walk_scale;
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(q(i), qt(i), 1e-12 * q(i)) << i;
+  for (int i = 6; i < 12; ++i) EXPECT_NEAR(q(i), f * f * qt(i), 1e-12 * q(i)) << i;
+  auto bad_datasheet = ConfigNode::fromString("{datasheet_random_walk_scale: -1}", "t.yaml");
+  EXPECT_EQ(InsPropagatorOptions().load(*bad_datasheet).message(),
+            "t.yaml: datasheet_random_walk_scale: must be > 0");
 }
 
 /// Monte-Carlo check of the covariance propagation (GTSAM practice): sample

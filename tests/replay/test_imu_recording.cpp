@@ -121,6 +121,12 @@ TEST(ImuRecording, KnownPoseStartMeasuresTheTurnOnGyroBiasAtRest) {
   // A synthesised IMU keeps the configured prior.
   const AgentFilterSetup uav1 = simulatedAgentSetup(sim->agent(0), options);
   EXPECT_TRUE(uav1.x0.segment<3>(vehicle::kGyroBias).isZero());
+  // The synthesised IMU's filter has its true densities, the recording's the datasheet's with
+  // the datasheet factor on the random walks.
+  EXPECT_DOUBLE_EQ(uav1.options.ins.datasheet_random_walk_scale, 1.0);
+  EXPECT_DOUBLE_EQ(uav3.options.ins.datasheet_random_walk_scale,
+                   options.ins.datasheet_random_walk_scale);
+  EXPECT_GT(options.ins.datasheet_random_walk_scale, 1.0);
 }
 
 TEST(ImuRecording, RecordingMustCoverTheRun) {

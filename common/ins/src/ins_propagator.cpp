@@ -17,6 +17,7 @@ Status InsPropagatorOptions::load(const ConfigNode& node) {
   node.get("accel_random_walk", accel_random_walk);
   node.get("noise_density_scale", noise_density_scale);
   node.get("random_walk_scale", random_walk_scale);
+  node.get("datasheet_random_walk_scale", datasheet_random_walk_scale);
   node.get("estimate_imu_bias", estimate_imu_bias);
   node.get("gravity", gravity);
   node.get("max_dt", max_dt);
@@ -31,6 +32,7 @@ Status InsPropagatorOptions::load(const ConfigNode& node) {
   node.check(accel_random_walk > 0, "accel_random_walk", "must be > 0");
   node.check(noise_density_scale > 0, "noise_density_scale", "must be > 0");
   node.check(random_walk_scale > 0, "random_walk_scale", "must be > 0");
+  node.check(datasheet_random_walk_scale > 0, "datasheet_random_walk_scale", "must be > 0");
   node.check(gravity > 0, "gravity", "must be > 0");
   node.check(max_dt > 0, "max_dt", "must be > 0");
   return node.status();
@@ -45,6 +47,7 @@ std::string InsPropagatorOptions::print() const {
      << "accel_random_walk: " << accel_random_walk << "\n"
      << "noise_density_scale: " << noise_density_scale << "\n"
      << "random_walk_scale: " << random_walk_scale << "\n"
+     << "datasheet_random_walk_scale: " << datasheet_random_walk_scale << "\n"
      << "estimate_imu_bias: " << (estimate_imu_bias ? "true" : "false") << "\n"
      << "gravity: " << gravity << "\n"
      << "max_dt: " << max_dt << "\n"
@@ -325,7 +328,8 @@ ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, int64_t t_us) {
 Eigen::VectorXd InsPropagator::noiseVariances(double dt) const {
   Eigen::VectorXd q(noiseSize());
   const double white = o_.noise_density_scale * o_.noise_density_scale / dt;
-  const double walk = o_.random_walk_scale * o_.random_walk_scale / dt;
+  const double walk_scale = o_.random_walk_scale * o_.datasheet_random_walk_scale;
+  const double walk = walk_scale * walk_scale / dt;
   q.segment<3>(0).setConstant(o_.accel_noise_density * o_.accel_noise_density * white);
   q.segment<3>(3).setConstant(o_.gyro_noise_density * o_.gyro_noise_density * white);
   if (o_.estimate_imu_bias) {
