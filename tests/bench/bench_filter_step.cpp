@@ -119,6 +119,32 @@ void BM_UpdateLargeMap(benchmark::State& st) {
 }
 BENCHMARK(BM_UpdateLargeMap)->ArgsProduct({{100, 300, 700}, {0, 1}})->Unit(benchmark::kMillisecond);
 
+/// The k-nearest map with held landmarks (`slam.held_landmarks`, Schmidt variables): 30 landmarks
+/// in the map, range(0) held, 25 observations of the map's, invariant chart. Only the corrected
+/// variables' rows and columns change (CovarianceHelper::update, step 4).
+void BM_UpdateHeld(benchmark::State& st) {
+  std::mt19937 rng(7);
+  const int held = static_cast<int>(st.range(0));
+  SlamState prior = test::randomSlamState(30 + held, rng);
+  for (int k = 0; k < held; ++k) {
+    const uint64_t id = 100u + 30u + static_cast<uint64_t>(k);
+    CovarianceHelper::rekey(prior, VariableKey::landmark(id), VariableKey::heldLandmark(id));
+  }
+  prior.setErrorChart(ErrorChart::kRightInvariant);
+  MeasurementBatch batch;
+  test::randomStereoBatch(prior, 25, rng, &batch);
+  const UpdatePolicy policy = UpdatePolicy::ekf(0.999);
+  UpdateReport report;
+  SlamState s = prior;
+  for (auto _ : st) {
+    s = prior;
+    CovarianceHelper::update(s, batch, policy, &report);
+    benchmark::DoNotOptimize(s.covariance().data());
+  }
+  st.counters["n"] = static_cast<double>(prior.size());
+}
+BENCHMARK(BM_UpdateHeld)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
+
 /// The whole step: INS prediction, covariance propagation, update. Arg 0: EKF, 1: NH∞.
 void BM_FilterStep(benchmark::State& st) {
   const StepData d;

@@ -73,30 +73,41 @@ TEST(HeldLandmark, SchmidtUpdateKeepsItsMarginalAndBoundsTheFullUpdate) {
 }
 
 /// The update's rank-2m form is the Schmidt filter's Joseph form (I − KH) P (I − KH)ᵀ + K R Kᵀ
-/// with the held rows of the optimal gain set to zero, computed densely.
+/// with the held rows of the optimal gain set to zero, computed densely: with few held landmarks
+/// (the triangular product) and with most of the state held (only the corrected columns).
 TEST(HeldLandmark, SchmidtUpdateEqualsTheDenseJosephForm) {
-  std::mt19937 rng(12);
-  SlamState s = test::randomSlamState(5, rng);
-  for (uint64_t id : {101u, 103u}) {
-    ASSERT_TRUE(
-        CovarianceHelper::rekey(s, VariableKey::landmark(id), VariableKey::heldLandmark(id)).ok());
-  }
-  MeasurementBatch batch;
-  test::randomStereoBatch(s, 6, rng, &batch);
-  const Eigen::MatrixXd P = s.covariance();
-  const Eigen::MatrixXd H = batch.H();
-  const Eigen::MatrixXd R = batch.R();
-  Eigen::MatrixXd K = P * H.transpose() * (H * P * H.transpose() + R).inverse();
-  for (const StateVariable& v : s.variables()) {
-    if (v.key.kind == VariableKey::Kind::kHeldLandmark) K.middleRows(v.index, v.size).setZero();
-  }
-  const Eigen::MatrixXd A = Eigen::MatrixXd::Identity(P.rows(), P.cols()) - K * H;
-  const Eigen::MatrixXd joseph = A * P * A.transpose() + K * R * K.transpose();
-  const Eigen::VectorXd mean = s.mean() + K * batch.residual();
+  struct Case {
+    int landmarks;
+    int held;  // the first `held` landmarks, ids 100…
+  };
+  for (const Case c : {Case{5, 2}, Case{12, 10}, Case{40, 37}}) {
+    SCOPED_TRACE(::testing::Message() << c.held << " of " << c.landmarks << " held");
+    std::mt19937 rng(12);
+    SlamState s = test::randomSlamState(c.landmarks, rng);
+    for (int k = 0; k < c.held; ++k) {
+      const uint64_t id = 100u + static_cast<uint64_t>(k);
+      ASSERT_TRUE(
+          CovarianceHelper::rekey(s, VariableKey::landmark(id), VariableKey::heldLandmark(id))
+              .ok());
+    }
+    MeasurementBatch batch;
+    test::randomStereoBatch(s, 6, rng, &batch);
+    const Eigen::MatrixXd P = s.covariance();
+    const Eigen::MatrixXd H = batch.H();
+    const Eigen::MatrixXd R = batch.R();
+    Eigen::MatrixXd K = P * H.transpose() * (H * P * H.transpose() + R).inverse();
+    for (const StateVariable& v : s.variables()) {
+      if (v.key.kind == VariableKey::Kind::kHeldLandmark) K.middleRows(v.index, v.size).setZero();
+    }
+    const Eigen::MatrixXd A = Eigen::MatrixXd::Identity(P.rows(), P.cols()) - K * H;
+    const Eigen::MatrixXd joseph = A * P * A.transpose() + K * R * K.transpose();
+    const Eigen::VectorXd mean = s.mean() + K * batch.residual();
 
-  ASSERT_TRUE(CovarianceHelper::update(s, batch, UpdatePolicy::ekf(), nullptr).ok());  // no gate
-  EXPECT_LT((s.covariance() - joseph).cwiseAbs().maxCoeff(), 1e-10 * P.cwiseAbs().maxCoeff());
-  EXPECT_LT((s.mean() - mean).cwiseAbs().maxCoeff(), 1e-9);
+    ASSERT_TRUE(CovarianceHelper::update(s, batch, UpdatePolicy::ekf(), nullptr).ok());  // no gate
+    EXPECT_LT((s.covariance() - joseph).cwiseAbs().maxCoeff(), 1e-10 * P.cwiseAbs().maxCoeff());
+    EXPECT_EQ(s.covariance(), s.covariance().transpose());  // exactly symmetric
+    EXPECT_LT((s.mean() - mean).cwiseAbs().maxCoeff(), 1e-9);
+  }
 }
 
 TEST(HeldLandmark, ArchivingAndReactivatingIsExact) {

@@ -251,11 +251,10 @@ void CovarianceHelper::correctMean(SlamState& state, const Eigen::VectorXd& dx,
   // (SlamState::landmarkAnchor), else the observing vehicle's (`anchor`); any vehicle's keeps
   // the global yaw direction, which they share.
   const InvariantChartTransport J(x_prior, prior_poses, state, anchor);
-  // P Jᵀ, then (P Jᵀ)ᵀ = J P and the same again: J P Jᵀ, symmetric up to rounding (the next
-  // update mirrors its lower triangle).
+  // P Jᵀ by columns, then J (P Jᵀ) by rows: symmetric up to rounding (the next update mirrors
+  // what it changes). Two transposes of P cost more than this (held landmarks make n large).
   J.multiplyByTransposeFromRight(state.P_);
-  state.P_.transposeInPlace();
-  J.multiplyByTransposeFromRight(state.P_);
+  J.multiplyFromLeft(state.P_);
 }
 
 }  // namespace cvslam

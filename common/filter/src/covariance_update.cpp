@@ -169,8 +169,14 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   // Held landmarks are Schmidt variables: zero gain. The Joseph form below is exact for any
   // gain, so their covariance stays and their cross-covariances get (I − KH) P.
   Eigen::MatrixXd K = S_llt.solve(PHt_a.transpose()).transpose();
+  std::vector<int> corrected;  // rows of the variables with a gain: all but held landmarks
+  corrected.reserve(static_cast<std::size_t>(n));
   for (const StateVariable& v : state.variables()) {
-    if (v.key.kind == VariableKey::Kind::kHeldLandmark) K.middleRows(v.index, v.size).setZero();
+    if (v.key.kind == VariableKey::Kind::kHeldLandmark) {
+      K.middleRows(v.index, v.size).setZero();
+    } else {
+      for (int k = 0; k < v.size; ++k) corrected.push_back(v.index + k);
+    }
   }
   const Eigen::VectorXd dx = K * r_a;
   report.rows = static_cast<int>(rows.size());
@@ -184,22 +190,42 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   //    the factored form's 2 n² m (`bench_filter_step` BM_UpdateLargeMap), then mirrored.
   //    P − K S Kᵀ alone is cheaper still but is not insensitive to errors in K, and it lost
   //    positive definiteness on a full-map run (euroc_mh03_hall seed 226, 67 s).
+  //    With held landmarks (rows of K zero) the held–held block of W Kᵀ + K Wᵀ is zero: only
+  //    the columns of the corrected variables C change, D = W K_Cᵀ + K W_Cᵀ (2 n n_C m), and
+  //    their rows by symmetry. Cheaper than the triangle when n_C < n / 2: with 100–300 held
+  //    landmarks most of a k-nearest state (`bench_filter_step` BM_UpdateHeld).
   const Eigen::Index m = K.cols();
-  Eigen::MatrixXd left(n, 2 * m), right(n, 2 * m);
-  left.leftCols(m) = PHt_a;
-  left.leftCols(m).noalias() -= 0.5 * (K * S_a);
-  left.rightCols(m) = K;
-  right.leftCols(m) = K;
-  right.rightCols(m) = left.leftCols(m);
-  Eigen::MatrixXd P_post = P;
-  P_post.triangularView<Eigen::Lower>() -= left * right.transpose();
-  for (Eigen::Index j = 0; j + 1 < n; ++j) {
-    P_post.row(j).tail(n - j - 1) = P_post.col(j).tail(n - j - 1).transpose();
+  Eigen::MatrixXd W = PHt_a;
+  W.noalias() -= 0.5 * (K * S_a);
+  // The EKF updates P in place (nothing can fail after the gain); NH∞ works on a copy, which
+  // step 5 may refuse.
+  Eigen::MatrixXd P_copy;
+  const bool nhinf = policy.theta > 0.0;
+  if (nhinf) P_copy = P;
+  Eigen::MatrixXd& P_post = nhinf ? P_copy : state.P_;
+  if (2 * corrected.size() < static_cast<std::size_t>(n)) {
+    const Eigen::MatrixXd W_c = W(corrected, Eigen::all), K_c = K(corrected, Eigen::all);
+    Eigen::MatrixXd D = W * K_c.transpose();
+    D.noalias() += K * W_c.transpose();
+    for (std::size_t k = 0; k < corrected.size(); ++k) {
+      P_post.col(corrected[k]) -= D.col(static_cast<Eigen::Index>(k));
+    }
+    for (int c : corrected) P_post.row(c) = P_post.col(c).transpose();
+  } else {
+    Eigen::MatrixXd left(n, 2 * m), right(n, 2 * m);
+    left.leftCols(m) = W;
+    left.rightCols(m) = K;
+    right.leftCols(m) = K;
+    right.rightCols(m) = W;
+    P_post.triangularView<Eigen::Lower>() -= left * right.transpose();
+    for (Eigen::Index j = 0; j + 1 < n; ++j) {
+      P_post.row(j).tail(n - j - 1) = P_post.col(j).tail(n - j - 1).transpose();
+    }
   }
 
   // 5. NH∞ (eq. 3.39).
   double theta = 0.0;
-  if (policy.theta > 0.0) {
+  if (nhinf) {
     theta = applyTheta(policy, batch, rows, P_post, &report);
     if (theta < 0.0) {
       return Status::Error("update: NH∞ posterior not positive definite after reducing θ");
@@ -207,7 +233,7 @@ Status CovarianceHelper::update(SlamState& state, const MeasurementBatch& batch,
   }
   report.theta_used = theta;
 
-  state.P_ = std::move(P_post);
+  if (nhinf) state.P_ = std::move(P_copy);
   // In the invariant chart a landmark without an anchor of its own takes the rotation error of
   // the vehicle these observations are of (the first whose attitude columns H uses).
   const VariableKey* observer =

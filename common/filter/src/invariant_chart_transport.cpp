@@ -68,6 +68,16 @@ void InvariantChartTransport::multiplyByTransposeFromRight(Eigen::MatrixXd& M) c
   }
 }
 
+void InvariantChartTransport::multiplyFromLeft(Eigen::MatrixXd& M) const {
+  // The same order by rows: every coupling reads the attitude rows before they are rotated.
+  for (const Coupling& c : couplings_) {
+    M.middleRows<3>(c.row).noalias() += c.C * M.middleRows<3>(c.attitude);
+  }
+  for (const Rotation& r : rotations_) {
+    M.middleRows<3>(r.row) = (r.R * M.middleRows<3>(r.row)).eval();
+  }
+}
+
 void InvariantChartTransport::multiplyJacobian(MeasurementBatch& batch) const {
   // (H J)(:, attitude) = H(:, attitude) M̄⁻¹M̂ + Σ H(:, coupled) C: rotate first, the coupled
   // position and landmark columns are never rotated.

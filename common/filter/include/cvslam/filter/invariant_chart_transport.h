@@ -39,9 +39,11 @@ class InvariantChartTransport {
   /// The poses of `state`'s vehicles in index order (the "from" poses of a later transport).
   static std::vector<EstimatedPose> vehiclePoses(const SlamState& state);
 
-  /// M ← M Jᵀ (M has the state's size in columns). P ← J P Jᵀ is this, a transpose and this
-  /// again.
+  /// M ← M Jᵀ (M has the state's size in columns), by columns.
   void multiplyByTransposeFromRight(Eigen::MatrixXd& M) const;
+  /// M ← J M (M has the state's size in rows), by rows. P ← J P Jᵀ is this after the one above:
+  /// both touch only the rows / columns J moves, O(n) each.
+  void multiplyFromLeft(Eigen::MatrixXd& M) const;
   /// H ← H J for the batch's Jacobian; blocks that J fills in are added to the batch's sparsity.
   void multiplyJacobian(MeasurementBatch& batch) const;
 
