@@ -97,14 +97,8 @@ void BM_Update(benchmark::State& st) {
 }
 BENCHMARK(BM_Update)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
-/// EKF update with 25 stereo observations over a map of range(0) landmarks (a room kept whole,
-/// `map.kind: full`; docs/results/euroc_recorded.md "Map size"): the covariance update is
-/// O(n² m) and dominates there. Arg 1: 0 the additive chart, 1 the invariant chart (its reset
-/// moves every landmark's rows and columns: O(n²) more; docs/filter.md "Invariant error chart").
-void BM_UpdateLargeMap(benchmark::State& st) {
-  std::mt19937 rng(7);
-  SlamState prior = test::randomSlamState(static_cast<int>(st.range(0)), rng);
-  prior.setErrorChart(st.range(1) > 0 ? ErrorChart::kRightInvariant : ErrorChart::kAdditive);
+/// Times the EKF update of `prior` with 25 random stereo observations of its map landmarks.
+void timeUpdate(benchmark::State& st, const SlamState& prior, std::mt19937& rng) {
   MeasurementBatch batch;
   test::randomStereoBatch(prior, 25, rng, &batch);
   const UpdatePolicy policy = UpdatePolicy::ekf(0.999);
@@ -116,6 +110,17 @@ void BM_UpdateLargeMap(benchmark::State& st) {
     benchmark::DoNotOptimize(s.covariance().data());
   }
   st.counters["n"] = static_cast<double>(prior.size());
+}
+
+/// EKF update with 25 stereo observations over a map of range(0) landmarks (a room kept whole,
+/// `map.kind: full`; docs/results/euroc_recorded.md "Map size"): the covariance update is
+/// O(n² m) and dominates there. Arg 1: 0 the additive chart, 1 the invariant chart (its reset
+/// moves every landmark's rows and columns: O(n²) more; docs/filter.md "Invariant error chart").
+void BM_UpdateLargeMap(benchmark::State& st) {
+  std::mt19937 rng(7);
+  SlamState prior = test::randomSlamState(static_cast<int>(st.range(0)), rng);
+  prior.setErrorChart(st.range(1) > 0 ? ErrorChart::kRightInvariant : ErrorChart::kAdditive);
+  timeUpdate(st, prior, rng);
 }
 BENCHMARK(BM_UpdateLargeMap)->ArgsProduct({{100, 300, 700}, {0, 1}})->Unit(benchmark::kMillisecond);
 
@@ -131,17 +136,7 @@ void BM_UpdateHeld(benchmark::State& st) {
     CovarianceHelper::rekey(prior, VariableKey::landmark(id), VariableKey::heldLandmark(id));
   }
   prior.setErrorChart(ErrorChart::kRightInvariant);
-  MeasurementBatch batch;
-  test::randomStereoBatch(prior, 25, rng, &batch);
-  const UpdatePolicy policy = UpdatePolicy::ekf(0.999);
-  UpdateReport report;
-  SlamState s = prior;
-  for (auto _ : st) {
-    s = prior;
-    CovarianceHelper::update(s, batch, policy, &report);
-    benchmark::DoNotOptimize(s.covariance().data());
-  }
-  st.counters["n"] = static_cast<double>(prior.size());
+  timeUpdate(st, prior, rng);
 }
 BENCHMARK(BM_UpdateHeld)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
 

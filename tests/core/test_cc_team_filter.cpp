@@ -16,6 +16,7 @@
 #include "cvslam/coop/cc_batch_builder.h"
 #include "cvslam/coop/cc_team_filter.h"
 #include "cvslam/ins/ins_propagator.h"
+#include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/io/config_node.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/simrun/simulated_team_run.h"
@@ -368,6 +369,36 @@ TEST(CcTeamFilter, LocalIdsMapOnlyWhatTheAgentMapped) {
   }
   ASSERT_EQ(gs.map().size(), 1u);
   EXPECT_TRUE(gs.map()[0].in_state);
+}
+
+TEST(CcTeamFilter, LocalIdsMatchAcrossUavsWithinTheJointCovariance) {
+  // UAV2 believes it is 4 m north of where it is and sees UAV1's landmark (same feature index,
+  // no descriptor): triangulated from UAV2's estimate the landmark lies 4 m from UAV1's, beyond
+  // max_association_distance_m. It is UAV1's landmark (type 2) when the joint covariance allows
+  // the offset (UAV2's position σ 5 m), a new one when it does not (σ 0.1 m).
+  for (const double sigma : {5.0, 0.1}) {
+    SCOPED_TRACE(::testing::Message() << "UAV2 position sigma " << sigma << " m");
+    coop::CcTeamFilterOptions o = defaultOptions();
+    o.association = coop::CcAssociation::kLocalIds;
+    ASSERT_LT(o.max_association_distance_m, 4.0);
+    coop::CcTeamFilter gs(o);
+    const int n = InsPropagator(o.slam.ins).stateSize();
+    const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(n, n) * 0.01;
+    ASSERT_TRUE(
+        gs.addVehicle(1, StereoCamera(StereoCameraOptions{}), 0, Eigen::VectorXd::Zero(n), P).ok());
+    Eigen::VectorXd x2 = Eigen::VectorXd::Zero(n);
+    x2(vehicle::kPosition) = 4.0;
+    Eigen::MatrixXd P2 = P;
+    P2.block<3, 3>(vehicle::kPosition, vehicle::kPosition) =
+        Eigen::Matrix3d::Identity() * sigma * sigma;
+    ASSERT_TRUE(gs.addVehicle(2, StereoCamera(StereoCameraOptions{}), 0, x2, P2).ok());
+    coop::CcStepReport report;
+    ASSERT_TRUE(gs.processBatch(restBatch(1, 100000), &report).ok()) << report.reason;
+    ASSERT_EQ(report.type3, 1);
+    ASSERT_TRUE(gs.processBatch(restBatch(2, 100000), &report).ok()) << report.reason;
+    EXPECT_EQ(report.type2, sigma > 1.0 ? 1 : 0);
+    EXPECT_EQ(gs.map().size(), sigma > 1.0 ? 1u : 2u);
+  }
 }
 
 TEST(CcBatchBuilder, BatchHoldsTheImuSinceThePreviousFrame) {

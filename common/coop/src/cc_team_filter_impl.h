@@ -75,6 +75,8 @@ struct CcTeamFilter::Impl {
   int64_t next_fresh_id = int64_t{1} << 40;  // as VisualInertialSlam
   StereoFrameObservations frame;             // the batch with joint ids (reused)
   MeasurementBatch meet_batch;               // rendezvous updates (reused)
+  StereoFrameObservations gate_frame;        // withinGate (reused)
+  MeasurementBatch gate_batch;               // withinGate (reused)
   std::vector<int> types;                    // per observation of `frame`: 1, 2, 3
   std::vector<int64_t> meet;                 // rendezvous landmarks of `frame` (ascending)
 
@@ -84,6 +86,9 @@ struct CcTeamFilter::Impl {
   /// local_ids: the joint id of an observation's local id (matched or fresh).
   int64_t jointOf(CcVehicle& v, const StereoObservation& obs, const CcTeamFilterOptions& o,
                   const std::vector<int64_t>& used);
+  /// Whether `obs`, taken as an observation of state landmark `id` by v, passes the χ²(4) gate
+  /// `chi2` at the joint estimate and covariance.
+  bool withinGate(const CcVehicle& v, const StereoObservation& obs, int64_t id, double chi2);
   /// Step 3 for UAV v over the joint map.
   void manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam, double reactivation_inflation,
                  FrameReport* r);

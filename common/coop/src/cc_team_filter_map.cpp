@@ -1,6 +1,7 @@
 // CcTeamFilter's association (§6.3.1 types) and k-nearest map management over the joint map
 // (cc_team_filter.h, steps 2, 3 and the bookkeeping after 5).
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -117,6 +118,29 @@ void CcTeamFilter::Impl::noteObserver(int64_t id, int agent_id, const StereoObse
   if (pos == info.observers.end() || *pos != agent_id) info.observers.insert(pos, agent_id);
 }
 
+bool CcTeamFilter::Impl::withinGate(const CcVehicle& v, const StereoObservation& obs, int64_t id,
+                                    double chi2) {
+  // The observation as one of landmark `id`, linearised at the joint estimate: the innovation
+  // and its covariance H P Hᵀ + R over this vehicle's and the landmark's correlated blocks.
+  gate_frame.t_us = frame.t_us;
+  gate_frame.observations.assign(1, obs);
+  gate_frame.observations.front().landmark_id = id;
+  if (!v.updater
+           .linearise(state, v.book, gate_frame, StereoUpdater::Selection::kOnlyListed, {id},
+                      StereoUpdater::Jacobians::kPlain, 1.0, &gate_batch)
+           .ok() ||
+      gate_batch.rows() != 4) {
+    return false;  // behind the camera
+  }
+  Eigen::MatrixXd PHt, S;
+  gate_batch.multiplyByHt(state.covariance(), &PHt);
+  gate_batch.multiplyH(PHt, &S);
+  S += gate_batch.R();
+  const Eigen::LLT<Eigen::MatrixXd> llt(S);
+  if (llt.info() != Eigen::Success) return false;
+  return llt.matrixL().solve(gate_batch.residual()).squaredNorm() <= chi2;
+}
+
 int64_t CcTeamFilter::Impl::jointOf(CcVehicle& v, const StereoObservation& obs,
                                     const CcTeamFilterOptions& o,
                                     const std::vector<int64_t>& used) {
@@ -142,15 +166,13 @@ int64_t CcTeamFilter::Impl::jointOf(CcVehicle& v, const StereoObservation& obs,
                                       static_cast<int>(obs.descriptor.size()))));
         if (d > o.max_descriptor_distance) continue;
       }
-      Eigen::Vector3d p_map;
-      if (const StateVariable* lm = state.find(landmarkKey(id))) {
-        p_map = state.value(*lm);
+      if (state.has(landmarkKey(id))) {
+        if (!withinGate(v, obs, id, o.association_gate_chi2)) continue;
       } else if (const ArchivedLandmark* a = archive.find(id)) {
-        p_map = a->p_LinN;
+        if ((p_seen - a->p_LinN).norm() > o.max_association_distance_m) continue;
       } else {
         continue;  // named but never initialised
       }
-      if ((p_seen - p_map).norm() > o.max_association_distance_m) continue;
       if (d < best_distance) best_distance = d, best = id;
     }
   }

@@ -18,6 +18,7 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.getEnum("association", association,
              {{"true_ids", CcAssociation::kTrueIds}, {"local_ids", CcAssociation::kLocalIds}});
   cc.get("max_descriptor_distance", max_descriptor_distance);
+  cc.get("association_gate_chi2", association_gate_chi2);
   cc.get("max_association_distance_m", max_association_distance_m);
   cc.get("max_vehicles", max_vehicles);
   cc.get("rendezvous_min_sigma_m", rendezvous_min_sigma_m);
@@ -27,6 +28,7 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.check(reactivation_inflation >= 0.0, "reactivation_inflation", "must be ≥ 0");
   cc.check(rendezvous_min_sigma_m >= 0.0, "rendezvous_min_sigma_m", "must be ≥ 0");
   cc.check(max_descriptor_distance >= 0.0, "max_descriptor_distance", "must be ≥ 0");
+  cc.check(association_gate_chi2 > 0.0, "association_gate_chi2", "must be > 0");
   cc.check(max_association_distance_m > 0.0, "max_association_distance_m", "must be > 0");
   cc.check(max_vehicles >= 1, "max_vehicles", "must be ≥ 1");
   if (auto p = slam.filter.policy(); !p.ok()) root.check(false, "filter", p.status().message());

@@ -94,8 +94,13 @@ struct CcTeamFilterOptions {
   /// local_ids: a new local id matches a joint landmark of the same feature index only with a
   /// descriptor L2 distance at most this (as DC's coop.max_descriptor_distance).
   double max_descriptor_distance = 250.0;
-  /// local_ids: ... and when the landmark triangulated from the observation at the vehicle's
-  /// estimate lies at most this far from the joint landmark [m].
+  /// local_ids: ... and, for a joint landmark in the state, when the observation's squared
+  /// Mahalanobis distance from its prediction from this UAV, with the innovation covariance
+  /// H P Hᵀ + R of the joint state, is at most this (χ²(4) 99.9 %: as the agents' gate). Two
+  /// UAVs that have drifted metres apart still meet where their joint covariance says they may.
+  double association_gate_chi2 = 18.47;
+  /// local_ids: an archived joint landmark (no correlation left) only when the landmark
+  /// triangulated from the observation at the vehicle's estimate lies at most this far from it [m].
   double max_association_distance_m = 3.0;
   int max_vehicles = 16;  ///< addVehicle beyond this fails (bounded state)
   /// A re-activated landmark re-enters with its archived covariance plus this times the

@@ -58,8 +58,8 @@ struct InsPropagatorOptions {
   /// A further factor on σ_bg and σ_ba while they are a datasheet's (this file, a recording's
   /// imu0/sensor.yaml, a real IMU recording played in a scenario). The simulator's IMU has no
   /// datasheet: simulatedAgentSetup gives the filter its true densities and sets this to 1.
-  /// Chosen on euroc_mh03_hall's real-IMU UAV over seeds 301–320 (docs/results/euroc_recorded.md
-  /// "Datasheet random walks").
+  /// 3: most of what larger factors gain on euroc_mh03_hall's real-IMU UAV over seeds 301–320
+  /// (docs/results/euroc_recorded.md "Datasheet random walks").
   double datasheet_random_walk_scale = 3.0;
   /// Adds b_a and b_g (6 states) to the vehicle state.
   bool estimate_imu_bias = false;
