@@ -68,6 +68,7 @@ Status CcTeamLink::afterFrame(int id, const AgentPipeline& agent, const Vector9d
   coop::CcStepReport report;
   // A rejected batch is counted by the filter; the agent then records its own estimate.
   const Status step = filter_.processBatch(batch, &report);
+  for (const coop::CcCrossAssociation& c : filter_.takeCrossAssociations()) cross_.push_back(c);
   if (Status s = recorder_.addStep(filter_, report, truth); !s.ok()) return s;
   if (!step.ok()) {
     return recorder->addFrame(agent, truth, std::numeric_limits<double>::quiet_NaN(), nullptr);

@@ -38,6 +38,9 @@ class CcTeamLink {
   Status afterFrame(int id, const AgentPipeline& agent, const Vector9d* truth,
                     AgentRunRecorder* recorder);
 
+  /// images (local_ids): every cross-UAV association the ground station made.
+  const std::vector<coop::CcCrossAssociation>& crossAssociations() const { return cross_; }
+
   /// landmarks.csv of the joint map and stats.json.
   Status close(const coop::GroundStationRecorder::LandmarkTruth& truth);
   void printSummary(std::FILE* out, double duration_s) const;
@@ -56,6 +59,7 @@ class CcTeamLink {
   };
   std::map<int, Start> starts_;
   std::map<int, int64_t> bytes_sent_;
+  std::vector<coop::CcCrossAssociation> cross_;
 };
 
 }  // namespace cvslam

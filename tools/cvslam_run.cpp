@@ -274,16 +274,22 @@ Status openOutputs(const Args& args, const cvslam::SimulatedTeamRun& run,
   return (*dc)->open(args.out);
 }
 
+/// The true position of UAV `agent`'s landmarks: with images, where the renderer showed it was
+/// initialised.
+cvslam::simrun::CrossUavMatchAudit::Truth agentTruth(const cvslam::SimulatedTeamRun& run,
+                                                     const std::map<int, std::size_t>& index_of,
+                                                     int agent) {
+  const cvslam::FrameSensing& s = run.sensing(index_of.at(agent));
+  return [&s](int64_t landmark, Eigen::Vector3d* p) { return s.landmarkTruth(landmark, p); };
+}
+
 /// DC: the frame of UAV `id` against every peer's state, and the pairs it fused since its last
 /// frame, checked against the simulator's truth (simrun/cross_uav_match_audit.h).
 void auditMatches(const cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t>& index_of,
                   const cvslam::DcTeamLink& dc, int id, int64_t t_us,
                   cvslam::simrun::CrossUavMatchAudit* audit,
                   std::map<int, std::size_t>* fused_seen) {
-  const auto truth = [&](int agent) {
-    const cvslam::FrameSensing& s = run.sensing(index_of.at(agent));
-    return [&s](int64_t landmark, Eigen::Vector3d* p) { return s.landmarkTruth(landmark, p); };
-  };
+  const auto truth = [&](int agent) { return agentTruth(run, index_of, agent); };
   const std::vector<cvslam::StateLandmark> own = run.slam(index_of.at(id)).stateLandmarks();
   for (const auto& [peer, k] : index_of) {
     if (peer != id)
@@ -418,7 +424,24 @@ int main(int argc, char** argv) {
     dc->printSummary(stdout, duration);
     std::printf("  %s\n", match_audit.summaryLine().c_str());
   }
-  if (cc) cc->printSummary(stdout, duration);
+  if (cc) {
+    cc->printSummary(stdout, duration);
+    if (args.sensing == "images") {
+      // The ground station's cross-UAV associations (local_ids) against the truth: each agent's
+      // landmark is where the renderer showed it was initialised.
+      cvslam::simrun::CrossUavMatchAudit gs_audit(audit_options);
+      for (const cvslam::coop::CcCrossAssociation& c : cc->crossAssociations()) {
+        if (index_of.count(c.agent) == 0 || index_of.count(c.mapper) == 0) continue;
+        gs_audit.fused(c.agent, c.local_id, agentTruth(run, index_of, c.agent), c.mapper,
+                       c.mapper_local_id, agentTruth(run, index_of, c.mapper));
+      }
+      const cvslam::simrun::CrossUavMatchReport& r = gs_audit.report();
+      std::printf(
+          "  ground station cross-UAV associations against the truth: %ld, %ld right "
+          "(precision %.1f %%), %ld without truth\n",
+          r.fused, r.fused_right, 100.0 * r.precision(), r.fused_unknown);
+    }
+  }
   std::printf("  outputs in %s (evaluate with: cvslam_eval --run %s --summary-json F)\n",
               args.out.c_str(), args.out.c_str());
   return 0;

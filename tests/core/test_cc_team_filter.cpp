@@ -398,6 +398,16 @@ TEST(CcTeamFilter, LocalIdsMatchAcrossUavsWithinTheJointCovariance) {
     ASSERT_TRUE(gs.processBatch(restBatch(2, 100000), &report).ok()) << report.reason;
     EXPECT_EQ(report.type2, sigma > 1.0 ? 1 : 0);
     EXPECT_EQ(gs.map().size(), sigma > 1.0 ? 1u : 2u);
+    // The association is reported once, naming both agents' landmark ids.
+    const std::vector<coop::CcCrossAssociation> cross = gs.takeCrossAssociations();
+    ASSERT_EQ(cross.size(), sigma > 1.0 ? 1u : 0u);
+    if (!cross.empty()) {
+      EXPECT_EQ(cross[0].agent, 2);
+      EXPECT_EQ(cross[0].local_id, 7);
+      EXPECT_EQ(cross[0].mapper, 1);
+      EXPECT_EQ(cross[0].mapper_local_id, 7);
+    }
+    EXPECT_TRUE(gs.takeCrossAssociations().empty());
   }
 }
 

@@ -44,6 +44,12 @@ std::vector<int> CcTeamFilter::vehicles() const {
   return ids;
 }
 
+std::vector<CcCrossAssociation> CcTeamFilter::takeCrossAssociations() {
+  std::vector<CcCrossAssociation> out;
+  out.swap(impl_->cross);
+  return out;
+}
+
 std::vector<int64_t> CcTeamFilter::activeLandmarks(int agent_id) const {
   auto it = impl_->vehicles.find(agent_id);
   return it == impl_->vehicles.end() ? std::vector<int64_t>{} : it->second->active;

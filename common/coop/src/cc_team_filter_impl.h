@@ -76,9 +76,12 @@ struct CcTeamFilter::Impl {
   StereoFrameObservations frame;             // the batch with joint ids (reused)
   MeasurementBatch meet_batch;               // rendezvous updates (reused)
   StereoFrameObservations gate_frame;        // withinGate (reused)
-  MeasurementBatch gate_batch;               // withinGate (reused)
-  std::vector<int> types;                    // per observation of `frame`: 1, 2, 3
-  std::vector<int64_t> meet;                 // rendezvous landmarks of `frame` (ascending)
+  /// local_ids: the agent and agent landmark id that made each joint landmark.
+  std::unordered_map<int64_t, std::pair<int, int64_t>> made_from;
+  std::vector<CcCrossAssociation> cross;  // since the last takeCrossAssociations
+  MeasurementBatch gate_batch;            // withinGate (reused)
+  std::vector<int> types;                 // per observation of `frame`: 1, 2, 3
+  std::vector<int64_t> meet;              // rendezvous landmarks of `frame` (ascending)
 
   /// Step 2: `frame` = the batch with joint ids, `types` per observation; the state landmarks
   /// this UAV observes enter its book (a copy of their record, with the latest last-seen time).

@@ -178,6 +178,12 @@ int64_t CcTeamFilter::Impl::jointOf(CcVehicle& v, const StereoObservation& obs,
   }
   const int64_t joint = best >= 0 ? best : next_fresh_id++;
   v.joint_of_local.emplace(obs.landmark_id, joint);
+  if (best < 0) {
+    made_from.emplace(joint, std::make_pair(v.agent_id, obs.landmark_id));
+  } else if (auto from = made_from.find(best); from != made_from.end()) {
+    if (cross.size() >= CcTeamFilter::kMaxCrossAssociations) cross.erase(cross.begin());
+    cross.push_back({v.agent_id, obs.landmark_id, from->second.first, from->second.second});
+  }
   return joint;
 }
 

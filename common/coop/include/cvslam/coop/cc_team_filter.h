@@ -169,6 +169,15 @@ struct CcTeamStatistics {
   long rejected() const { return rejected_invalid + rejected_stale + rejected_unknown_agent; }
 };
 
+/// local_ids: a landmark new to one UAV that the ground station took for another UAV's (its
+/// observations are type 2 from then on). For audits against a simulator's truth (cvslam_run).
+struct CcCrossAssociation {
+  int agent = 0;                 ///< the UAV whose agent landmark was associated
+  int64_t local_id = -1;         ///< that agent's landmark id
+  int mapper = 0;                ///< the UAV whose agent's landmark first made the joint one
+  int64_t mapper_local_id = -1;  ///< that agent's landmark id
+};
+
 class CcTeamFilter {
  public:
   explicit CcTeamFilter(const CcTeamFilterOptions& options);
@@ -205,6 +214,10 @@ class CcTeamFilter {
   const CcTeamStatistics& statistics() const { return stats_; }
   const SlamState& state() const;
   const CcTeamFilterOptions& options() const { return o_; }
+  /// local_ids: the cross-UAV associations made since the last call (at most the latest
+  /// kMaxCrossAssociations are kept between calls).
+  std::vector<CcCrossAssociation> takeCrossAssociations();
+  static constexpr std::size_t kMaxCrossAssociations = 4096;
   /// Landmark ids active for this UAV (its k nearest), ascending; empty if unknown.
   std::vector<int64_t> activeLandmarks(int agent_id) const;
   /// UAV `agent_id`'s models take their Jacobians at the truth this oracle gives (the ideal
