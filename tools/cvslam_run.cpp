@@ -283,6 +283,28 @@ cvslam::simrun::CrossUavMatchAudit::Truth agentTruth(const cvslam::SimulatedTeam
   return [&s](int64_t landmark, Eigen::Vector3d* p) { return s.landmarkTruth(landmark, p); };
 }
 
+/// CC: the ground station's summary and, with images, its cross-UAV associations (local_ids)
+/// against the truth.
+void printGroundStationSummary(const cvslam::SimulatedTeamRun& run,
+                               const std::map<int, std::size_t>& index_of,
+                               const cvslam::CcTeamLink& cc,
+                               const cvslam::simrun::CrossUavMatchAuditOptions& options,
+                               const std::string& sensing, double duration_s) {
+  cc.printSummary(stdout, duration_s);
+  if (sensing != "images") return;
+  cvslam::simrun::CrossUavMatchAudit audit(options);
+  for (const cvslam::coop::CcCrossAssociation& c : cc.crossAssociations()) {
+    if (index_of.count(c.agent) == 0 || index_of.count(c.mapper) == 0) continue;
+    audit.fused(c.agent, c.local_id, agentTruth(run, index_of, c.agent), c.mapper,
+                c.mapper_local_id, agentTruth(run, index_of, c.mapper));
+  }
+  const cvslam::simrun::CrossUavMatchReport& r = audit.report();
+  std::printf(
+      "  ground station cross-UAV associations against the truth: %ld, %ld right "
+      "(precision %.1f %%), %ld without truth\n",
+      r.fused, r.fused_right, 100.0 * r.precision(), r.fused_unknown);
+}
+
 /// DC: the frame of UAV `id` against every peer's state, and the pairs it fused since its last
 /// frame, checked against the simulator's truth (simrun/cross_uav_match_audit.h).
 void auditMatches(const cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t>& index_of,
@@ -424,24 +446,7 @@ int main(int argc, char** argv) {
     dc->printSummary(stdout, duration);
     std::printf("  %s\n", match_audit.summaryLine().c_str());
   }
-  if (cc) {
-    cc->printSummary(stdout, duration);
-    if (args.sensing == "images") {
-      // The ground station's cross-UAV associations (local_ids) against the truth: each agent's
-      // landmark is where the renderer showed it was initialised.
-      cvslam::simrun::CrossUavMatchAudit gs_audit(audit_options);
-      for (const cvslam::coop::CcCrossAssociation& c : cc->crossAssociations()) {
-        if (index_of.count(c.agent) == 0 || index_of.count(c.mapper) == 0) continue;
-        gs_audit.fused(c.agent, c.local_id, agentTruth(run, index_of, c.agent), c.mapper,
-                       c.mapper_local_id, agentTruth(run, index_of, c.mapper));
-      }
-      const cvslam::simrun::CrossUavMatchReport& r = gs_audit.report();
-      std::printf(
-          "  ground station cross-UAV associations against the truth: %ld, %ld right "
-          "(precision %.1f %%), %ld without truth\n",
-          r.fused, r.fused_right, 100.0 * r.precision(), r.fused_unknown);
-    }
-  }
+  if (cc) printGroundStationSummary(run, index_of, *cc, audit_options, args.sensing, duration);
   std::printf("  outputs in %s (evaluate with: cvslam_eval --run %s --summary-json F)\n",
               args.out.c_str(), args.out.c_str());
   return 0;
