@@ -80,6 +80,7 @@ struct CcTeamFilter::Impl {
   std::unordered_map<int64_t, std::pair<int, int64_t>> made_from;
   std::vector<CcCrossAssociation> cross;  // since the last takeCrossAssociations
   MeasurementBatch gate_batch;            // withinGate (reused)
+  Eigen::MatrixXd gate_PHt, gate_S;       // withinGate (reused)
   std::vector<int> types;                 // per observation of `frame`: 1, 2, 3
   std::vector<int64_t> meet;              // rendezvous landmarks of `frame` (ascending)
 

@@ -132,13 +132,12 @@ bool CcTeamFilter::Impl::withinGate(const CcVehicle& v, const StereoObservation&
       gate_batch.rows() != 4) {
     return false;  // behind the camera
   }
-  Eigen::MatrixXd PHt, S;
-  gate_batch.multiplyByHt(state.covariance(), &PHt);
-  gate_batch.multiplyH(PHt, &S);
-  S += gate_batch.R();
-  const Eigen::LLT<Eigen::MatrixXd> llt(S);
+  gate_batch.multiplyByHt(state.covariance(), &gate_PHt);
+  gate_batch.multiplyH(gate_PHt, &gate_S);
+  const Eigen::Matrix4d S = gate_S + gate_batch.R();
+  const Eigen::LLT<Eigen::Matrix4d> llt(S);
   if (llt.info() != Eigen::Success) return false;
-  return llt.matrixL().solve(gate_batch.residual()).squaredNorm() <= chi2;
+  return llt.matrixL().solve(Eigen::Vector4d(gate_batch.residual())).squaredNorm() <= chi2;
 }
 
 int64_t CcTeamFilter::Impl::jointOf(CcVehicle& v, const StereoObservation& obs,
