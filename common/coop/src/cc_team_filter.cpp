@@ -17,6 +17,8 @@ CcTeamFilter::CcTeamFilter(const CcTeamFilterOptions& options)
     : o_(options), impl_(std::make_unique<Impl>()) {
   impl_->map_manager = KNearestMapManager(o_.slam.map);
   impl_->held_landmarks = o_.slam.slam.held_landmarks;
+  impl_->reactivation = ReactivationIntersection(
+      {o_.slam.slam.reactivation_min_omega, o_.slam.slam.reactivation_max_omega});
   impl_->state.setErrorChart(o_.slam.slam.error_chart);
   Expected<UpdatePolicy> policy = o_.slam.filter.policy();
   if (policy.ok()) {
@@ -278,7 +280,8 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
     r->type3 += type == 3 ? 1 : 0;
   }
   // 3. This UAV's k nearest over the joint map: archive, re-activate.
-  m.manageMap(v, t_us, o_.slam.slam, o_.reactivation_inflation, &fr);
+  if (Status st = m.manageMap(v, t_us, o_.slam.slam, o_.reactivation_inflation, &fr); !st.ok())
+    return st;
   // 4. Loop closing, then the gated updates of the other observations.
   LoopReport loop;
   if (Status s = v.loop_closer.process(m.state, v.book, m.frame, t_us, v.updater, m.policy,

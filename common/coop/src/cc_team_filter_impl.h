@@ -13,6 +13,7 @@
 #include "cvslam/slam/landmark_book.h"
 #include "cvslam/slam/landmark_initialiser.h"
 #include "cvslam/slam/loop_closer.h"
+#include "cvslam/slam/reactivation_intersection.h"
 #include "cvslam/slam/stereo_updater.h"
 #include "cvslam/slam/vehicle_propagation.h"
 
@@ -64,6 +65,9 @@ struct CcTeamFilter::Impl {
   LandmarkArchive archive;
   KNearestMapManager map_manager;
   int held_landmarks = 0;  ///< SlamOptions::held_landmarks of the joint map
+  /// Loop landmarks re-enter by covariance intersection with the whole joint state when
+  /// SlamOptions::reactivation says so (as VisualInertialSlam); bounds set by the constructor.
+  ReactivationIntersection reactivation{ReactivationWeights{}};
   UpdatePolicy policy;
   Status policy_status;
   std::map<int, std::unique_ptr<CcVehicle>> vehicles;
@@ -94,8 +98,8 @@ struct CcTeamFilter::Impl {
   /// `chi2` at the joint estimate and covariance.
   bool withinGate(const CcVehicle& v, const StereoObservation& obs, int64_t id, double chi2);
   /// Step 3 for UAV v over the joint map.
-  void manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam, double reactivation_inflation,
-                 FrameReport* r);
+  Status manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam,
+                   double reactivation_inflation, FrameReport* r);
   /// After step 5: the new landmarks (state variables from `first_new` on) join v's active set;
   /// v becomes an observer of every landmark of the frame.
   void afterInitialisation(CcVehicle& v, std::size_t first_new);

@@ -246,8 +246,8 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
   }
 }
 
-void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam,
-                                   double reactivation_inflation, FrameReport* r) {
+Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam,
+                                     double reactivation_inflation, FrameReport* r) {
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager, v.camera, state, v.key, frame);
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());
@@ -291,29 +291,44 @@ void CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions
     archiveEverywhere(cand.landmark_id, t_us);
     ++r->archived;
   }
-  // A re-activated landmark re-enters uncorrelated (§5.8). In the joint map it was tied to
-  // every UAV that saw it; entering as an independent absolute prior it would hand this UAV
-  // (and, through it, the team) position information nobody has: its covariance gets the
-  // UAV's own position covariance on top, so that only what the landmark says relative to
-  // the UAV is taken (measured on team3_aerial: vehicle NEES 600 → ...).
+  // Re-entry as in single mode (SlamOptions::Reentry): a held landmark exactly; remap: mapped
+  // anew in step 5; intersection: by covariance intersection with the whole joint state
+  // (reactivation_intersection.h; the bound holds for any correlation with any UAV, at the
+  // price of scaling every UAV's prior by 1/ω). Independent re-entry would hand this UAV (and,
+  // through it, the team) position information nobody has, since in the joint map the landmark
+  // was tied to every UAV that saw it: its covariance gets the UAV's own position covariance
+  // on top (reactivation_inflation), so that mostly what it says relative to the UAV is taken.
   const StateVariable* veh = state.find(v.key);
   const Eigen::Matrix3d P_pp = state.covarianceOf(*veh).topLeftCorner<3, 3>();
+  std::vector<int64_t> intersected;
   v.active.clear();
   for (int64_t id : keep) {
     if (!state.has(landmarkKey(id))) {
       const ArchivedLandmark* a = archive.find(id);
-      // The joint filter re-enters by its own conservative rule (above) whether the options
-      // say intersection or independent; remap as in single mode; a held one exactly.
-      if (a != nullptr && !isHeld(state, id) &&
-          reentryOf(*a, t_us, slam) == SlamOptions::Reentry::kRemap) {
+      const SlamOptions::Reentry reentry = a == nullptr || isHeld(state, id)
+                                               ? SlamOptions::Reentry::kIndependent
+                                               : reentryOf(*a, t_us, slam);
+      if (reentry == SlamOptions::Reentry::kRemap) {
         archive.take(id);  // mapped anew in step 5 (afterInitialisation makes it active)
         continue;
       }
-      if (reactivateLandmark(state, v.book, archive, id, reactivation_inflation * P_pp))
+      if (reentry == SlamOptions::Reentry::kIntersection) {
+        intersected.push_back(id);
+      } else if (reactivateLandmark(state, v.book, archive, id, reactivation_inflation * P_pp)) {
         ++r->reactivated;
+      }
     }
     v.active.push_back(id);
   }
+  if (intersected.empty()) return Status::Ok();
+  // ω for the team: the summed position covariance traces of every UAV, which all pay 1/ω.
+  std::vector<VariableKey> team;
+  for (const auto& [id, other] : vehicles) team.push_back(other->key);
+  ReactivationReport rep;
+  const Status s =
+      reactivation.reactivate(state, v.book, archive, intersected, v.updater, frame, &rep, team);
+  r->reactivated += rep.landmarks;
+  return s;
 }
 
 void CcTeamFilter::Impl::afterInitialisation(CcVehicle& v, std::size_t first_new) {

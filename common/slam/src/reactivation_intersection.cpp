@@ -16,7 +16,8 @@ namespace {
 /// The pieces of the split-prior update that do not depend on ω. With H = [H_A H_B] and the
 /// prior blockdiag(P_A/ω, n·P_B/(1 − ω)) (n landmarks in B), the innovation covariance is
 /// S_A/ω + S_B/(1 − ω) + R with S_B = n·H_B P_B H_Bᵀ, and the position rows of P H̃ᵀ are G/ω,
-/// so the posterior position covariance is P_pp/ω − G S⁻¹ Gᵀ/ω².
+/// so the posterior position covariance is P_pp/ω − G S⁻¹ Gᵀ/ω² (P_pp and G over the position
+/// rows of every vehicle of the objective).
 struct SplitUpdate {
   Eigen::MatrixXd S_A, S_B, R, G;
   double trace_pp = 0.0;
@@ -28,7 +29,7 @@ struct SplitUpdate {
 };
 
 SplitUpdate split(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R,
-                  const std::vector<int>& b_columns, int p_index) {
+                  const std::vector<int>& b_columns, const std::vector<int>& p_indices) {
   const auto m = H.rows();
   const auto nb = static_cast<Eigen::Index>(b_columns.size());
   Eigen::MatrixXd H_A = H, H_B(m, nb), P_BB(nb, nb);
@@ -43,34 +44,41 @@ SplitUpdate split(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eige
   s.S_A = H_A * P * H_A.transpose();
   s.S_B = (static_cast<double>(nb) / 3.0) * (H_B * P_BB * H_B.transpose());  // n = nb / 3
   s.R = R;
-  s.G = P.middleRows(p_index, 3) * H_A.transpose();
-  s.trace_pp = P.block(p_index, p_index, 3, 3).trace();
+  s.G.resize(3 * static_cast<Eigen::Index>(p_indices.size()), m);
+  for (std::size_t k = 0; k < p_indices.size(); ++k) {
+    const auto row = 3 * static_cast<Eigen::Index>(k);
+    s.G.middleRows(row, 3) = P.middleRows(p_indices[k], 3) * H_A.transpose();
+    s.trace_pp += P.block(p_indices[k], p_indices[k], 3, 3).trace();
+  }
   return s;
 }
 
 }  // namespace
 
-double ReactivationIntersection::positionTraceAfter(const Eigen::MatrixXd& P,
-                                                    const Eigen::MatrixXd& H,
-                                                    const Eigen::MatrixXd& R,
-                                                    const std::vector<int>& b_columns, int p_index,
-                                                    double omega) {
-  return split(P, H, R, b_columns, p_index).positionTrace(omega);
+double ReactivationIntersection::positionTraceAfter(
+    const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R,
+    const std::vector<int>& b_columns, const std::vector<int>& p_indices, double omega) {
+  return split(P, H, R, b_columns, p_indices).positionTrace(omega);
 }
 
-Status ReactivationIntersection::reactivate(SlamState& state, LandmarkBook& book,
-                                            LandmarkArchive& archive,
-                                            const std::vector<int64_t>& ids,
-                                            const StereoUpdater& updater,
-                                            const StereoFrameObservations& frame,
-                                            ReactivationReport* report) {
+Status ReactivationIntersection::reactivate(
+    SlamState& state, LandmarkBook& book, LandmarkArchive& archive, const std::vector<int64_t>& ids,
+    const StereoUpdater& updater, const StereoFrameObservations& frame, ReactivationReport* report,
+    const std::vector<VariableKey>& objective) {
   ReactivationReport local;
   ReactivationReport& r = report != nullptr ? *report : local;
   r = ReactivationReport();
-  const StateVariable* vehicle = state.find(updater.vehicle());
-  if (vehicle == nullptr) return Status::Error("re-activation: vehicle not in the state");
-  const int p_index = vehicle->index + vehicle::kPosition;
-  r.position_trace_prior = state.covariance().block(p_index, p_index, 3, 3).trace();
+  if (state.find(updater.vehicle()) == nullptr)
+    return Status::Error("re-activation: vehicle not in the state");
+  std::vector<int> p_indices;
+  for (const VariableKey& key :
+       objective.empty() ? std::vector<VariableKey>{updater.vehicle()} : objective) {
+    const StateVariable* vehicle = state.find(key);
+    if (vehicle == nullptr) return Status::Error("re-activation: vehicle not in the state");
+    p_indices.push_back(vehicle->index + vehicle::kPosition);
+    r.position_trace_prior +=
+        state.covariance().block(p_indices.back(), p_indices.back(), 3, 3).trace();
+  }
   r.position_trace_after = r.position_trace_prior;
 
   std::vector<int64_t> sorted = ids;
@@ -102,7 +110,7 @@ Status ReactivationIntersection::reactivate(SlamState& state, LandmarkBook& book
   // too (all carry the vehicle's global error of their time), so each gets (1 − ω)/n.
   const double n = static_cast<double>(added.size());
   if (batch_.rows() > 0) {
-    const SplitUpdate s = split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_index);
+    const SplitUpdate s = split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_indices);
     auto cost = [&](double w) { return s.positionTrace(w); };
     omega = minimizeGoldenSection(cost, w_.min_omega, w_.max_omega, 1e-4).x;
     for (double bound : {w_.min_omega, w_.max_omega}) {

@@ -21,10 +21,12 @@
 //   3. k-nearest map management for UAV j over the joint map: the candidates are j's active
 //      landmarks, the state landmarks j observes now (type 2 included) and the archived ones j
 //      itself mapped that it observes now; j keeps its k nearest to its m* active; a landmark
-//      active for no UAV is archived; chosen archived ones are re-activated (with the UAV's
-//      position covariance on top, reactivation_inflation). Another UAV's archived landmark is
-//      not re-activated but mapped anew by j (step 5): as an independent prior it would repeat
-//      information the team already used. The state holds the union of the UAVs' active sets
+//      active for no UAV is archived; chosen archived ones are re-activated as
+//      slam.recent_reentry / slam.reactivation say: held ones exactly, by covariance
+//      intersection with the whole joint state (ω for the summed position traces of the team),
+//      or independent with the UAV's position covariance on top (reactivation_inflation).
+//      Another UAV's archived landmark is not re-activated but mapped anew by j (step 5): as an
+//      independent prior it would repeat information the team already used. The state holds the union of the UAVs' active sets
 //      (≤ M·(vehicle + 3(k + max_new)));
 //   4. rendezvous (see the options), loop closing (LoopCloser on j's landmark book; a
 //      landmark's last-seen time is the latest of any UAV's, so a landmark another UAV kept
@@ -103,9 +105,10 @@ struct CcTeamFilterOptions {
   /// triangulated from the observation at the vehicle's estimate lies at most this far from it [m].
   double max_association_distance_m = 3.0;
   int max_vehicles = 16;  ///< addVehicle beyond this fails (bounded state)
-  /// A re-activated landmark re-enters with its archived covariance plus this times the
-  /// re-activating UAV's position covariance (conservative: the landmark is correlated with
-  /// the whole team, which an independent re-entry would forget); 0: as VisualInertialSlam.
+  /// A landmark re-activated independently (slam.reactivation / recent_reentry: independent)
+  /// re-enters with its archived covariance plus this times the re-activating UAV's position
+  /// covariance (the landmark is correlated with the whole team, which an independent re-entry
+  /// would forget); 0: as VisualInertialSlam. Not used by intersection re-entry.
   double reactivation_inflation = 1.0;
   /// Rendezvous: when a UAV whose position 1σ is at least this meets another UAV's map for
   /// the first time (or first after slam.loop_closure_min_age_s) and is much more uncertain

@@ -15,11 +15,11 @@
 // (the covariance-intersection bound, Julier & Uhlmann 1997, which thesis §6.6.4 uses between
 // UAVs). So the landmarks of a frame re-enter uncorrelated with Q/(1−ω) while the prior of the
 // rest of the state is scaled by 1/ω: a consistent joint prior whatever the lost correlation.
-// ω is the one that minimises the trace of the vehicle's position covariance after the frame's
-// observations of those landmarks (coop's optimal_vehicle objective), by golden section on
-// [min_omega, max_omega]; ω → 1 means that the archive adds nothing to what the frame sees.
-// Meant for a state that holds one vehicle's map (VisualInertialSlam): every variable but the
-// re-activated landmarks is scaled.
+// ω is the one that minimises the trace of the vehicle's position covariance (in a joint state,
+// of every vehicle's: the team's) after the frame's observations of those landmarks (coop's
+// optimal_vehicle objective), by golden section on [min_omega, max_omega]; ω → 1 means that the
+// archive adds nothing to what the frame sees. Meant for a state that holds one vehicle's map
+// (VisualInertialSlam): every variable but the re-activated landmarks is scaled.
 
 #include <cstdint>
 #include <vector>
@@ -44,7 +44,7 @@ struct ReactivationWeights {
 struct ReactivationReport {
   int landmarks = 0;                ///< landmarks moved from the archive to the state
   double omega = 1.0;               ///< weight of the state's prior (1: nothing re-activated)
-  double position_trace_prior = 0;  ///< tr of the vehicle position covariance before [m²]
+  double position_trace_prior = 0;  ///< tr of the objective's position covariance before [m²]
   double position_trace_after = 0;  ///< the same after this frame's observations (predicted)
 };
 
@@ -54,18 +54,20 @@ class ReactivationIntersection {
 
   /// Moves the archived landmarks `ids` into the state and `book` by covariance intersection
   /// with the rest of the state, ω chosen with `updater`'s Jacobians of `frame`. Ids that are
-  /// not archived are skipped.
+  /// not archived are skipped. ω minimises the summed position covariance traces of the
+  /// `objective` vehicles (empty: the updater's vehicle alone).
   Status reactivate(SlamState& state, LandmarkBook& book, LandmarkArchive& archive,
                     const std::vector<int64_t>& ids, const StereoUpdater& updater,
-                    const StereoFrameObservations& frame, ReactivationReport* report);
+                    const StereoFrameObservations& frame, ReactivationReport* report,
+                    const std::vector<VariableKey>& objective = {});
 
   /// Trace of the vehicle position covariance after the update (H, R) from the prior
   /// blockdiag(P_A/ω, n·P_B/(1 − ω)), where B are the columns `b_columns` of n landmarks
-  /// (3 each, uncorrelated with A in P) and the position rows are p_index..p_index+2: the
-  /// objective of the weight. Exposed for tests.
+  /// (3 each, uncorrelated with A in P), summed over the position rows p..p+2 of every p in
+  /// `p_indices`: the objective of the weight. Exposed for tests.
   static double positionTraceAfter(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H,
                                    const Eigen::MatrixXd& R, const std::vector<int>& b_columns,
-                                   int p_index, double omega);
+                                   const std::vector<int>& p_indices, double omega);
 
  private:
   ReactivationWeights w_;
