@@ -7,8 +7,10 @@
 #include <chrono>
 #include <cmath>
 
+#include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/sim/simulator.h"
+#include "cvslam/simrun/scenario_calibration.h"
 #include "test_paths.h"
 
 namespace cvslam::sim {
@@ -263,6 +265,45 @@ TEST(SimSimulator, InitialEstimateIsTruthOrASampleAroundIt) {
   EXPECT_NEAR(stdv.x(), 1.0, 0.15);
   EXPECT_NEAR(stdv.y(), 2.0, 0.3);
   EXPECT_NEAR(stdv.z(), 0.5, 0.075);
+}
+
+TEST(SimSimulator, PerturbedBiasesAreDrawnFromTheFiltersStatedSigma) {
+  // perturb_biases: the filter's initial bias estimates scatter around the IMU's true turn-on
+  // biases with the σ the filter states (slam.initial_*_bias_sigma); the pose draws are those
+  // of perturb alone. Without it the filter starts at slam.initial_*_bias.
+  auto sc = Scenario::loadFile(scenarioPath("single_circle.yaml"));
+  ASSERT_TRUE(sc.ok());
+  sc->duration = 1.0;
+  sc->agents[0].imu.accel_bias = Eigen::Vector3d(0.02, -0.01, 0.03);
+  VisualInertialSlamOptions options;
+  options.ins.estimate_imu_bias = true;
+  options.slam.initial_accel_bias_sigma = 0.05;
+  options.slam.initial_gyro_bias_sigma = 0.002;
+  Eigen::Vector3d sum_a = Eigen::Vector3d::Zero(), sum2_a = sum_a, sum2_g = sum_a;
+  const int runs = 300;
+  for (int r = 0; r < runs; ++r) {
+    sc->seed = 500 + static_cast<uint64_t>(r);
+    sc->agents[0].initial.perturb_biases = false;
+    auto plain = Simulator::create(*sc);
+    ASSERT_TRUE(plain.ok());
+    const AgentFilterSetup p = simulatedAgentSetup(plain->agent(0), options);
+    EXPECT_TRUE(p.x0.segment<6>(vehicle::kAccelBias).isZero());
+    sc->agents[0].initial.perturb_biases = true;
+    auto drawn = Simulator::create(*sc);
+    ASSERT_TRUE(drawn.ok());
+    const AgentFilterSetup d = simulatedAgentSetup(drawn->agent(0), options);
+    EXPECT_EQ(d.x0.head<9>(), p.x0.head<9>());  // the same pose draws
+    const Eigen::Vector3d ea = d.x0.segment<3>(vehicle::kAccelBias) - sc->agents[0].imu.accel_bias;
+    const Eigen::Vector3d eg = d.x0.segment<3>(vehicle::kGyroBias);  // true gyro bias 0
+    sum_a += ea;
+    sum2_a += ea.cwiseProduct(ea);
+    sum2_g += eg.cwiseProduct(eg);
+  }
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(std::sqrt(sum2_a(i) / runs), 0.05, 0.0075);
+    EXPECT_NEAR(std::sqrt(sum2_g(i) / runs), 0.002, 0.0003);
+    EXPECT_LT(std::abs(sum_a(i) / runs), 3.0 * 0.05 / std::sqrt(runs));  // around the truth
+  }
 }
 
 TEST(SimScenario, LoopSpeedSetsThePeriod) {

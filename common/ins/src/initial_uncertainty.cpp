@@ -10,6 +10,7 @@ Status InitialUncertainty::load(const ConfigNode& node) {
   node.get("velocity_sigma", velocity_sigma);
   node.get("attitude_sigma_deg", attitude_deg);
   node.get("perturb", perturb);
+  node.get("perturb_biases", perturb_biases);
   node.check(position_sigma.minCoeff() >= 0.0, "position_sigma", "must be >= 0");
   node.check(velocity_sigma.minCoeff() >= 0.0, "velocity_sigma", "must be >= 0");
   node.check(attitude_deg.minCoeff() >= 0.0, "attitude_sigma_deg", "must be >= 0");

@@ -71,6 +71,9 @@ AgentSimulator::AgentSimulator(const AgentSpec& spec, std::shared_ptr<const Traj
     for (int i = 0; i < 3; ++i) s.v_B(i) += spec.initial.velocity_sigma(i) * rng.gaussian();
     for (int i = 0; i < 3; ++i) s.euler(i) += spec.initial.attitude_sigma(i) * rng.gaussian();
     s.euler(2) = wrapAngle(s.euler(2));
+    if (spec.initial.perturb_biases) {  // after the pose draws, which stay as they were
+      for (int i = 0; i < 6; ++i) initial_.bias_draw(i) = rng.gaussian();
+    }
   }
 }
 

@@ -3,6 +3,8 @@
 #include <memory>
 #include <vector>
 
+#include "cvslam/ins/vehicle_state_layout.h"
+
 namespace cvslam {
 
 AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
@@ -21,6 +23,17 @@ AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
   const sim::InitialEstimate& init = agent.initialEstimate();
   AgentFilterSetup setup = initialEstimateSetup(init.state.t_us, init.state.p_BinN, init.state.v_B,
                                                 init.state.euler, init.sigma, agent_options);
+  // The bias estimates drawn from the stated bias σ around the synthesised IMU's true turn-on
+  // biases, so that the whole initial error matches P0 (a recording's biases are unknown).
+  if (init.sigma.perturb && init.sigma.perturb_biases && agent_options.ins.estimate_imu_bias &&
+      imu.recording.empty()) {
+    setup.x0.segment<3>(vehicle::kAccelBias) =
+        init.state.accel_bias +
+        agent_options.slam.initial_accel_bias_sigma * init.bias_draw.head<3>();
+    setup.x0.segment<3>(vehicle::kGyroBias) =
+        init.state.gyro_bias +
+        agent_options.slam.initial_gyro_bias_sigma * init.bias_draw.tail<3>();
+  }
   // A recorded IMU carries its real turn-on bias, which the known pose says nothing about. When
   // it recorded the vehicle at rest before the flight, the bias is measured there, as an
   // operator calibrates before take-off (the static initialiser's rest test and averaging).

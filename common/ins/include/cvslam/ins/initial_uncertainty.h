@@ -20,6 +20,11 @@ struct InitialUncertainty {
   Eigen::Vector3d velocity_sigma = Eigen::Vector3d::Constant(0.1);           ///< [m/s], body
   Eigen::Vector3d attitude_sigma = Eigen::Vector3d::Constant(M_PI / 180.0);  ///< [rad] φ θ ψ
   bool perturb = true;  ///< true: the initial estimate handed out is sampled from this
+  /// With `perturb` and bias states: the initial bias estimates are sampled too, from the
+  /// filter's stated bias σ (slam.initial_accel_bias_sigma / initial_gyro_bias_sigma) around
+  /// the IMU's true turn-on biases. false: the filter starts at slam.initial_*_bias (docs/filter.md
+  /// "Under-confident tilt").
+  bool perturb_biases = false;
 
   Status load(const ConfigNode& node);  ///< reads attitude_sigma_deg in degrees
 };

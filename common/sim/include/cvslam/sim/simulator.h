@@ -52,6 +52,9 @@ struct GroundTruth {
 struct InitialEstimate {
   GroundTruth state;         ///< p_BinN, v_B, euler filled in (biases: the initial truth)
   InitialUncertainty sigma;  ///< the 1σ to initialise the covariance with
+  /// sigma.perturb and sigma.perturb_biases: standard normal draws for the accelerometer (head)
+  /// and gyro (tail) bias errors, which the filter set-up scales by its stated bias σ; else 0.
+  Eigen::Matrix<double, 6, 1> bias_draw = Eigen::Matrix<double, 6, 1>::Zero();
 };
 
 struct SimEvent {
