@@ -305,6 +305,7 @@ Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptio
   for (int64_t id : keep) {
     if (!state.has(landmarkKey(id))) {
       const ArchivedLandmark* a = archive.find(id);
+      // A held landmark comes back exactly (reactivateLandmark re-keys it; no inflation).
       const SlamOptions::Reentry reentry = a == nullptr || isHeld(state, id)
                                                ? SlamOptions::Reentry::kIndependent
                                                : reentryOf(*a, t_us, slam);

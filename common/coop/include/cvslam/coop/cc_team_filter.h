@@ -26,8 +26,8 @@
 //      intersection with the whole joint state (ω for the summed position traces of the team),
 //      or independent with the UAV's position covariance on top (reactivation_inflation).
 //      Another UAV's archived landmark is not re-activated but mapped anew by j (step 5): as an
-//      independent prior it would repeat information the team already used. The state holds the union of the UAVs' active sets
-//      (≤ M·(vehicle + 3(k + max_new)));
+//      independent prior it would repeat information the team already used. The state holds
+//      the union of the UAVs' active sets (≤ M·(vehicle + 3(k + max_new)));
 //   4. rendezvous (see the options), loop closing (LoopCloser on j's landmark book; a
 //      landmark's last-seen time is the latest of any UAV's, so a landmark another UAV kept
 //      observing is no loop; one nobody saw for loop_closure_min_age_s is, also across UAVs;

@@ -18,8 +18,9 @@
 // ω is the one that minimises the trace of the vehicle's position covariance (in a joint state,
 // of every vehicle's: the team's) after the frame's observations of those landmarks (coop's
 // optimal_vehicle objective), by golden section on [min_omega, max_omega]; ω → 1 means that the
-// archive adds nothing to what the frame sees. Meant for a state that holds one vehicle's map
-// (VisualInertialSlam): every variable but the re-activated landmarks is scaled.
+// archive adds nothing to what the frame sees. Every variable but the re-activated landmarks is
+// scaled: in VisualInertialSlam one vehicle's map, in the ground station's joint state
+// (cc_team_filter.h) every UAV and the whole joint map.
 
 #include <cstdint>
 #include <vector>
