@@ -305,18 +305,21 @@ Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptio
   for (int64_t id : keep) {
     if (!state.has(landmarkKey(id))) {
       const ArchivedLandmark* a = archive.find(id);
-      // A held landmark comes back exactly (reactivateLandmark re-keys it; no inflation).
-      const SlamOptions::Reentry reentry = a == nullptr || isHeld(state, id)
-                                               ? SlamOptions::Reentry::kIndependent
-                                               : reentryOf(*a, t_us, slam);
-      if (reentry == SlamOptions::Reentry::kRemap) {
-        archive.take(id);  // mapped anew in step 5 (afterInitialisation makes it active)
-        continue;
-      }
-      if (reentry == SlamOptions::Reentry::kIntersection) {
-        intersected.push_back(id);
-      } else if (reactivateLandmark(state, v.book, archive, id, reactivation_inflation * P_pp)) {
-        ++r->reactivated;
+      if (a == nullptr || isHeld(state, id)) {  // held: back exactly (re-keyed, no inflation)
+        if (reactivateLandmark(state, v.book, archive, id)) ++r->reactivated;
+      } else {
+        switch (reentryOf(*a, t_us, slam)) {
+          case SlamOptions::Reentry::kRemap:
+            archive.take(id);  // mapped anew in step 5 (afterInitialisation makes it active)
+            continue;
+          case SlamOptions::Reentry::kIntersection:
+            intersected.push_back(id);
+            break;
+          case SlamOptions::Reentry::kIndependent:
+            if (reactivateLandmark(state, v.book, archive, id, reactivation_inflation * P_pp))
+              ++r->reactivated;
+            break;
+        }
       }
     }
     v.active.push_back(id);
