@@ -1,7 +1,7 @@
 // Held landmarks (slam_state.h, kHeldLandmark; landmark_lifecycle.h): archived landmarks kept in
 // the state as Schmidt "consider" variables. The update leaves their mean and covariance alone and
 // keeps their cross-covariances exact; archiving and re-activating one is exact; the capacity
-// keeps the most recently archived.
+// keeps the most recently archived, or those nearest to the vehicles' views.
 
 #include <gtest/gtest.h>
 
@@ -170,6 +170,35 @@ TEST(HeldLandmark, CapacityKeepsTheMostRecentlyArchived) {
   archiveLandmark(state, archive, 101, std::nullopt, 4'000'000, 0);
   EXPECT_FALSE(isHeld(state, 101));
   EXPECT_FALSE(state.has(VariableKey::landmark(101)));
+}
+
+// The joint map's eviction (SlamOptions::HeldEviction::kNearest): the held landmark farthest
+// from every vehicle's m* leaves first, whatever its age; equally far, the older leaves.
+TEST(HeldLandmark, NearestEvictionKeepsTheLandmarksNearSomeVehiclesView) {
+  std::mt19937 rng(15);
+  SlamState state = test::randomSlamState(4, rng);
+  const auto at = [&](uint64_t id) { return state.value(*state.find(VariableKey::landmark(id))); };
+  // One vehicle's m* on 102 (archived first), another's on 103 (archived last).
+  const std::vector<Eigen::Vector3d> m_stars = {at(102), at(103)};
+  ASSERT_GT((at(100) - at(102)).norm(), 0.1);
+  ASSERT_GT((at(101) - at(103)).norm(), 0.1);
+  SlamState two = state;
+  LandmarkArchive archive;
+  int64_t t_us = 0;
+  for (uint64_t id : {102u, 100u, 101u, 103u})
+    archiveLandmark(two, archive, static_cast<int64_t>(id), std::nullopt, t_us += 1'000'000, 2,
+                    m_stars);
+  // By age 101 and 103 would stay; by distance the two under the vehicles' views do.
+  EXPECT_TRUE(isHeld(two, 102));
+  EXPECT_TRUE(isHeld(two, 103));
+  EXPECT_EQ(two.count(VariableKey::Kind::kHeldLandmark), 2);
+  EXPECT_EQ(archive.size(), 4u);
+  // Room for one, both at distance 0: the older (102) leaves.
+  LandmarkArchive archive_one;
+  archiveLandmark(state, archive_one, 102, std::nullopt, 1'000'000, 1, m_stars);
+  archiveLandmark(state, archive_one, 103, std::nullopt, 2'000'000, 1, m_stars);
+  EXPECT_FALSE(isHeld(state, 102));
+  EXPECT_TRUE(isHeld(state, 103));
 }
 
 TEST(HeldLandmark, RekeyRefusesMissingAndTakenKeys) {

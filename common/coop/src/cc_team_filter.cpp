@@ -17,6 +17,7 @@ CcTeamFilter::CcTeamFilter(const CcTeamFilterOptions& options)
     : o_(options), impl_(std::make_unique<Impl>()) {
   impl_->map_manager = KNearestMapManager(o_.slam.map);
   impl_->held_landmarks = o_.slam.slam.held_landmarks;
+  impl_->held_eviction = o_.slam.slam.held_eviction;
   impl_->reactivation = ReactivationIntersection(
       {o_.slam.slam.reactivation_min_omega, o_.slam.slam.reactivation_max_omega});
   impl_->state.setErrorChart(o_.slam.slam.error_chart);

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -46,7 +47,8 @@ struct CcVehicle {
   StereoUpdater updater;
   LandmarkInitialiser initialiser;
   LoopCloser loop_closer;
-  std::vector<int64_t> active;  // its k nearest (ascending), all in the state
+  std::vector<int64_t> active;            // its k nearest (ascending), all in the state
+  std::optional<Eigen::Vector3d> m_star;  // the virtual point of its latest batch (§5.8)
   int64_t last_batch_us = 0;
   bool has_batch = false;
   std::unordered_map<int64_t, int64_t> joint_of_local;  // local_ids association
@@ -64,7 +66,9 @@ struct CcTeamFilter::Impl {
   SlamState state;
   LandmarkArchive archive;
   KNearestMapManager map_manager;
-  int held_landmarks = 0;  ///< SlamOptions::held_landmarks of the joint map
+  SlamOptions::HeldEviction held_eviction =
+      SlamOptions::HeldEviction::kOldest;  ///< of the joint map
+  int held_landmarks = 0;                  ///< SlamOptions::held_landmarks of the joint map
   /// Loop landmarks re-enter by covariance intersection with the whole joint state when
   /// SlamOptions::reactivation says so (as VisualInertialSlam); bounds set by the constructor.
   ReactivationIntersection reactivation{ReactivationWeights{}};

@@ -59,7 +59,12 @@ void CcTeamFilter::Impl::archiveEverywhere(int64_t id, int64_t t_us) {
       merged->last_seen_us = std::max(merged->last_seen_us, r->last_seen_us);
     }
   }
-  archiveLandmark(state, archive, id, std::move(merged), t_us, held_landmarks);
+  std::vector<Eigen::Vector3d> keep_near;
+  if (held_eviction == SlamOptions::HeldEviction::kNearest) {
+    for (const auto& [agent, v] : vehicles)
+      if (v->m_star) keep_near.push_back(*v->m_star);
+  }
+  archiveLandmark(state, archive, id, std::move(merged), t_us, held_landmarks, keep_near);
 }
 
 double CcTeamFilter::Impl::positionSigma(const CcVehicle& v) const {
@@ -249,6 +254,7 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
 Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam,
                                      double reactivation_inflation, FrameReport* r) {
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager, v.camera, state, v.key, frame);
+  v.m_star = m_star;
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());
   for (const StereoObservation& obs : frame.observations) {

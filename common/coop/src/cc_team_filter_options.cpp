@@ -10,6 +10,7 @@ void CcTeamFilterOptions::setJointEstimator() {
   slam.slam.error_chart = ErrorChart::kRightInvariant;
   slam.slam.first_estimate_jacobians = false;
   slam.slam.observability_constrained = false;
+  slam.slam.held_eviction = SlamOptions::HeldEviction::kNearest;  // one pool for every UAV
 }
 
 Status CcTeamFilterOptions::load(const ConfigNode& root) {

@@ -1,6 +1,7 @@
 #include "cvslam/slam/landmark_lifecycle.h"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -25,7 +26,8 @@ Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const Stere
 }
 
 void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
-                     std::optional<LandmarkBookEntry> record, int64_t t_us, int held_capacity) {
+                     std::optional<LandmarkBookEntry> record, int64_t t_us, int held_capacity,
+                     const std::vector<Eigen::Vector3d>& keep_near) {
   const VariableKey key = VariableKey::landmark(static_cast<uint64_t>(id));
   const StateVariable* v = state.find(key);
   if (v == nullptr) return;
@@ -49,17 +51,30 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
     return;
   }
   CovarianceHelper::rekey(state, key, VariableKey::heldLandmark(static_cast<uint64_t>(id)));
-  // Keep the held_capacity most recently archived (ties: the smaller id leaves first).
-  std::vector<std::pair<int64_t, int64_t>> held;  // (archived_us, id), oldest first
+  // Keep the held_capacity nearest to keep_near, or the most recently archived.
+  struct Held {
+    double distance;  // to the nearest keep_near point (0 without points)
+    int64_t archived_us;
+    int64_t id;
+  };
+  std::vector<Held> held;
   for (const StateVariable& var : state.variables()) {
     if (var.key.kind != VariableKey::Kind::kHeldLandmark) continue;
     const auto held_id = static_cast<int64_t>(var.key.id);
     const ArchivedLandmark* entry = archive.find(held_id);
-    held.emplace_back(entry != nullptr ? entry->archived_us : 0, held_id);
+    double distance = keep_near.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& p : keep_near)
+      distance = std::min(distance, (state.value(var) - p).norm());
+    held.push_back({distance, entry != nullptr ? entry->archived_us : 0, held_id});
   }
-  std::sort(held.begin(), held.end());
+  // Leaving first: the farthest, then the oldest, then the smaller id.
+  std::sort(held.begin(), held.end(), [](const Held& l, const Held& r) {
+    if (l.distance != r.distance) return l.distance > r.distance;
+    if (l.archived_us != r.archived_us) return l.archived_us < r.archived_us;
+    return l.id < r.id;
+  });
   for (std::size_t i = 0; i + static_cast<std::size_t>(held_capacity) < held.size(); ++i) {
-    const int64_t leaving = held[i].second;
+    const int64_t leaving = held[i].id;
     const VariableKey held_key = VariableKey::heldLandmark(static_cast<uint64_t>(leaving));
     // The archive keeps the marginal as it is now (NH∞ updates may have inflated it).
     if (std::optional<ArchivedLandmark> entry = archive.take(leaving)) {

@@ -41,6 +41,8 @@ Status SlamOptions::load(const ConfigNode& node) {
              "must be intersection or independent (loop closing needs the archived estimate)");
   node.get("held_landmarks", held_landmarks);
   node.check(held_landmarks >= 0, "held_landmarks", "must be ≥ 0");
+  node.getEnum("held_eviction", held_eviction,
+               {{"oldest", HeldEviction::kOldest}, {"nearest", HeldEviction::kNearest}});
   node.get("reactivation_min_omega", reactivation_min_omega);
   node.get("reactivation_max_omega", reactivation_max_omega);
   node.check(reactivation_min_omega > 0.0 && reactivation_min_omega <= reactivation_max_omega &&

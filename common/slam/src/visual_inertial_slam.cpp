@@ -175,6 +175,8 @@ Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, Frame
     }
   }
   const std::vector<int64_t> keep = map_manager_.select(candidates, m_star);
+  std::vector<Eigen::Vector3d> keep_near;
+  if (o_.slam.held_eviction == SlamOptions::HeldEviction::kNearest) keep_near.push_back(m_star);
 
   // Archive the state landmarks that lost their place (marginalisation is exact: the
   // archive keeps the mean and the marginal covariance, §5.8).
@@ -183,7 +185,7 @@ Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, Frame
     // An archived candidate that stays archived is not in the state.
     if (!state_.has(VariableKey::landmark(static_cast<uint64_t>(cand.landmark_id)))) continue;
     archiveLandmark(state_, archive_, cand.landmark_id, book_.remove(cand.landmark_id), t_us_,
-                    o_.slam.held_landmarks);
+                    o_.slam.held_landmarks, keep_near);
     ++report->archived;
   }
   // Re-activate the chosen archived landmarks (loop closing, §5.5.2), each as the options

@@ -131,7 +131,8 @@ struct CcTeamFilterOptions {
   static Expected<CcTeamFilterOptions> loadFile(const std::string& path);
 
  private:
-  /// Euler angles, the invariant chart, neither first-estimate Jacobians nor the constraint.
+  /// Euler angles, the invariant chart, neither first-estimate Jacobians nor the constraint;
+  /// held landmarks kept by their distance to the UAVs' views (SlamOptions::HeldEviction).
   void setJointEstimator();
 };
 

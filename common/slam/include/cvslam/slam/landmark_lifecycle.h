@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "cvslam/camera/stereo_camera.h"
 #include "cvslam/camera/stereo_observation.h"
@@ -34,11 +35,14 @@ Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const Stere
 /// Moves landmark `id` from the state to the archive at t_us with `record` (its book entry,
 /// already removed from the book(s); none: an empty record). No-op when not in the state.
 /// With held_capacity > 0 the landmark also stays in the state as a held (Schmidt) variable
-/// (slam_state.h, kHeldLandmark), and the held landmarks archived longest ago are marginalised
-/// until at most held_capacity remain; their archive entries are exact either way (a held
-/// landmark's mean and marginal covariance do not change).
+/// (slam_state.h, kHeldLandmark), and held landmarks are marginalised until at most
+/// held_capacity remain: with no `keep_near` points those archived longest ago, else those
+/// farthest from the nearest of the points (SlamOptions::HeldEviction; ties: the older, then the
+/// smaller id). Their archive entries are exact either way (a held landmark's mean and marginal
+/// covariance do not change).
 void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
-                     std::optional<LandmarkBookEntry> record, int64_t t_us, int held_capacity = 0);
+                     std::optional<LandmarkBookEntry> record, int64_t t_us, int held_capacity = 0,
+                     const std::vector<Eigen::Vector3d>& keep_near = {});
 
 /// True when archived landmark `id` is held in the state (it then re-enters exactly).
 bool isHeld(const SlamState& state, int64_t id);

@@ -60,6 +60,14 @@ struct SlamOptions {
   /// gain from the map they keep exactly (V1_02 9.8 → 7.1 cm); 300 was less consistent on
   /// euroc_mh03_hall (UAV2 NEES 12.9 against 11.7) at 6 ms per frame instead of 1.6.
   int held_landmarks = 100;
+  /// Which held landmarks leave first when more than held_landmarks are held:
+  ///  - kOldest: those archived longest ago (one vehicle: the ones it left behind first);
+  ///  - kNearest: those farthest from every vehicle's latest virtual point m* (§5.8), so the
+  ///    capacity goes to the landmarks some vehicle is about to see again. The joint map's
+  ///    choice: there five UAVs archive into one pool, and by age each UAV's landmarks left it
+  ///    within about 1.5 s (a single agent's 100 last about 7 s).
+  enum class HeldEviction { kOldest, kNearest };
+  HeldEviction held_eviction = HeldEviction::kOldest;
   double reactivation_min_omega = 0.05;  ///< kIntersection: bounds of the weight ω of the state
   double reactivation_max_omega = 0.99;  ///< (the landmarks get n·Q/(1 − ω))
   /// A landmark observed again after at least this long unseen is a loop landmark [s]
