@@ -287,6 +287,7 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
     r->type3 += type == 3 ? 1 : 0;
   }
   // 3. This UAV's k nearest over the joint map: archive, re-activate.
+  const std::vector<int64_t> outside = m.observedOutsideState();
   if (Status st = m.manageMap(v, t_us, o_.slam.slam, o_.reactivation_inflation, &fr); !st.ok())
     return st;
   // 4. Loop closing, then the gated updates of the other observations.
@@ -302,8 +303,10 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
   // The loop moved every UAV correlated with this one: their books follow.
   if (loop.loop_closure) m.followCorrectionEverywhere(loop.mean_before);
   fr.theta_reduced = loop.theta_reduced;
-  // A rendezvous first (cc_team_filter.h), then the gated updates of the rest.
+  // A rendezvous first (cc_team_filter.h), also through landmarks step 3 brought back, then
+  // the gated updates of the rest.
   std::vector<int64_t> done = v.loop_closer.loopIds();
+  m.meetReentered(v, outside, done, t_us, o_);
   if (!m.meet.empty()) {
     if (Status st = meetMap(v, &fr); !st.ok()) return st;
     std::vector<int64_t> both;

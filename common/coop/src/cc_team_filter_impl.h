@@ -113,6 +113,15 @@ struct CcTeamFilter::Impl {
   int64_t lastSeen(int64_t id) const;
   /// Whether v meeting the map of `other` now is a rendezvous (cc_team_filter.h).
   bool rendezvous(const CcVehicle& v, int other, int64_t t_us, const CcTeamFilterOptions& o) const;
+  /// The landmarks of the frame that are not active in the state (held, archived, new),
+  /// ascending: before step 3, for meetReentered.
+  std::vector<int64_t> observedOutsideState() const;
+  /// A landmark of another UAV's map that step 3 brought back into the state (`outside`: those
+  /// not in it before; a held landmark comes back exactly) is met as associate() meets a state
+  /// landmark: added to `meet` when it is a rendezvous. Loop landmarks (`loop`, ascending) are
+  /// the loop closer's.
+  void meetReentered(const CcVehicle& v, const std::vector<int64_t>& outside,
+                     const std::vector<int64_t>& loop, int64_t t_us, const CcTeamFilterOptions& o);
   /// Rendezvous: the translation (median per axis) from where v sees the met landmarks to
   /// where the map has them.
   Eigen::Vector3d meetShift(const CcVehicle& v) const;
