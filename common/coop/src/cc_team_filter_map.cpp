@@ -100,8 +100,8 @@ void CcTeamFilter::Impl::meetReentered(const CcVehicle& v, const std::vector<int
                                        const std::vector<int64_t>& loop, int64_t t_us,
                                        const CcTeamFilterOptions& o) {
   // thesis_loop seed 2: UAV1 met UAV2's map at 78 s through one held landmark, 5 m off, and the
-  // plain EKF update of that frame moved UAV1 5.2 m and UAV2 3.5 m; both then drifted 2 m off
-  // together within 3 s, at σ 1.4 m.
+  // plain EKF update of that frame moved UAV1 5.2 m and UAV2 3.5 m; at 80 s both were 3 m off
+  // at σ 1.4 m (NEES 74 and 132), and 5-12 m off until UAV1's loop at 199 s.
   const std::size_t before = meet.size();
   for (int64_t id : outside) {
     if (!state.has(landmarkKey(id)) || v.book.find(id) == nullptr) continue;

@@ -61,7 +61,8 @@ struct SlamOptions {
   /// euroc_mh03_hall (UAV2 NEES 12.9 against 11.7) at 6 ms per frame instead of 1.6.
   int held_landmarks = 100;
   /// Which held landmarks leave first when more than held_landmarks are held:
-  ///  - kOldest: those archived longest ago (one vehicle: the ones it left behind first);
+  ///  - kOldest: those archived longest ago (one vehicle: the ones it left behind first), the
+  ///    agents' choice (kNearest cost the recordings accuracy, docs/filter.md "Held landmarks");
   ///  - kNearest: those farthest from every vehicle's latest virtual point m* (§5.8), so the
   ///    capacity goes to the landmarks some vehicle is about to see again. The joint map's
   ///    choice: there five UAVs archive into one pool, and by age each UAV's landmarks left it
