@@ -287,7 +287,6 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
     r->type3 += type == 3 ? 1 : 0;
   }
   // 3. This UAV's k nearest over the joint map: archive, re-activate.
-  const std::vector<int64_t> outside = m.observedOutsideState();
   if (Status st = m.manageMap(v, t_us, o_.slam.slam, o_.reactivation_inflation, &fr); !st.ok())
     return st;
   // 4. Loop closing, then the gated updates of the other observations.
@@ -306,7 +305,7 @@ Status CcTeamFilter::runRecipe(CcVehicle& v, const CcObservationBatch& batch, Cc
   // A rendezvous first (cc_team_filter.h), also through landmarks step 3 brought back, then
   // the gated updates of the rest.
   std::vector<int64_t> done = v.loop_closer.loopIds();
-  m.meetReentered(v, outside, done, t_us, o_);
+  m.meetReentered(v, done, t_us, o_);
   if (!m.meet.empty()) {
     if (Status st = meetMap(v, &fr); !st.ok()) return st;
     std::vector<int64_t> both;

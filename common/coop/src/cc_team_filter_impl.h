@@ -91,6 +91,7 @@ struct CcTeamFilter::Impl {
   Eigen::MatrixXd gate_PHt, gate_S;       // withinGate (reused)
   std::vector<int> types;                 // per observation of `frame`: 1, 2, 3
   std::vector<int64_t> meet;              // rendezvous landmarks of `frame` (ascending)
+  std::vector<int64_t> reentered;         // step 3: those it brought back (ascending)
 
   /// Step 2: `frame` = the batch with joint ids, `types` per observation; the state landmarks
   /// this UAV observes enter its book (a copy of their record, with the latest last-seen time).
@@ -101,7 +102,7 @@ struct CcTeamFilter::Impl {
   /// Whether `obs`, taken as an observation of state landmark `id` by v, passes the χ²(4) gate
   /// `chi2` at the joint estimate and covariance.
   bool withinGate(const CcVehicle& v, const StereoObservation& obs, int64_t id, double chi2);
-  /// Step 3 for UAV v over the joint map.
+  /// Step 3 for UAV v over the joint map; `reentered` lists what it brought back.
   Status manageMap(CcVehicle& v, int64_t t_us, const SlamOptions& slam,
                    double reactivation_inflation, FrameReport* r);
   /// After step 5: the new landmarks (state variables from `first_new` on) join v's active set;
@@ -113,15 +114,15 @@ struct CcTeamFilter::Impl {
   int64_t lastSeen(int64_t id) const;
   /// Whether v meeting the map of `other` now is a rendezvous (cc_team_filter.h).
   bool rendezvous(const CcVehicle& v, int other, int64_t t_us, const CcTeamFilterOptions& o) const;
-  /// The landmarks of the frame that are not active in the state (held, archived, new),
-  /// ascending: before step 3, for meetReentered.
-  std::vector<int64_t> observedOutsideState() const;
-  /// A landmark of another UAV's map that step 3 brought back into the state (`outside`: those
-  /// not in it before; a held landmark comes back exactly) is met as associate() meets a state
+  /// Whether v seeing a landmark these UAVs observed is a rendezvous with one of them.
+  bool meetsAnotherMap(const CcVehicle& v, const std::vector<int>& observers, int64_t t_us,
+                       const CcTeamFilterOptions& o) const;
+  /// The landmarks step 3 brought back into the state (`reentered`; a held one comes back
+  /// exactly, after associate() looked for meetings) are met as associate() meets a state
   /// landmark: added to `meet` when it is a rendezvous. Loop landmarks (`loop`, ascending) are
   /// the loop closer's.
-  void meetReentered(const CcVehicle& v, const std::vector<int64_t>& outside,
-                     const std::vector<int64_t>& loop, int64_t t_us, const CcTeamFilterOptions& o);
+  void meetReentered(const CcVehicle& v, const std::vector<int64_t>& loop, int64_t t_us,
+                     const CcTeamFilterOptions& o);
   /// Rendezvous: the translation (median per axis) from where v sees the met landmarks to
   /// where the map has them.
   Eigen::Vector3d meetShift(const CcVehicle& v) const;

@@ -86,38 +86,27 @@ bool CcTeamFilter::Impl::rendezvous(const CcVehicle& v, int other, int64_t t_us,
           sigma >= o.rendezvous_sigma_ratio * positionSigma(*peer->second));
 }
 
-std::vector<int64_t> CcTeamFilter::Impl::observedOutsideState() const {
-  std::vector<int64_t> outside;
-  for (const StereoObservation& obs : frame.observations) {
-    if (obs.landmark_id >= 0 && !state.has(landmarkKey(obs.landmark_id)))
-      outside.push_back(obs.landmark_id);
+bool CcTeamFilter::Impl::meetsAnotherMap(const CcVehicle& v, const std::vector<int>& observers,
+                                         int64_t t_us, const CcTeamFilterOptions& o) const {
+  for (int other : observers) {
+    if (other != v.agent_id && rendezvous(v, other, t_us, o)) return true;
   }
-  std::sort(outside.begin(), outside.end());
-  return outside;
+  return false;
 }
 
-void CcTeamFilter::Impl::meetReentered(const CcVehicle& v, const std::vector<int64_t>& outside,
-                                       const std::vector<int64_t>& loop, int64_t t_us,
-                                       const CcTeamFilterOptions& o) {
+void CcTeamFilter::Impl::meetReentered(const CcVehicle& v, const std::vector<int64_t>& loop,
+                                       int64_t t_us, const CcTeamFilterOptions& o) {
   // thesis_loop seed 2: UAV1 met UAV2's map at 78 s through one held landmark, 5 m off, and the
   // plain EKF update of that frame moved UAV1 5.2 m and UAV2 3.5 m; at 80 s both were 3 m off
   // at σ 1.4 m (NEES 74 and 132), and 5-12 m off until UAV1's loop at 199 s.
-  const std::size_t before = meet.size();
-  for (int64_t id : outside) {
-    if (!state.has(landmarkKey(id)) || v.book.find(id) == nullptr) continue;
+  // associate() met only landmarks in the state then, so none of these is in `meet` yet.
+  for (int64_t id : reentered) {
     if (std::binary_search(loop.begin(), loop.end(), id)) continue;
     auto info = landmarks.find(id);
-    if (info == landmarks.end()) continue;
-    for (int other : info->second.observers) {
-      if (other != v.agent_id && rendezvous(v, other, t_us, o)) {
-        meet.push_back(id);
-        break;
-      }
-    }
+    if (info != landmarks.end() && meetsAnotherMap(v, info->second.observers, t_us, o))
+      meet.push_back(id);
   }
-  if (meet.size() == before) return;
   std::sort(meet.begin(), meet.end());
-  meet.erase(std::unique(meet.begin(), meet.end()), meet.end());
 }
 
 Eigen::Vector3d CcTeamFilter::Impl::meetShift(const CcVehicle& v) const {
@@ -270,12 +259,7 @@ void CcTeamFilter::Impl::associate(CcVehicle& v, const CcObservationBatch& batch
     copy.last_seen_us = lastSeen(id);
     // A rendezvous: the first contact of this UAV with another's map while it is uncertain
     // (cc_team_filter.h, runRecipe).
-    for (int other : seen_by) {
-      if (other != v.agent_id && rendezvous(v, other, batch.t_us, o)) {
-        meet.push_back(id);
-        break;
-      }
-    }
+    if (meetsAnotherMap(v, seen_by, batch.t_us, o)) meet.push_back(id);
     v.book.add(id, std::move(copy));
   }
   std::sort(meet.begin(), meet.end());
@@ -289,6 +273,7 @@ Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptio
                                      double reactivation_inflation, FrameReport* r) {
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager, v.camera, state, v.key, frame);
   v.m_star = m_star;
+  reentered.clear();
   std::vector<int64_t> observed;
   observed.reserve(frame.observations.size());
   for (const StereoObservation& obs : frame.observations) {
@@ -346,7 +331,7 @@ Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptio
     if (!state.has(landmarkKey(id))) {
       const ArchivedLandmark* a = archive.find(id);
       if (a == nullptr || isHeld(state, id)) {  // held: back exactly (re-keyed, no inflation)
-        if (reactivateLandmark(state, v.book, archive, id)) ++r->reactivated;
+        if (reactivateLandmark(state, v.book, archive, id)) reentered.push_back(id);
       } else {
         switch (reentryOf(*a, t_us, slam)) {
           case SlamOptions::Reentry::kRemap:
@@ -357,21 +342,25 @@ Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptio
             break;
           case SlamOptions::Reentry::kIndependent:
             if (reactivateLandmark(state, v.book, archive, id, reactivation_inflation * P_pp))
-              ++r->reactivated;
+              reentered.push_back(id);
             break;
         }
       }
     }
     v.active.push_back(id);
   }
-  if (intersected.empty()) return Status::Ok();
-  // ω for the team: the summed position covariance traces of every UAV, which all pay 1/ω.
-  std::vector<VariableKey> team;
-  for (const auto& [id, other] : vehicles) team.push_back(other->key);
-  ReactivationReport rep;
-  const Status s =
-      reactivation.reactivate(state, v.book, archive, intersected, v.updater, frame, &rep, team);
-  r->reactivated += rep.landmarks;
+  Status s = Status::Ok();
+  if (!intersected.empty()) {
+    // ω for the team: the summed position covariance traces of every UAV, which all pay 1/ω.
+    std::vector<VariableKey> team;
+    for (const auto& [id, other] : vehicles) team.push_back(other->key);
+    ReactivationReport rep;
+    s = reactivation.reactivate(state, v.book, archive, intersected, v.updater, frame, &rep, team);
+    for (int64_t id : intersected)
+      if (state.has(landmarkKey(id))) reentered.push_back(id);
+  }
+  r->reactivated += static_cast<int>(reentered.size());
+  std::sort(reentered.begin(), reentered.end());
   return s;
 }
 
