@@ -307,10 +307,15 @@ void printGroundStationSummary(const cvslam::SimulatedTeamRun& run,
 
 /// DC: the frame of UAV `id` against every peer's state, and the pairs it fused since its last
 /// frame, checked against the simulator's truth (simrun/cross_uav_match_audit.h).
-void auditMatches(const cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t>& index_of,
+void auditMatches(cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t>& index_of,
                   const cvslam::DcTeamLink& dc, int id, int64_t t_us,
                   cvslam::simrun::CrossUavMatchAudit* audit,
-                  std::map<int, std::size_t>* fused_seen) {
+                  std::map<int, std::size_t>* fused_seen, std::map<int, std::size_t>* mapped_seen) {
+  // The points the cooperation mapped after this frame get their truth from this frame.
+  const std::vector<cvslam::coop::MappedPoint>& mapped = dc.agent(id).mappedPoints();
+  for (std::size_t i = (*mapped_seen)[id]; i < mapped.size(); ++i)
+    run.sensing(index_of.at(id)).nameLandmark(mapped[i].local_id, mapped[i].z);
+  (*mapped_seen)[id] = mapped.size();
   const auto truth = [&](int agent) { return agentTruth(run, index_of, agent); };
   const std::vector<cvslam::StateLandmark> own = run.slam(index_of.at(id)).stateLandmarks();
   for (const auto& [peer, k] : index_of) {
@@ -364,7 +369,7 @@ int main(int argc, char** argv) {
   cvslam::simrun::CrossUavMatchAuditOptions audit_options;
   audit_options.max_descriptor_distance = config->coop.max_descriptor_distance;
   cvslam::simrun::CrossUavMatchAudit match_audit(audit_options);
-  std::map<int, std::size_t> fused_audited;
+  std::map<int, std::size_t> fused_audited, mapped_audited;
   std::map<int, std::size_t> index_of;  // agent id -> index in `run`
   for (std::size_t i = 0; i < run.agentCount(); ++i) index_of[run.agentId(i)] = i;
   const double duration = scenario->duration;
@@ -374,10 +379,12 @@ int main(int argc, char** argv) {
       [&](const cvslam::SimulatedFrame& f) -> Status {
         cvslam::AgentRunRecorder& recorder = recorders[f.agent_id];
         if (dc) {
-          if (Status s = dc->afterFrame(f.agent_id, f.t_us, *f.mutable_slam, &recorder.writer());
+          if (Status s = dc->afterFrame(f.agent_id, f.sensing->lastObservations(),
+                                        *f.mutable_slam, &recorder.writer());
               !s.ok())
             return s;
-          auditMatches(run, index_of, *dc, f.agent_id, f.t_us, &match_audit, &fused_audited);
+          auditMatches(run, index_of, *dc, f.agent_id, f.t_us, &match_audit, &fused_audited,
+                       &mapped_audited);
         }
         const double t = static_cast<double>(f.t_us) * 1e-6;
         AgentCounters& c = counters[f.agent_id];

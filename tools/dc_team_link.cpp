@@ -24,13 +24,13 @@ Status DcTeamLink::open(const std::string& run_dir) {
   return Status::Ok();
 }
 
-Status DcTeamLink::afterFrame(int id, int64_t t_us, VisualInertialSlam& slam,
-                              AgentRunWriter* writer) {
+Status DcTeamLink::afterFrame(int id, const StereoFrameObservations& frame,
+                              VisualInertialSlam& slam, AgentRunWriter* writer) {
   auto it = agents_.find(id);
   if (it == agents_.end()) return Status::Error("dc: unknown agent " + std::to_string(id));
   coop::DcLinkCore& self = *it->second;
   coop::CoopOutbox box;
-  if (Status s = self.afterFrame(t_us, slam, &box); !s.ok()) return s;
+  if (Status s = self.afterFrame(frame, slam, &box); !s.ok()) return s;
 
   // Each message as on the wire: encoded (bytes counted), decoded and validated again, then
   // handed to its addressee (to < 0: a broadcast, every other agent).

@@ -37,9 +37,10 @@ class DcTeamLink {
   /// Opens DIR/agent_<id>/coop.csv for every agent.
   Status open(const std::string& run_dir);
 
-  /// After the frame of agent `id` at t_us: cooperation step, then encode and deliver its
-  /// outbox (bytes counted in `writer` too).
-  Status afterFrame(int id, int64_t t_us, VisualInertialSlam& slam, AgentRunWriter* writer);
+  /// After the frame of agent `id` (its observations): cooperation step, then encode and
+  /// deliver its outbox (bytes counted in `writer` too).
+  Status afterFrame(int id, const StereoFrameObservations& frame, VisualInertialSlam& slam,
+                    AgentRunWriter* writer);
 
   /// Per-UAV cooperation report (dc_link_core.h), bytes per second over `duration_s`.
   void printSummary(std::FILE* out, double duration_s) const;

@@ -50,7 +50,11 @@ Status DcLink::afterFrame(AgentPipeline& agent, LcmBus& bus,
   if (first_frame_us_ < 0) first_frame_us_ = t_us;
   last_frame_us_ = t_us;
   coop::CoopOutbox box;
-  if (Status s = core_.afterFrame(t_us, agent.slam(), &box); !s.ok()) return s;
+  StereoFrameObservations none;
+  none.t_us = t_us;
+  const StereoFrameObservations* frame = agent.lastFrame().observations;
+  if (Status s = core_.afterFrame(frame != nullptr ? *frame : none, agent.slam(), &box); !s.ok())
+    return s;
   // A message the network refuses (sendto fails) is lost like one dropped on the way: the
   // rest of the frame's messages still go out; the first failure is reported.
   Status first_failure;

@@ -6,7 +6,7 @@ namespace cvslam::coop {
 
 const char* coopCsvHeader() {
   return "t,event,peer,count,fused,rejected_gate,rejected_descriptor,not_in_state,no_gain,"
-         "omega1,independent,nis,nis_dof,r_scale\n";
+         "omega1,independent,nis,nis_dof,r_scale,mapped\n";
 }
 
 void writeCoopCsvRow(std::ostream& out, const CoopEvent& e) {
@@ -14,7 +14,7 @@ void writeCoopCsvRow(std::ostream& out, const CoopEvent& e) {
       << e.peer << ',' << e.count << ',' << e.fused << ',' << e.rejected_gate << ','
       << e.rejected_descriptor << ',' << e.not_in_state << ',' << (e.no_gain ? 1 : 0) << ','
       << e.omega1 << ',' << (e.independent ? 1 : 0) << ',' << e.nis << ',' << e.nis_dof << ','
-      << e.r_scale << '\n';
+      << e.r_scale << ',' << e.mapped << '\n';
 }
 
 }  // namespace cvslam::coop

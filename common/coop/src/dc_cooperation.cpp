@@ -197,21 +197,32 @@ void DcCooperation::handleSummary(const CoopSummary& m, int64_t now_us) {
 }
 
 void DcCooperation::handleIndex(const FeatureIndexList& m, const VisualInertialSlam& slam,
-                                int64_t now_us, CoopOutbox* out) {
+                                const StereoFrameObservations& frame, CoopOutbox* out) {
+  const int64_t now_us = frame.t_us;
   if (!admit(kIndexStream, m.header, now_us)) return;
   ++stats_.indices_received;
   PeerState& p = peers_[m.header.agent_id];
   if (p.request_pending) return;  // one exchange at a time per peer
   std::vector<uint32_t> sorted = m.indices;
   std::sort(sorted.begin(), sorted.end());
-  // Candidates: in-state landmarks with an index the peer observes, most recently seen first.
+  // Candidates: in-state landmarks with an index the peer observes, most recently seen first;
+  // then (map_shared_landmarks) the points observed now and not mapped.
   std::vector<StateLandmark> cand;
   for (const StateLandmark& l : slam.stateLandmarks())
     if (std::binary_search(sorted.begin(), sorted.end(), l.index)) cand.push_back(l);
-  if (cand.empty()) return;
   std::stable_sort(cand.begin(), cand.end(), [](const StateLandmark& a, const StateLandmark& b) {
     return a.last_seen_us > b.last_seen_us;
   });
+  if (o_.map_shared_landmarks && slam.time() == now_us) {
+    for (const StereoObservation& obs : frame.observations) {
+      if (!std::binary_search(sorted.begin(), sorted.end(), obs.index) || !slam.isUnmapped(obs))
+        continue;
+      StateLandmark l;
+      l.index = obs.index;
+      cand.push_back(l);
+    }
+  }
+  if (cand.empty()) return;
   SharedRequest r;
   r.header = nextHeader(kRequestStream, now_us);
   r.to_agent = m.header.agent_id;
@@ -250,10 +261,28 @@ void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSl
     keys.push_back(VariableKey::landmark(static_cast<uint64_t>(l.id)));
     ids.push_back(l.id);
   }
+  // Then the archived landmarks offered lately (offer_archived) with a wanted index: a held
+  // one as the state holds it now, any other with the mean and marginal covariance it left
+  // the state with (landmark_archive.h).
+  bool archived = false;
+  for (const auto& [id, t] : offered_) {
+    if (static_cast<int>(s.landmarks.size()) >= o_.max_landmarks_per_message) break;
+    const ArchivedLandmark* a = slam.archive().find(id);
+    if (a == nullptr || !std::binary_search(wanted.begin(), wanted.end(), a->index)) continue;
+    SharedLandmark l{a->index, a->p_LinN, a->covariance, a->descriptor};
+    if (const StateVariable* v = slam.state().find(VariableKey::heldLandmark(static_cast<uint64_t>(id)))) {
+      l.p_LinN = slam.state().value(*v);
+      l.covariance = slam.state().covarianceOf(*v);
+    }
+    s.landmarks.push_back(std::move(l));
+    ids.push_back(id);
+    archived = true;
+  }
   recordSent(s.header.seq, std::move(ids));
-  // The joint covariance, so that the receiver need not bound the correlations.
+  // The joint covariance, so that the receiver need not bound the correlations (archived
+  // landmarks kept their marginals only: then the receiver bounds them).
   if (Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), keys);
-      J.ok() && s.landmarks.size() >= 2)
+      !archived && J.ok() && s.landmarks.size() >= 2)
     s.joint_covariance = std::move(J.value());
   ++stats_.shared_sent;
   events_.push_back({now_us, CoopEventKind::kSharedSent, s.to_agent,
@@ -261,8 +290,9 @@ void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSl
   out->shared.push_back(std::move(s));
 }
 
-void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& slam, int64_t now_us,
-                                 CoopOutbox* out) {
+void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& slam,
+                                 const StereoFrameObservations& frame, CoopOutbox* out) {
+  const int64_t now_us = frame.t_us;
   if (!admit(kSharedStream, m.header, now_us)) return;
   ++stats_.shared_received;
   const int j = m.header.agent_id;
@@ -278,26 +308,71 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
     p.timeout.onAnswer(seconds(now_us - p.request_sent_us));
   }
 
-  const std::vector<StateLandmark> local = slam.stateLandmarks();
+  std::vector<StateLandmark> local = slam.stateLandmarks();
   CoopEvent e;
   e.t_us = now_us;
   e.kind = CoopEventKind::kFused;
   e.peer = j;
   e.count = static_cast<int>(m.landmarks.size());
   const bool independent = o_.use_provenance && independentOf(m.informed_by);
-  const std::vector<ConfirmedPair> pairs = confirm(m, local, independent, &e);
+  const std::vector<ConfirmedPair> pairs = confirm(m, slam, frame, independent, &local, &e);
   if (!pairs.empty() &&
       !fuseConfirmed(m, pairs, local, answers_request, independent, slam, now_us, out, &e))
     return;
   events_.push_back(e);
 }
 
+bool DcCooperation::descriptorsAgree(const std::vector<uint8_t>& a,
+                                     const std::vector<uint8_t>& b) const {
+  if (a.empty() || a.size() != b.size()) return true;
+  const double dist = std::sqrt(static_cast<double>(
+      vision::distanceL2Squared(a.data(), b.data(), static_cast<int>(a.size()))));
+  return dist <= o_.max_descriptor_distance;
+}
+
+double DcCooperation::pairNis(const Eigen::Vector3d& d, const Eigen::Matrix3d& P_a,
+                              const Eigen::Matrix3d& P_b, bool independent) {
+  return independent ? d.dot((P_a + P_b).ldlt().solve(d)) : ciBoundedNis(d, P_a, P_b);
+}
+
+int DcCooperation::matchUnmapped(const SharedLandmark& s, const VisualInertialSlam& slam,
+                                 const StereoFrameObservations& frame, bool independent,
+                                 const std::vector<bool>& taken) const {
+  const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
+  double best = std::numeric_limits<double>::infinity();
+  int best_k = -1;
+  for (std::size_t k = 0; k < frame.observations.size(); ++k) {
+    const StereoObservation& obs = frame.observations[k];
+    // With descriptors the descriptor is the identity test (a point seen from another height
+    // may fall into another visual word); without (feature level) the index is.
+    const bool described = !s.descriptor.empty() && obs.descriptor.size() == s.descriptor.size();
+    if (taken[k] || (!described && obs.index != s.index) || !slam.isUnmapped(obs) ||
+        !descriptorsAgree(obs.descriptor, s.descriptor))
+      continue;
+    // Where mapping it now would put it, with the covariance it would have (the vehicle's
+    // uncertainty included): the same gate as for an in-state landmark.
+    Eigen::Vector3d p;
+    Eigen::Matrix3d P;
+    if (!slam.triangulate(obs, &p, &P)) continue;
+    const double d2 = pairNis(s.p_LinN - p, P, s.covariance, independent);
+    if (d2 <= gate && d2 < best) best = d2, best_k = static_cast<int>(k);
+  }
+  return best_k;
+}
+
 std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
-    const SharedLandmarks& m, const std::vector<StateLandmark>& local, bool independent,
-    CoopEvent* e) {
+    const SharedLandmarks& m, VisualInertialSlam& slam, const StereoFrameObservations& frame,
+    bool independent, std::vector<StateLandmark>* local_in, CoopEvent* e) {
+  const std::vector<StateLandmark>& local = *local_in;
   const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
   std::vector<bool> used(local.size(), false);
   std::vector<ConfirmedPair> pairs;
+  // Shared landmarks matched to an unmapped observation (mapped below), and those observations.
+  StereoFrameObservations to_map;
+  to_map.t_us = frame.t_us;
+  std::vector<const SharedLandmark*> mapped_for;
+  std::vector<bool> taken(frame.observations.size(), false);
+  const bool may_map = o_.map_shared_landmarks && slam.time() == frame.t_us;
   for (const SharedLandmark& s : m.landmarks) {
     bool any_index = false, any_descriptor = false;
     double best = std::numeric_limits<double>::infinity();
@@ -305,17 +380,19 @@ std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
     for (std::size_t i = 0; i < local.size(); ++i) {
       if (used[i] || local[i].index != s.index) continue;
       any_index = true;
-      const auto& d1 = local[i].descriptor;
-      if (!d1.empty() && d1.size() == s.descriptor.size()) {
-        const double dist = std::sqrt(static_cast<double>(vision::distanceL2Squared(
-            d1.data(), s.descriptor.data(), static_cast<int>(d1.size()))));
-        if (dist > o_.max_descriptor_distance) continue;
-      }
+      if (!descriptorsAgree(local[i].descriptor, s.descriptor)) continue;
       any_descriptor = true;
-      const Eigen::Vector3d d = s.p_LinN - local[i].p_LinN;
-      const double d2 = independent ? d.dot((local[i].covariance + s.covariance).ldlt().solve(d))
-                                    : ciBoundedNis(d, local[i].covariance, s.covariance);
+      const double d2 = pairNis(s.p_LinN - local[i].p_LinN, local[i].covariance, s.covariance,
+                                independent);
       if (d2 <= gate && d2 < best) best = d2, best_i = i;
+    }
+    if (!any_index && may_map) {
+      if (const int k = matchUnmapped(s, slam, frame, independent, taken); k >= 0) {
+        taken[static_cast<std::size_t>(k)] = true;
+        to_map.observations.push_back(frame.observations[static_cast<std::size_t>(k)]);
+        mapped_for.push_back(&s);
+        continue;
+      }
     }
     if (!any_index) {
       ++stats_.shared_not_in_state;
@@ -330,6 +407,31 @@ std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
       used[best_i] = true;
       pairs.push_back({best_i, &s});
     }
+  }
+  if (to_map.observations.empty()) return pairs;
+  // Map the matched points (as step 5 of the filter would, with their own stereo observation),
+  // then pair them with the peer's estimates like in-state landmarks.
+  std::vector<int64_t> ids;
+  if (!slam.mapObservations(to_map, &ids).ok()) return pairs;
+  std::vector<int64_t> paired_ids;
+  for (const ConfirmedPair& pr : pairs) paired_ids.push_back(local[pr.local].id);
+  *local_in = slam.stateLandmarks();  // sorted by id
+  const auto position = [&](int64_t id) {
+    auto it = std::lower_bound(
+        local_in->begin(), local_in->end(), id,
+        [](const StateLandmark& l, int64_t wanted) { return l.id < wanted; });
+    return it != local_in->end() && it->id == id
+               ? static_cast<std::size_t>(it - local_in->begin())
+               : local_in->size();
+  };
+  for (std::size_t k = 0; k < pairs.size(); ++k) pairs[k].local = position(paired_ids[k]);
+  for (std::size_t k = 0; k < to_map.observations.size(); ++k) {
+    const std::size_t i = ids[k] >= 0 ? position(ids[k]) : local_in->size();
+    if (i == local_in->size()) continue;  // not mapped (cannot be triangulated)
+    pairs.push_back({i, mapped_for[k]});
+    mapped_points_.push_back({frame.t_us, ids[k], to_map.observations[k].z});
+    ++e->mapped;
+    ++stats_.landmarks_mapped;
   }
   return pairs;
 }
@@ -465,11 +567,11 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
     if (auto* s = std::get_if<CoopSummary>(&msg))
       handleSummary(*s, now);
     else if (auto* i = std::get_if<FeatureIndexList>(&msg))
-      handleIndex(*i, slam, now, out);
+      handleIndex(*i, slam, frame, out);
     else if (auto* r = std::get_if<SharedRequest>(&msg))
       handleRequest(*r, slam, now, out);
     else if (auto* l = std::get_if<SharedLandmarks>(&msg))
-      handleShared(*l, slam, now, out);
+      handleShared(*l, slam, frame, out);
   }
   inbox_.swap(later);
 
@@ -514,11 +616,12 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
     ++stats_.summaries_sent;
   }
 
-  // 4. Index broadcast when, for some cooperating peer, this agent observes fewer features.
-  if (n_self == 0) return Status::Ok();
+  // 4. Index broadcast when, for some cooperating peer, this agent observes fewer features;
+  // and (offer_archived) the indices of the archived landmarks where a peer looks now.
   if (last_index_us_ >= 0 && seconds(now - last_index_us_) < o_.exchange_period_s)
     return Status::Ok();
   bool send = false;
+  std::vector<int64_t> offer;
   for (const auto& [j, p] : peers_) {
     if (p.summary.header.agent_id != j) continue;  // no summary accepted yet
     if (seconds(now - p.summary.header.t_us) > o_.max_message_age_s) continue;
@@ -532,25 +635,55 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
       own.std = (own.std.array().square() + own_vehicle_trace / 3.0).sqrt();
       theirs.std = (theirs.std.array().square() + p.summary.vehicle_cov_trace / 3.0).sqrt();
     }
-    if (!ellipsoidsIntersect(own, theirs, o_.coop_sigma, o_.min_semi_axis_m)) continue;
+    if (o_.offer_archived) archivedInView(slam, theirs, &offer);
+    if (n_self == 0 || !ellipsoidsIntersect(own, theirs, o_.coop_sigma, o_.min_semi_axis_m))
+      continue;
     const int n_peer = p.summary.num_features;
     if (n_self < n_peer || (n_self == n_peer && self_ < j)) send = true;
   }
-  if (!send) return Status::Ok();
+  // Offers are answered for a while (the request comes back a frame or two later).
+  for (auto it = offered_.begin(); it != offered_.end();)
+    it = seconds(now - it->second) > o_.request_timeout_s ? offered_.erase(it) : std::next(it);
+  if (!send && offer.empty()) return Status::Ok();
   FeatureIndexList idx;
   idx.header = nextHeader(kIndexStream, now);
   idx.true_ids = o_.true_ids;
-  for (const StateLandmark& l : now_seen) idx.indices.push_back(l.index);
+  if (send)
+    for (const StateLandmark& l : now_seen) idx.indices.push_back(l.index);
+  std::sort(offer.begin(), offer.end());
+  offer.erase(std::unique(offer.begin(), offer.end()), offer.end());
+  for (int64_t id : offer) {
+    idx.indices.push_back(slam.archive().find(id)->index);
+    offered_[id] = now;
+  }
   std::sort(idx.indices.begin(), idx.indices.end());
   idx.indices.erase(std::unique(idx.indices.begin(), idx.indices.end()), idx.indices.end());
   if (static_cast<int>(idx.indices.size()) > o_.max_indices_per_message)
     idx.indices.resize(static_cast<std::size_t>(o_.max_indices_per_message));
   last_index_us_ = now;
   ++stats_.indices_sent;
+  if (!offer.empty()) ++stats_.archive_offers;
   events_.push_back(
       {now, CoopEventKind::kIndexSent, 0, static_cast<int>(idx.indices.size()), 0, 0, 0, 1.0});
   out->index = std::move(idx);
   return Status::Ok();
+}
+
+void DcCooperation::archivedInView(const VisualInertialSlam& slam, const FeatureEllipsoid& view,
+                                   std::vector<int64_t>* offer) const {
+  // The archived landmarks inside the peer's ellipsoid (mean ± coop_sigma·std, floored), the
+  // nearest to its centre first, at most max_offered_landmarks.
+  if (!view.valid()) return;
+  const Eigen::Vector3d a =
+      (o_.coop_sigma * view.std).cwiseMax(Eigen::Vector3d::Constant(o_.min_semi_axis_m));
+  std::vector<std::pair<double, int64_t>> inside;
+  for (const auto& [id, l] : slam.archive().all()) {
+    const double q = ((l.p_LinN - view.mean).array() / a.array()).square().sum();
+    if (q <= 1.0) inside.emplace_back(q, id);
+  }
+  const auto n = std::min(inside.size(), static_cast<std::size_t>(o_.max_offered_landmarks));
+  std::partial_sort(inside.begin(), inside.begin() + static_cast<std::ptrdiff_t>(n), inside.end());
+  for (std::size_t k = 0; k < n; ++k) offer->push_back(inside[k].second);
 }
 
 void DcCooperation::recordSent(int64_t seq, std::vector<int64_t> ids) {

@@ -56,6 +56,10 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.get("min_omega", min_omega);
   node.get("require_vehicle_gain", require_vehicle_gain);
   node.get("use_provenance", use_provenance);
+  node.get("map_shared_landmarks", map_shared_landmarks);
+  node.get("offer_archived", offer_archived);
+  node.get("max_offered_landmarks", max_offered_landmarks);
+  node.check(max_offered_landmarks >= 1, "max_offered_landmarks", "must be ≥ 1");
   node.get("consistency_window", consistency.window);
   node.get("consistency_probability", consistency.probability);
   node.get("include_vehicle_uncertainty", include_vehicle_uncertainty);

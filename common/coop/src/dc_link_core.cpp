@@ -42,7 +42,9 @@ void DcLinkCore::receive(CoopMessage message) {
   pending_.emplace(key, std::move(message));
 }
 
-Status DcLinkCore::afterFrame(int64_t t_us, VisualInertialSlam& slam, CoopOutbox* out) {
+Status DcLinkCore::afterFrame(const StereoFrameObservations& frame, VisualInertialSlam& slam,
+                              CoopOutbox* out) {
+  const int64_t t_us = frame.t_us;
   while (!pending_.empty() && std::get<0>(pending_.begin()->first) < t_us) {
     const bool accepted = std::visit(
         [this](const auto& x) {
@@ -56,8 +58,6 @@ Status DcLinkCore::afterFrame(int64_t t_us, VisualInertialSlam& slam, CoopOutbox
     if (!accepted) ++refused_;
     pending_.erase(pending_.begin());
   }
-  StereoFrameObservations frame;
-  frame.t_us = t_us;  // DcCooperation needs the frame time only
   if (Status s = dc_.afterFrame(frame, slam, out); !s.ok()) return s;
   const std::vector<CoopEvent> events = dc_.takeEvents();
   if (!log_.is_open() || events.empty()) return Status::Ok();

@@ -119,13 +119,14 @@ void RenderedSensing::checkFrame(const VisualInertialSlam& slam) {
       stats_.reobservation_error_sq_sum += (*left - o.z.head<2>()).squaredNorm();
     }
   }
-  // Ground truth of the landmarks this frame created: the surface at their left pixel.
-  for (const auto& [i, id] : result_.initialised) {
-    const StereoObservation& o = obs[i];
-    if (const std::optional<render::SurfacePoint> s = rendering_.left.surfaceAt(o.z(0), o.z(1))) {
-      truth_[id] = s->p_N;
-    }
-  }
+  // Ground truth of the landmarks this frame created: the surface at their left pixel (those the
+  // cooperation maps after the frame are named by nameLandmark).
+  for (const auto& [i, id] : result_.initialised) nameLandmark(id, obs[i].z);
+}
+
+void RenderedSensing::nameLandmark(int64_t landmark_id, const Eigen::Vector4d& z) {
+  if (const std::optional<render::SurfacePoint> s = rendering_.left.surfaceAt(z(0), z(1)))
+    truth_[landmark_id] = s->p_N;
 }
 
 bool RenderedSensing::landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const {

@@ -16,8 +16,10 @@ LandmarkInitialiser::LandmarkInitialiser(const VariableKey& vehicle, const Stere
 Status LandmarkInitialiser::initialise(SlamState& state, LandmarkBook& book,
                                        const LandmarkArchive& archive,
                                        const StereoFrameObservations& frame, int64_t t_us,
-                                       int64_t* next_fresh_id, int* initialised) const {
-  if (o_.max_new_landmarks_per_frame == 0) return Status::Ok();
+                                       int64_t* next_fresh_id, int* initialised, int max_new,
+                                       std::vector<int64_t>* ids) const {
+  if (ids != nullptr) ids->assign(frame.observations.size(), -1);
+  if (max_new <= 0) return Status::Ok();
   const StateVariable* veh = state.find(vehicle_);
   if (veh == nullptr)
     return Status::Error("landmark initialisation: the vehicle is not in the state");
@@ -41,8 +43,7 @@ Status LandmarkInitialiser::initialise(SlamState& state, LandmarkBook& book,
     fresh.push_back({(p_LinN - x.p_BinN).squaredNorm(), i, p_LinN});
   }
   // The nearest points are the best triangulated ones (disparity grows as 1/depth).
-  const std::size_t n_new =
-      std::min(fresh.size(), static_cast<std::size_t>(o_.max_new_landmarks_per_frame));
+  const std::size_t n_new = std::min(fresh.size(), static_cast<std::size_t>(max_new));
   std::partial_sort(fresh.begin(), fresh.begin() + static_cast<std::ptrdiff_t>(n_new), fresh.end(),
                     [](const NewLandmark& a, const NewLandmark& b) {
                       return a.range2 < b.range2 || (a.range2 == b.range2 && a.obs < b.obs);
@@ -78,9 +79,26 @@ Status LandmarkInitialiser::initialise(SlamState& state, LandmarkBook& book,
     const Eigen::Vector3d u_L =
         dpL_dvehicle * vehicle_model::yawDirectionAt(x, book.vehicleYawDirection());
     book.add(id, {obs.index, t_us, t_us, obs.descriptor, p_LinN, u_L, true});
+    if (ids != nullptr) (*ids)[fresh[k].obs] = id;
     ++*initialised;
   }
   return Status::Ok();
+}
+
+bool LandmarkInitialiser::triangulate(const SlamState& state, const StereoObservation& obs,
+                                      Eigen::Vector3d* p_LinN, Eigen::Matrix3d* covariance) const {
+  const StateVariable* veh = state.find(vehicle_);
+  if (veh == nullptr || obs.z(0) - obs.z(2) < o_.min_init_disparity_px) return false;
+  const vehicle_model::Pose x = vehicle_model::pose(state, *veh);
+  StereoCamera::Matrix3x9d dpL_dxv;
+  StereoCamera::Matrix3x4d dpL_dz;
+  if (!camera_.triangulate(obs.z, x, p_LinN, &dpL_dxv, &dpL_dz).ok()) return false;
+  Eigen::MatrixXd dpL_dvehicle = Eigen::MatrixXd::Zero(3, veh->size);
+  vehicle_model::poseToBlockJacobian(dpL_dxv, &dpL_dvehicle);
+  const Eigen::MatrixXd P_vv = state.covariance().block(veh->index, veh->index, veh->size, veh->size);
+  *covariance = dpL_dvehicle * P_vv * dpL_dvehicle.transpose() +
+                o_.pixel_sigma * o_.pixel_sigma * dpL_dz * dpL_dz.transpose();
+  return true;
 }
 
 }  // namespace cvslam

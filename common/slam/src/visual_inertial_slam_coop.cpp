@@ -41,4 +41,24 @@ Status VisualInertialSlam::fuseIndependent(const std::vector<int64_t>& ids,
   return ci_updater_.applyIndependent(state_, book_, ids, y, R);
 }
 
+bool VisualInertialSlam::isUnmapped(const StereoObservation& obs) const {
+  return obs.landmark_id < 0 ||
+         (!state_.has(VariableKey::landmark(static_cast<uint64_t>(obs.landmark_id))) &&
+          !archive_.contains(obs.landmark_id));
+}
+
+bool VisualInertialSlam::triangulate(const StereoObservation& obs, Eigen::Vector3d* p_LinN,
+                                     Eigen::Matrix3d* covariance) const {
+  return initialized_ && initialiser_.triangulate(state_, obs, p_LinN, covariance);
+}
+
+Status VisualInertialSlam::mapObservations(const StereoFrameObservations& frame,
+                                           std::vector<int64_t>* ids) {
+  if (!initialized_) return Status::Error("mapObservations: filter not initialised");
+  if (frame.t_us != t_us_) return Status::Error("mapObservations: not the frame just processed");
+  int mapped = 0;
+  return initialiser_.initialise(state_, book_, archive_, frame, t_us_, &next_fresh_id_, &mapped,
+                                 static_cast<int>(frame.observations.size()), ids);
+}
+
 }  // namespace cvslam

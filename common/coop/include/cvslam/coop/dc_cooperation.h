@@ -103,6 +103,19 @@ struct DcCooperationOptions {
   /// Peers tracked at most; summaries of further agents are dropped (rejected_too_many_peers),
   /// so that a flood of forged agent ids cannot grow the state without bound.
   int max_peers = 64;
+  /// The receiver also matches a peer's landmarks to the points it observes now but has not
+  /// mapped (same index, descriptor check, χ² gate on where stereo puts them), maps those and
+  /// fuses the peer's estimates into them: two UAVs rarely map the same surface points, so with
+  /// images an exchange between in-state landmarks alone finds few (docs/cooperation.md
+  /// "Mapping the peer's landmarks"). false: in-state landmarks only (the thesis).
+  bool map_shared_landmarks = true;
+  /// Also broadcast the indices of the own archived landmarks inside a peer's cooperation
+  /// ellipsoid (where it looks now), and answer its requests from them: a UAV that flies where
+  /// another flew before gains from that UAV's map, as the ground station's shared map does
+  /// (docs/cooperation.md "Archived landmarks where a peer looks"). false: the thesis (live
+  /// overlaps only).
+  bool offer_archived = true;
+  int max_offered_landmarks = 30;  ///< archived landmarks offered per INDEX, nearest first
   /// Indices are true landmark ids (feature-level simulation); set by the runner, not YAML.
   bool true_ids = false;  ///< inbound queue bound (oldest dropped beyond)
   Status load(const ConfigNode& node);
@@ -125,7 +138,9 @@ struct DcCooperationStatistics {
   int64_t rejected_unknown_peer = 0;  ///< index/request/shared from a peer with no summary yet
   int64_t rejected_gate = 0;          ///< shared landmarks failing the χ² gate
   int64_t rejected_descriptor = 0;    ///< shared landmarks failing the descriptor check
-  int64_t shared_not_in_state = 0;    ///< shared landmarks no longer in the local state
+  int64_t shared_not_in_state = 0;    ///< shared landmarks neither in the state nor observed now
+  int64_t landmarks_mapped = 0;       ///< observed points mapped for a peer's landmark
+  int64_t archive_offers = 0;         ///< INDEX messages offering archived landmarks
   int64_t fusion_failures = 0;        ///< CI updates the filter refused
   int64_t skipped_no_gain = 0;        ///< confirmed sets not fused (require_vehicle_gain)
   int64_t fused_independent = 0;      ///< exchanges fused by the EKF update (provenance)
@@ -159,7 +174,8 @@ struct CoopEvent {
   int rejected_gate = 0;        ///< kFused
   int rejected_descriptor = 0;  ///< kFused
   double omega1 = 1.0;          ///< kFused: weight of the own estimate
-  int not_in_state = 0;         ///< kFused: landmarks no longer in the local state
+  int not_in_state = 0;         ///< kFused: landmarks neither in the state nor observed now
+  int mapped = 0;               ///< kFused: observed points mapped for the peer's landmarks
   bool no_gain = false;         ///< kFused: not fused (require_vehicle_gain)
   bool independent = false;     ///< kFused: by the EKF update (disjoint provenance)
   double nis = 0.0;             ///< kFused: joint NIS of the confirmed set
@@ -176,6 +192,15 @@ struct FusedMatch {
   int64_t local_id = -1;  ///< the own landmark
   int64_t peer_seq = 0;   ///< header.seq of the sender's SharedLandmarks
   int slot = 0;           ///< position of the peer's landmark in that message
+};
+
+/// A point of the own frame this agent mapped for a peer's landmark (map_shared_landmarks):
+/// the new landmark and where it was observed, for an in-process audit against a simulator's
+/// truth (the renderer's surface at that pixel); nothing of it is sent.
+struct MappedPoint {
+  int64_t t_us = 0;                             ///< frame time [µs]
+  int64_t local_id = -1;                        ///< the new landmark
+  Eigen::Vector4d z = Eigen::Vector4d::Zero();  ///< its observation [u_L v_L u_R v_R] [px]
 };
 
 class DcCooperation {
@@ -201,6 +226,8 @@ class DcCooperation {
   int selfId() const { return self_; }
   /// Every landmark pair fused so far, in order.
   const std::vector<FusedMatch>& fusedMatches() const { return fused_matches_; }
+  /// Every point mapped for a peer's landmark so far, in order.
+  const std::vector<MappedPoint>& mappedPoints() const { return mapped_points_; }
   /// The own landmark id in entry `slot` of the SharedLandmarks this agent sent with header
   /// seq `seq` (one of the last kSentRecords), or -1.
   int64_t sentLandmarkId(int64_t seq, int slot) const;
@@ -224,22 +251,38 @@ class DcCooperation {
   /// Stale / duplicate / reordered / unknown-peer checks; updates last_seq and last_heard.
   bool admit(int stream, const CoopHeader& header, int64_t now_us);
   void handleSummary(const CoopSummary& m, int64_t now_us);
-  void handleIndex(const FeatureIndexList& m, const VisualInertialSlam& slam, int64_t now_us,
-                   CoopOutbox* out);
+  void handleIndex(const FeatureIndexList& m, const VisualInertialSlam& slam,
+                   const StereoFrameObservations& frame, CoopOutbox* out);
   void handleRequest(const SharedRequest& m, const VisualInertialSlam& slam, int64_t now_us,
                      CoopOutbox* out);
-  void handleShared(const SharedLandmarks& m, VisualInertialSlam& slam, int64_t now_us,
-                    CoopOutbox* out);
+  void handleShared(const SharedLandmarks& m, VisualInertialSlam& slam,
+                    const StereoFrameObservations& frame, CoopOutbox* out);
   /// A shared landmark confirmed against a local one (local: index into the local list).
   struct ConfirmedPair {
     std::size_t local;
     const SharedLandmark* peer;
   };
   /// Step 5: confirms the shared landmarks by descriptor distance and the χ² gate, counting
-  /// the rejections in *e and the statistics.
-  std::vector<ConfirmedPair> confirm(const SharedLandmarks& m,
-                                     const std::vector<StateLandmark>& local, bool independent,
-                                     CoopEvent* e);
+  /// the rejections in *e and the statistics. A shared landmark with no in-state candidate may
+  /// be matched to an unmapped observation of `frame` instead (map_shared_landmarks): those
+  /// are mapped here, and *local is read again.
+  std::vector<ConfirmedPair> confirm(const SharedLandmarks& m, VisualInertialSlam& slam,
+                                     const StereoFrameObservations& frame, bool independent,
+                                     std::vector<StateLandmark>* local, CoopEvent* e);
+  /// The unmapped observation of `frame` that best matches `s` (same index, descriptor check,
+  /// χ² gate on its triangulated point), or -1; `taken` marks observations already matched.
+  int matchUnmapped(const SharedLandmark& s, const VisualInertialSlam& slam,
+                    const StereoFrameObservations& frame, bool independent,
+                    const std::vector<bool>& taken) const;
+  /// Appends the own archived landmarks inside `view` (a peer's ellipsoid) to *offer.
+  void archivedInView(const VisualInertialSlam& slam, const FeatureEllipsoid& view,
+                      std::vector<int64_t>* offer) const;
+  /// The descriptor check: true when either has none or they differ in length.
+  bool descriptorsAgree(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) const;
+  /// The χ² statistic of two estimates of one landmark (P_a + P_b when independent, else the
+  /// covariance-intersection bound).
+  static double pairNis(const Eigen::Vector3d& d, const Eigen::Matrix3d& P_a,
+                        const Eigen::Matrix3d& P_b, bool independent);
   /// Tests the confirmed landmarks jointly and fuses them (slam/ci_updater.h: the EKF update
   /// when `independent`, CI otherwise), returning the own estimates with both_ways; false when
   /// the filter refused (no event is recorded then).
@@ -266,6 +309,8 @@ class DcCooperation {
   std::vector<CoopEvent> events_;
   std::vector<int> informed_by_;  ///< provenance of the own state, ascending
   std::vector<FusedMatch> fused_matches_;
+  std::vector<MappedPoint> mapped_points_;
+  std::map<int64_t, int64_t> offered_;  ///< archived landmark id -> time last offered [µs]
   static constexpr std::size_t kSentRecords = 256;
   std::map<int64_t, std::vector<int64_t>> sent_ids_;  ///< SHARED seq -> own landmark ids
   /// Records the own landmark ids of an outgoing SharedLandmarks (its header.seq).

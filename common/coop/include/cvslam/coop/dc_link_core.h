@@ -37,10 +37,12 @@ class DcLinkCore {
   /// A message received from a peer, in any order (our own broadcasts are ignored).
   void receive(CoopMessage message);
 
-  /// Right after the agent's frame at t_us: hands the held messages older than the frame to
-  /// the cooperation in canonical order, runs its step on `slam`, logs its events; `out` gets
-  /// the frame's outgoing messages.
-  Status afterFrame(int64_t t_us, VisualInertialSlam& slam, CoopOutbox* out);
+  /// Right after the agent's frame: hands the held messages older than the frame to the
+  /// cooperation in canonical order, runs its step on `slam` with the frame's observations
+  /// (AgentFrame::observations; an empty frame at the frame time when there are none), logs its
+  /// events; `out` gets the frame's outgoing messages.
+  Status afterFrame(const StereoFrameObservations& frame, VisualInertialSlam& slam,
+                    CoopOutbox* out);
 
   /// Counts `bytes` (encoded size) sent on `stream` (SUMMARY, INDEX, SHARED_REQ, SHARED).
   void countSent(const std::string& stream, int64_t bytes) { bytes_sent_[stream] += bytes; }

@@ -26,6 +26,10 @@ class FrameSensing {
                               FrameReport* report) = 0;
   /// True position of a landmark of the filter's map; false when unknown.
   virtual bool landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const = 0;
+  /// A landmark mapped after the last frame from its observation z of that frame (the
+  /// cooperation's, DcCooperation::mappedPoints): its truth is where z was observed. Feature
+  /// level: nothing to do (the id is the true one).
+  virtual void nameLandmark(int64_t /*landmark_id*/, const Eigen::Vector4d& /*z*/) {}
   /// The observations the last frame gave the filter (landmark ids set).
   virtual const StereoFrameObservations& lastObservations() const = 0;
   /// The image path's details of the last frame (front end, association, filter, loop query;

@@ -73,6 +73,7 @@ class RenderedSensing : public FrameSensing {
                       FrameReport* report) override;
   bool landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN) const override;
   const StereoFrameObservations& lastObservations() const override { return result_.frame; }
+  void nameLandmark(int64_t landmark_id, const Eigen::Vector4d& z) override;
   const VisualFrameResult* visualResult() const override { return &result_; }
 
   const RenderedSensingStats& stats() const { return stats_; }

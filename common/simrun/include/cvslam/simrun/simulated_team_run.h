@@ -65,6 +65,7 @@ class SimulatedTeamRun {
   /// How agent i's filter was started (options with its IMU noise, x0, P0, t0).
   const AgentFilterSetup& setup(std::size_t i) const { return agents_[i].setup; }
   const FrameSensing& sensing(std::size_t i) const { return *agents_[i].sensing; }
+  FrameSensing& sensing(std::size_t i) { return *agents_[i].sensing; }
   int agentId(std::size_t i) const { return agents_[i].id; }
   const sim::Simulator& simulator() const { return simulator_; }
   /// From now on every agent's filter takes its Jacobians at the truth (the ideal EKF,

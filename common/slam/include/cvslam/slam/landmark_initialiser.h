@@ -9,6 +9,7 @@
 // vehicle's landmark book with its first estimate and OC yaw direction u_L = ∂p_L/∂x_v u_v.
 
 #include <cstdint>
+#include <vector>
 
 #include "cvslam/camera/stereo_camera.h"
 #include "cvslam/camera/stereo_observation.h"
@@ -32,7 +33,20 @@ class LandmarkInitialiser {
   /// min_init_disparity_px, seen at t_us. Adds the number added to *initialised.
   Status initialise(SlamState& state, LandmarkBook& book, const LandmarkArchive& archive,
                     const StereoFrameObservations& frame, int64_t t_us, int64_t* next_fresh_id,
-                    int* initialised) const;
+                    int* initialised) const {
+    return initialise(state, book, archive, frame, t_us, next_fresh_id, initialised,
+                      o_.max_new_landmarks_per_frame);
+  }
+  /// The same with at most `max_new` landmarks (the cooperation maps the points a peer's
+  /// landmarks were matched to beyond the per-frame cap, dc_cooperation.h); `ids` (optional)
+  /// gets, per observation of `frame`, the id of the landmark it created, or -1.
+  Status initialise(SlamState& state, LandmarkBook& book, const LandmarkArchive& archive,
+                    const StereoFrameObservations& frame, int64_t t_us, int64_t* next_fresh_id,
+                    int* initialised, int max_new, std::vector<int64_t>* ids = nullptr) const;
+  /// Where initialisation would put the landmark of `obs` and its marginal covariance
+  /// J_x P_vv J_xᵀ + J_z R J_zᵀ, without adding it; false when it cannot be triangulated.
+  bool triangulate(const SlamState& state, const StereoObservation& obs, Eigen::Vector3d* p_LinN,
+                   Eigen::Matrix3d* covariance) const;
   /// Initialisation Jacobians at the truth (linearisation_oracle.h; simulation diagnostics).
   void setOracle(const LinearisationOracle* oracle) { oracle_ = oracle; }
 

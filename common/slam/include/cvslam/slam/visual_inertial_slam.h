@@ -149,6 +149,19 @@ class VisualInertialSlam {
   /// (CiUpdater::applyIndependent); R bounds their covariance.
   Status fuseIndependent(const std::vector<int64_t>& ids, const Eigen::VectorXd& y,
                          const Eigen::MatrixXd& R);
+  /// True when `obs` (of the frame just processed) is of no landmark this filter knows: unnamed
+  /// (landmark_id < 0, a point the front end did not offer), or named but neither in the state
+  /// nor archived (held included).
+  bool isUnmapped(const StereoObservation& obs) const;
+  /// Where mapping `obs` now would put its landmark and the marginal covariance it would have
+  /// (LandmarkInitialiser::triangulate); false when it cannot be triangulated.
+  bool triangulate(const StereoObservation& obs, Eigen::Vector3d* p_LinN,
+                   Eigen::Matrix3d* covariance) const;
+  /// Maps the unmapped observations of `frame` (the frame just processed) as new landmarks now,
+  /// beyond max_new_landmarks_per_frame: the points the cooperation matched to a peer's
+  /// landmarks (dc_cooperation.h), so that the peer's estimates can be fused into them. `ids`
+  /// gets, per observation, the id of its new landmark (an unnamed one gets a fresh id), or -1.
+  Status mapObservations(const StereoFrameObservations& frame, std::vector<int64_t>* ids);
   /// The CI updater of this filter's vehicle (its ω choice reads state()).
   const CiUpdater& ciUpdater() const { return ci_updater_; }
   const LandmarkBook& landmarkBook() const { return book_; }
