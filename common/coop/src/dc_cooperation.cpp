@@ -343,10 +343,10 @@ int DcCooperation::matchUnmapped(const SharedLandmark& s, const VisualInertialSl
   int best_k = -1;
   for (std::size_t k = 0; k < frame.observations.size(); ++k) {
     const StereoObservation& obs = frame.observations[k];
-    // With descriptors the descriptor is the identity test (a point seen from another height
-    // may fall into another visual word); without (feature level) the index is.
-    const bool described = !s.descriptor.empty() && obs.descriptor.size() == s.descriptor.size();
-    if (taken[k] || (!described && obs.index != s.index) || !slam.isUnmapped(obs) ||
+    // The index first, as for in-state landmarks: matching by descriptor alone over every
+    // observed point let word collisions through the gate where the vehicles are metres off
+    // (thesis_loop images: 2 of 7 fused pairs wrong, docs/cooperation.md).
+    if (taken[k] || obs.index != s.index || !slam.isUnmapped(obs) ||
         !descriptorsAgree(obs.descriptor, s.descriptor))
       continue;
     // Where mapping it now would put it, with the covariance it would have (the vehicle's
