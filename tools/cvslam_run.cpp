@@ -309,8 +309,8 @@ void printGroundStationSummary(const cvslam::SimulatedTeamRun& run,
 /// frame, checked against the simulator's truth (simrun/cross_uav_match_audit.h).
 void auditMatches(cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t>& index_of,
                   const cvslam::DcTeamLink& dc, int id, int64_t t_us,
-                  cvslam::simrun::CrossUavMatchAudit* audit,
-                  std::map<int, std::size_t>* fused_seen, std::map<int, std::size_t>* mapped_seen) {
+                  cvslam::simrun::CrossUavMatchAudit* audit, std::map<int, std::size_t>* fused_seen,
+                  std::map<int, std::size_t>* mapped_seen) {
   // The points the cooperation mapped after this frame get their truth from this frame.
   const std::vector<cvslam::coop::MappedPoint>& mapped = dc.agent(id).mappedPoints();
   for (std::size_t i = (*mapped_seen)[id]; i < mapped.size(); ++i)
@@ -379,8 +379,8 @@ int main(int argc, char** argv) {
       [&](const cvslam::SimulatedFrame& f) -> Status {
         cvslam::AgentRunRecorder& recorder = recorders[f.agent_id];
         if (dc) {
-          if (Status s = dc->afterFrame(f.agent_id, f.sensing->lastObservations(),
-                                        *f.mutable_slam, &recorder.writer());
+          if (Status s = dc->afterFrame(f.agent_id, f.sensing->lastObservations(), *f.mutable_slam,
+                                        &recorder.writer());
               !s.ok())
             return s;
           auditMatches(run, index_of, *dc, f.agent_id, f.t_us, &match_audit, &fused_audited,

@@ -75,10 +75,6 @@ struct TeamOptions {
   std::function<std::vector<Envelope>(int64_t, Envelope)> transport;
   int64_t restart_at_us = -1;
   int64_t deaf_after_us = -1;
-  /// Hand the cooperation the frame's observations, as the agents do (map_shared_landmarks
-  /// needs them); false: an empty frame, so only in-state landmarks are exchanged.
-  bool pass_frames = false;
-  VisualInertialSlamOptions slam;  ///< both filters' options
 };
 
 inline void deliver(coop::DcCooperation& to, const Envelope& e) {
@@ -112,7 +108,7 @@ inline std::unique_ptr<SimulatedTeamRun> flyPairAlone(
 
 inline TeamResult runTeam(double duration, uint64_t seed, const TeamOptions& opt) {
   TeamResult out;
-  const std::unique_ptr<SimulatedTeamRun> run = createPair(duration, seed, opt.slam);
+  const std::unique_ptr<SimulatedTeamRun> run = createPair(duration, seed);
   if (run == nullptr) return out;
   coop::DcCooperationOptions co = opt.coop;
   co.true_ids = true;
@@ -130,10 +126,7 @@ inline TeamResult runTeam(double duration, uint64_t seed, const TeamOptions& opt
     StereoFrameObservations frame;
     frame.t_us = f.t_us;
     coop::CoopOutbox box;
-    if (Status st = agents[self]->afterFrame(opt.pass_frames ? f.sensing->lastObservations() : frame,
-                                             *f.mutable_slam, &box);
-        !st.ok())
-      return st;
+    if (Status st = agents[self]->afterFrame(frame, *f.mutable_slam, &box); !st.ok()) return st;
     std::vector<Envelope> sent;
     auto push = [&](Envelope e) {
       e.from = f.agent_id;

@@ -208,52 +208,93 @@ TEST(DcCooperation, GateRejectsLandmarksOffsetBy50m) {
   EXPECT_DOUBLE_EQ(r.final_vehicle_error[1], baseline().final_vehicle_error[1]);
 }
 
-// Two UAVs that map few of the points they see (2 a frame) rarely hold the same landmark at
-// once, as two UAVs with images rarely map the same surface points. With map_shared_landmarks
-// the receiver matches the peer's landmarks to the points it observes now and maps those: many
-// more landmarks are fused, every pair is one landmark (true ids), and the offset UAV2 gains
-// more. Seeds 21-23 (no default was chosen on them).
-TEST(DcCooperation, APeersLandmarksObservedButNotMappedAreMappedAndFused) {
-  int more_fused = 0;
-  for (uint64_t seed : {21, 22, 23}) {
-    TeamOptions o;
-    o.pass_frames = true;
-    o.slam.slam.max_new_landmarks_per_frame = 2;
-    o.coop.map_shared_landmarks = false;
-    const TeamResult in_state = runTeam(kDuration, seed, o);
-    o.coop.map_shared_landmarks = true;
-    const TeamResult mapped = runTeam(kDuration, seed, o);
-    o.cooperate = false;
-    const TeamResult alone = runTeam(kDuration, seed, o);
-    ASSERT_TRUE(in_state.ok && mapped.ok && alone.ok);
-    EXPECT_EQ(in_state.stats[0].landmarks_mapped + in_state.stats[1].landmarks_mapped, 0);
-    const int64_t n_mapped = mapped.stats[0].landmarks_mapped + mapped.stats[1].landmarks_mapped;
-    EXPECT_GT(n_mapped, 0) << "seed " << seed;
-    const int64_t fused_in_state = in_state.stats[0].landmarks_fused + in_state.stats[1].landmarks_fused;
-    const int64_t fused_mapped = mapped.stats[0].landmarks_fused + mapped.stats[1].landmarks_fused;
-    more_fused += fused_mapped > fused_in_state ? 1 : 0;
-    for (int i = 0; i < 2; ++i)
-      for (const auto& [own, sender] : mapped.fused_pairs[i]) EXPECT_EQ(own, sender);
-    EXPECT_LT(mapped.final_vehicle_error[1], 0.7 * alone.final_vehicle_error[1])
-        << "seed " << seed << ": alone " << alone.final_vehicle_error[1] << ", in-state only "
-        << in_state.final_vehicle_error[1];
-  }
-  EXPECT_EQ(more_fused, 3);
+// map_shared_landmarks: a UAV that has mapped none of the points it observes (no new landmarks
+// allowed) is offered a peer's landmarks of those points (their true positions, 5 cm). It asks
+// for them, maps the observed points they match, fuses them (independent provenance) and its
+// vehicle position bound shrinks. Offset by 50 m, the same landmarks fail the gate and nothing
+// is mapped.
+struct MappedExchange {
+  coop::DcCooperationStatistics stats;
+  std::vector<coop::MappedPoint> mapped;
+  double trace_before = 0.0, trace_after = 0.0;
+  int landmarks_after = 0;
+};
+
+MappedExchange exchangeWithAnUnmappedUav(double offset_m) {
+  MappedExchange out;
+  VisualInertialSlamOptions options;
+  options.slam.max_new_landmarks_per_frame = 0;
+  std::unique_ptr<SimulatedTeamRun> run = cooptest::createPair(2.0, 21, options);
+  if (run == nullptr) return out;
+  coop::DcCooperation uav2(2, coop::DcCooperationOptions{}, 2001);
+  int64_t seq = 0;
+  int frame = 0;
+  std::vector<uint32_t> requested;
+  const Status s = run->run([&](const SimulatedFrame& f) {
+    if (f.agent_id != 2) return Status::Ok();
+    const StereoFrameObservations& obs = f.sensing->lastObservations();
+    const int64_t before_us = f.t_us - 1;  // messages of an earlier epoch
+    coop::CoopSummary summary;
+    summary.header = {1, seq++, before_us};
+    summary.boot_id = 1001;
+    summary.num_features = 100;  // UAV1 observes more: UAV2 would index, UAV1 offers
+    uav2.onSummary(summary);
+    if (frame == 5) {  // UAV1 offers what UAV2 observes now
+      coop::FeatureIndexList index;
+      index.header = {1, seq++, before_us};
+      index.true_ids = true;
+      for (const StereoObservation& o : obs.observations) index.indices.push_back(o.index);
+      uav2.onIndex(index);
+    }
+    if (frame == 6 && !requested.empty()) {  // and answers UAV2's request
+      coop::SharedLandmarks shared;
+      shared.header = {1, seq++, before_us};
+      shared.to_agent = 2;
+      shared.informed_by = {1};
+      for (uint32_t index : requested) {
+        Eigen::Vector3d p;
+        if (!f.sensing->landmarkTruth(index, &p)) continue;
+        p.x() += offset_m;
+        shared.landmarks.push_back({index, p, 0.05 * 0.05 * Eigen::Matrix3d::Identity(), {}});
+      }
+      uav2.onShared(shared);
+      out.trace_before = f.mutable_slam->vehicleCovariance().topLeftCorner<3, 3>().trace();
+    }
+    coop::CoopOutbox box;
+    if (Status st = uav2.afterFrame(obs, *f.mutable_slam, &box); !st.ok()) return st;
+    if (frame == 5 && !box.requests.empty()) requested = box.requests.front().indices;
+    if (frame == 6) {
+      out.trace_after = f.mutable_slam->vehicleCovariance().topLeftCorner<3, 3>().trace();
+      out.landmarks_after = static_cast<int>(f.mutable_slam->stateLandmarks().size());
+    }
+    ++frame;
+    return Status::Ok();
+  });
+  EXPECT_TRUE(s.ok()) << s.message();
+  EXPECT_FALSE(requested.empty()) << "UAV2 asked for none of the points it observes";
+  out.stats = uav2.statistics();
+  out.mapped = uav2.mappedPoints();
+  return out;
+}
+
+TEST(DcCooperation, APeersLandmarksOfUnmappedObservedPointsAreMappedAndFused) {
+  const MappedExchange r = exchangeWithAnUnmappedUav(0.0);
+  EXPECT_GE(r.stats.landmarks_mapped, 3);
+  EXPECT_EQ(r.stats.landmarks_fused, r.stats.landmarks_mapped);
+  EXPECT_EQ(r.stats.fused_independent, 1);
+  EXPECT_EQ(r.landmarks_after, r.stats.landmarks_mapped);  // nothing else is ever mapped
+  for (const coop::MappedPoint& m : r.mapped) EXPECT_GE(m.local_id, 0);  // the true ids
+  // The peer's 5 cm landmarks pin the vehicle: its position bound shrinks by more than half.
+  EXPECT_LT(r.trace_after, 0.5 * r.trace_before)
+      << "before " << r.trace_before << " after " << r.trace_after;
 }
 
 TEST(DcCooperation, APeersLandmarkFarFromTheObservedPointIsNotMapped) {
-  TeamOptions o;
-  o.pass_frames = true;
-  o.slam.slam.max_new_landmarks_per_frame = 2;
-  o.transport = [](int64_t, Envelope e) {
-    if (e.shared)
-      for (auto& l : e.shared->landmarks) l.p_LinN.x() += 50.0;
-    return std::vector<Envelope>{e};
-  };
-  const TeamResult r = runTeam(kDuration, kSeed, o);
-  EXPECT_GT(r.stats[0].shared_not_in_state + r.stats[1].shared_not_in_state, 0);
-  EXPECT_EQ(r.stats[0].landmarks_mapped + r.stats[1].landmarks_mapped, 0);
-  EXPECT_EQ(r.stats[0].landmarks_fused + r.stats[1].landmarks_fused, 0);
+  const MappedExchange r = exchangeWithAnUnmappedUav(50.0);
+  EXPECT_GT(r.stats.shared_not_in_state, 0);
+  EXPECT_EQ(r.stats.landmarks_mapped, 0);
+  EXPECT_EQ(r.stats.landmarks_fused, 0);
+  EXPECT_EQ(r.landmarks_after, 0);
 }
 
 TEST(DcCooperation, BothWaysReturnsEstimates) {

@@ -56,8 +56,7 @@ LinkRun runLinked(const std::string& dir, bool scrambled) {
     for (auto m = mine.rbegin(); m != mine.rend(); ++m) self.receive(*m);
     mine.clear();
     coop::CoopOutbox box;
-    if (Status st = self.afterFrame(f.sensing->lastObservations(), *f.mutable_slam, &box);
-        !st.ok())
+    if (Status st = self.afterFrame(f.sensing->lastObservations(), *f.mutable_slam, &box); !st.ok())
       return st;
     const int peer = 3 - f.agent_id;
     std::vector<std::pair<int, coop::CoopMessage>> sent;

@@ -262,27 +262,30 @@ void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSl
     ids.push_back(l.id);
   }
   // Then the archived landmarks offered lately (offer_archived) with a wanted index: a held
-  // one as the state holds it now, any other with the mean and marginal covariance it left
-  // the state with (landmark_archive.h).
-  bool archived = false;
+  // one as the state holds it now (a Schmidt variable, with its correlations), any other with
+  // the mean and marginal covariance it left the state with (landmark_archive.h).
+  bool marginal_only = false;
   for (const auto& [id, t] : offered_) {
     if (static_cast<int>(s.landmarks.size()) >= o_.max_landmarks_per_message) break;
     const ArchivedLandmark* a = slam.archive().find(id);
     if (a == nullptr || !std::binary_search(wanted.begin(), wanted.end(), a->index)) continue;
     SharedLandmark l{a->index, a->p_LinN, a->covariance, a->descriptor};
-    if (const StateVariable* v = slam.state().find(VariableKey::heldLandmark(static_cast<uint64_t>(id)))) {
+    const VariableKey held = VariableKey::heldLandmark(static_cast<uint64_t>(id));
+    if (const StateVariable* v = slam.state().find(held)) {
       l.p_LinN = slam.state().value(*v);
       l.covariance = slam.state().covarianceOf(*v);
+      keys.push_back(held);
+    } else {
+      marginal_only = true;
     }
     s.landmarks.push_back(std::move(l));
     ids.push_back(id);
-    archived = true;
   }
   recordSent(s.header.seq, std::move(ids));
-  // The joint covariance, so that the receiver need not bound the correlations (archived
-  // landmarks kept their marginals only: then the receiver bounds them).
+  // The joint covariance, so that the receiver need not bound the correlations; not when an
+  // archived landmark kept its marginal only (the receiver then bounds them all).
   if (Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), keys);
-      !archived && J.ok() && s.landmarks.size() >= 2)
+      !marginal_only && J.ok() && s.landmarks.size() >= 2)
     s.joint_covariance = std::move(J.value());
   ++stats_.shared_sent;
   events_.push_back({now_us, CoopEventKind::kSharedSent, s.to_agent,
@@ -382,8 +385,8 @@ std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
       any_index = true;
       if (!descriptorsAgree(local[i].descriptor, s.descriptor)) continue;
       any_descriptor = true;
-      const double d2 = pairNis(s.p_LinN - local[i].p_LinN, local[i].covariance, s.covariance,
-                                independent);
+      const double d2 =
+          pairNis(s.p_LinN - local[i].p_LinN, local[i].covariance, s.covariance, independent);
       if (d2 <= gate && d2 < best) best = d2, best_i = i;
     }
     if (!any_index && may_map) {
@@ -417,12 +420,11 @@ std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
   for (const ConfirmedPair& pr : pairs) paired_ids.push_back(local[pr.local].id);
   *local_in = slam.stateLandmarks();  // sorted by id
   const auto position = [&](int64_t id) {
-    auto it = std::lower_bound(
-        local_in->begin(), local_in->end(), id,
-        [](const StateLandmark& l, int64_t wanted) { return l.id < wanted; });
-    return it != local_in->end() && it->id == id
-               ? static_cast<std::size_t>(it - local_in->begin())
-               : local_in->size();
+    auto it =
+        std::lower_bound(local_in->begin(), local_in->end(), id,
+                         [](const StateLandmark& l, int64_t wanted) { return l.id < wanted; });
+    return it != local_in->end() && it->id == id ? static_cast<std::size_t>(it - local_in->begin())
+                                                 : local_in->size();
   };
   for (std::size_t k = 0; k < pairs.size(); ++k) pairs[k].local = position(paired_ids[k]);
   for (std::size_t k = 0; k < to_map.observations.size(); ++k) {

@@ -73,17 +73,18 @@ std::string DcLinkCore::report(double duration_s) const {
   std::snprintf(
       buf, sizeof(buf),
       "UAV%d (%s CI) cooperation: peers %d, exchanges %lld (independent %lld), landmarks fused "
-      "%lld, requests sent %lld, shared sent %lld; not fused: no gain %lld, down-weighted %lld; "
+      "%lld (mapped %lld), requests sent %lld, shared sent %lld (archive offers %lld); not fused: "
+      "no gain %lld, down-weighted %lld; "
       "rejected: invalid %lld, gate %lld, joint gate %lld, descriptor %lld, not in "
       "state %lld, stale %lld, duplicate %lld, reordered %lld, unknown peer %lld; peer "
       "restarts %lld, peer timeouts %lld, request timeouts %lld",
       id(), ciMethodName(dc_.options().ci_method).c_str(), s.peers_known, ll(s.exchanges_completed),
-      ll(s.fused_independent), ll(s.landmarks_fused), ll(s.requests_sent), ll(s.shared_sent),
-      ll(s.skipped_no_gain), ll(s.peer_down_weighted), ll(s.rejected_invalid), ll(s.rejected_gate),
-      ll(s.rejected_joint_gate), ll(s.rejected_descriptor), ll(s.shared_not_in_state),
-      ll(s.rejected_stale), ll(s.rejected_duplicate), ll(s.rejected_reordered),
-      ll(s.rejected_unknown_peer), ll(s.peer_restarts), ll(s.peer_timeouts),
-      ll(s.request_timeouts));
+      ll(s.fused_independent), ll(s.landmarks_fused), ll(s.landmarks_mapped), ll(s.requests_sent),
+      ll(s.shared_sent), ll(s.archive_offers), ll(s.skipped_no_gain), ll(s.peer_down_weighted),
+      ll(s.rejected_invalid), ll(s.rejected_gate), ll(s.rejected_joint_gate),
+      ll(s.rejected_descriptor), ll(s.shared_not_in_state), ll(s.rejected_stale),
+      ll(s.rejected_duplicate), ll(s.rejected_reordered), ll(s.rejected_unknown_peer),
+      ll(s.peer_restarts), ll(s.peer_timeouts), ll(s.request_timeouts));
   std::string line = buf;
   if (bytes_sent_.empty() || duration_s <= 0.0) return line;
   int64_t total = 0;

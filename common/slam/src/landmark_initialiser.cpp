@@ -95,7 +95,8 @@ bool LandmarkInitialiser::triangulate(const SlamState& state, const StereoObserv
   if (!camera_.triangulate(obs.z, x, p_LinN, &dpL_dxv, &dpL_dz).ok()) return false;
   Eigen::MatrixXd dpL_dvehicle = Eigen::MatrixXd::Zero(3, veh->size);
   vehicle_model::poseToBlockJacobian(dpL_dxv, &dpL_dvehicle);
-  const Eigen::MatrixXd P_vv = state.covariance().block(veh->index, veh->index, veh->size, veh->size);
+  const Eigen::MatrixXd P_vv =
+      state.covariance().block(veh->index, veh->index, veh->size, veh->size);
   *covariance = dpL_dvehicle * P_vv * dpL_dvehicle.transpose() +
                 o_.pixel_sigma * o_.pixel_sigma * dpL_dz * dpL_dz.transpose();
   return true;

@@ -6,13 +6,20 @@
 //      peer_timeout_s of dataset time without a message;
 //   2. Coop(i, j) = the ellipsoids (mean ± coop_sigma·std of the landmarks observed now)
 //      intersect (feature_ellipsoid.h); the agent observing FEWER features (tie: lower id)
-//      broadcasts its feature indices (UAV<i>/INDEX) at most every exchange_period_s;
-//   3. the receiver looks the indices up among its in-state landmarks and asks for the
-//      candidates (SharedRequest on UAV<j>/SHARED_REQ);
+//      broadcasts its feature indices (UAV<i>/INDEX) at most every exchange_period_s. With
+//      offer_archived the INDEX also carries the indices of i's archived landmarks inside j's
+//      ellipsoid (where j looks now): j may fly where i flew before (not in the thesis);
+//   3. the receiver looks the indices up among its in-state landmarks and (map_shared_landmarks)
+//      the points it observes now but has not mapped, and asks for the candidates
+//      (SharedRequest on UAV<j>/SHARED_REQ);
 //   4. the sender answers with positions, covariances, descriptors and its vehicle-covariance
-//      trace (SharedLandmarks on UAV<i>/SHARED);
+//      trace (SharedLandmarks on UAV<i>/SHARED), from its state and the archived landmarks it
+//      offered (the joint covariance only when all are in its state);
 //   5. the receiver confirms each by descriptor distance (when both have descriptors) and a
-//      χ² gate on the two estimates, tests the confirmed set jointly (a χ²(3m) gate and the
+//      χ² gate on the two estimates; a shared landmark with no in-state candidate may match an
+//      unmapped observed point of the same index (descriptor check, χ² gate on where stereo
+//      puts it), which is then mapped, as step 5 of the filter maps new points. It tests the
+//      confirmed set jointly (a χ²(3m) gate and the
 //      peer's innovation test over time, peer_consistency.h), then fuses it as ONE filter
 //      update (slam/ci_updater.h): the EKF update when the provenance lists of the two
 //      estimates are disjoint (they share no information, so they are independent),
