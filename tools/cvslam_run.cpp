@@ -305,17 +305,28 @@ void printGroundStationSummary(const cvslam::SimulatedTeamRun& run,
       r.fused, r.fused_right, 100.0 * r.precision(), r.fused_unknown);
 }
 
+/// Agent id -> its index in `run`.
+std::map<int, std::size_t> agentIndices(const cvslam::SimulatedTeamRun& run) {
+  std::map<int, std::size_t> index_of;
+  for (std::size_t i = 0; i < run.agentCount(); ++i) index_of[run.agentId(i)] = i;
+  return index_of;
+}
+
+/// How far auditMatches has read each agent's fused pairs and mapped points.
+struct AuditProgress {
+  std::map<int, std::size_t> fused, mapped;
+};
+
 /// DC: the frame of UAV `id` against every peer's state, and the pairs it fused since its last
 /// frame, checked against the simulator's truth (simrun/cross_uav_match_audit.h).
 void auditMatches(cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t>& index_of,
                   const cvslam::DcTeamLink& dc, int id, int64_t t_us,
-                  cvslam::simrun::CrossUavMatchAudit* audit, std::map<int, std::size_t>* fused_seen,
-                  std::map<int, std::size_t>* mapped_seen) {
+                  cvslam::simrun::CrossUavMatchAudit* audit, AuditProgress* progress) {
   // The points the cooperation mapped after this frame get their truth from this frame.
   const std::vector<cvslam::coop::MappedPoint>& mapped = dc.agent(id).mappedPoints();
-  for (std::size_t i = (*mapped_seen)[id]; i < mapped.size(); ++i)
+  for (std::size_t i = progress->mapped[id]; i < mapped.size(); ++i)
     run.sensing(index_of.at(id)).nameLandmark(mapped[i].local_id, mapped[i].z);
-  (*mapped_seen)[id] = mapped.size();
+  progress->mapped[id] = mapped.size();
   const auto truth = [&](int agent) { return agentTruth(run, index_of, agent); };
   const std::vector<cvslam::StateLandmark> own = run.slam(index_of.at(id)).stateLandmarks();
   for (const auto& [peer, k] : index_of) {
@@ -323,13 +334,13 @@ void auditMatches(cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t
       audit->observe(id, t_us, own, truth(id), peer, run.slam(k).stateLandmarks(), truth(peer));
   }
   const std::vector<cvslam::coop::FusedMatch>& fused = dc.agent(id).fusedMatches();
-  for (std::size_t i = (*fused_seen)[id]; i < fused.size(); ++i) {
+  for (std::size_t i = progress->fused[id]; i < fused.size(); ++i) {
     const cvslam::coop::FusedMatch& m = fused[i];
     const int64_t peer_id =
         index_of.count(m.peer) > 0 ? dc.agent(m.peer).sentLandmarkId(m.peer_seq, m.slot) : -1;
     audit->fused(id, m.local_id, truth(id), m.peer, peer_id, truth(m.peer));
   }
-  (*fused_seen)[id] = fused.size();
+  progress->fused[id] = fused.size();
 }
 
 }  // namespace
@@ -369,9 +380,8 @@ int main(int argc, char** argv) {
   cvslam::simrun::CrossUavMatchAuditOptions audit_options;
   audit_options.max_descriptor_distance = config->coop.max_descriptor_distance;
   cvslam::simrun::CrossUavMatchAudit match_audit(audit_options);
-  std::map<int, std::size_t> fused_audited, mapped_audited;
-  std::map<int, std::size_t> index_of;  // agent id -> index in `run`
-  for (std::size_t i = 0; i < run.agentCount(); ++i) index_of[run.agentId(i)] = i;
+  AuditProgress audited;
+  const std::map<int, std::size_t> index_of = agentIndices(run);
   const double duration = scenario->duration;
   int next_progress = 10;
   const auto wall_start = std::chrono::steady_clock::now();
@@ -383,8 +393,7 @@ int main(int argc, char** argv) {
                                         &recorder.writer());
               !s.ok())
             return s;
-          auditMatches(run, index_of, *dc, f.agent_id, f.t_us, &match_audit, &fused_audited,
-                       &mapped_audited);
+          auditMatches(run, index_of, *dc, f.agent_id, f.t_us, &match_audit, &audited);
         }
         const double t = static_cast<double>(f.t_us) * 1e-6;
         AgentCounters& c = counters[f.agent_id];

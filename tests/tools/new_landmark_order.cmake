@@ -1,43 +1,57 @@
-# Image-level cooperation needs the UAVs to map the same surface points. cvslam_run --mode dc
-# --sensing images over the first 40 s (three crossings) of team3_aerial, with new landmarks
-# offered by confirmation residual (the shipped frontend.new_landmark_order) and by detector
-# response:
-# the audit against the renderer's truth (cross_uav_matches.json) must find at least twice
-# the twin pairs in view with the response order, and every fused pair right in both runs.
+# Image-level cooperation needs the UAVs to hold the same surface points. cvslam_run --mode dc
+# --sensing images over the first 40 s (three crossings) of team3_aerial, audited against the
+# renderer's truth (cross_uav_matches.json); every fused pair must be right in every run:
+#  - the thesis's exchange (in-state landmarks only: coop.map_shared_landmarks and
+#    coop.offer_archived off) with new landmarks offered by confirmation residual (the shipped
+#    frontend.new_landmark_order) and by detector response: the response order must find at
+#    least twice the twin pairs in view;
+#  - the shipped exchange (a peer's landmarks matched to unmapped observed points, archived
+#    landmarks offered where a peer looks): at least three times the fused pairs of the
+#    thesis's exchange, and at least 8.
 # Usage: cmake -DRUN=<cvslam_run> -DSOURCE=<source dir> -DOUT=<dir> -P new_landmark_order.cmake
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 file(READ ${SOURCE}/config/agent.yaml config)
-string(REPLACE "new_landmark_order: confirmation" "new_landmark_order: response" config
-       "${config}")
 string(REGEX REPLACE "vocabulary: ([a-z_]+\\.cvoc)" "vocabulary: ${SOURCE}/config/\\1" config
        "${config}")
 string(REGEX REPLACE "vocabulary_orb: ([a-z_]+\\.cvoc)" "vocabulary_orb: ${SOURCE}/config/\\1"
        config "${config}")
-file(WRITE ${OUT}/response.yaml "${config}")
-foreach(order response confirmation)
-  set(cfg)
-  if(order STREQUAL "response")
-    set(cfg --config ${OUT}/response.yaml)
-  endif()
+string(REGEX REPLACE "map_shared_landmarks: true" "map_shared_landmarks: false" thesis
+       "${config}")
+string(REGEX REPLACE "offer_archived: true" "offer_archived: false" thesis "${thesis}")
+if(thesis STREQUAL config)
+  message(FATAL_ERROR "config/agent.yaml: map_shared_landmarks / offer_archived not found")
+endif()
+file(WRITE ${OUT}/confirmation.yaml "${thesis}")
+string(REPLACE "new_landmark_order: confirmation" "new_landmark_order: response" response
+       "${thesis}")
+file(WRITE ${OUT}/response.yaml "${response}")
+file(WRITE ${OUT}/shipped.yaml "${config}")
+foreach(run confirmation response shipped)
   execute_process(COMMAND ${RUN} --scenario ${SOURCE}/config/scenarios/team3_aerial.yaml
-                          --mode dc --sensing images --seed 41 --duration 40 --quiet ${cfg}
-                          --out ${OUT}/${order}
+                          --mode dc --sensing images --seed 41 --duration 40 --quiet
+                          --config ${OUT}/${run}.yaml --out ${OUT}/${run}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "cvslam_run (${order}) failed (${rc}): ${err}")
+    message(FATAL_ERROR "cvslam_run (${run}) failed (${rc}): ${err}")
   endif()
-  file(READ ${OUT}/${order}/cross_uav_matches.json audit)
-  string(JSON twins_${order} GET "${audit}" distinct_twin_pairs)
+  file(READ ${OUT}/${run}/cross_uav_matches.json audit)
+  string(JSON twins_${run} GET "${audit}" distinct_twin_pairs)
+  string(JSON fused_${run} GET "${audit}" fused)
   string(JSON precision GET "${audit}" precision)
-  message(STATUS "${order}: ${audit}")
+  message(STATUS "${run}: ${audit}")
   if(precision LESS 1.0)
-    message(FATAL_ERROR "${order}: a fused cross-UAV pair is wrong: ${audit}")
+    message(FATAL_ERROR "${run}: a fused cross-UAV pair is wrong: ${audit}")
   endif()
 endforeach()
 math(EXPR twice "2 * ${twins_confirmation}")
 if(twins_response LESS twice OR twins_response LESS 4)
   message(FATAL_ERROR "twin pairs in view: response ${twins_response}, confirmation "
                       "${twins_confirmation}; expected at least twice as many (and ≥ 4)")
+endif()
+math(EXPR thrice "3 * ${fused_confirmation}")
+if(fused_shipped LESS thrice OR fused_shipped LESS 8)
+  message(FATAL_ERROR "fused pairs: shipped ${fused_shipped}, thesis exchange "
+                      "${fused_confirmation}; expected at least three times as many (and ≥ 8)")
 endif()
 file(REMOVE_RECURSE ${OUT})
