@@ -114,13 +114,13 @@ struct DcCooperationOptions {
   /// mapped (same index, descriptor check, χ² gate on where stereo puts them), maps those and
   /// fuses the peer's estimates into them: two UAVs rarely map the same surface points, so with
   /// images an exchange between in-state landmarks alone finds few (docs/cooperation.md
-  /// "Mapping the peer's landmarks"). false: in-state landmarks only (the thesis).
+  /// "Cooperation where the views do not overlap at the same time"). false: in-state landmarks
+  /// only (the thesis).
   bool map_shared_landmarks = true;
   /// Also broadcast the indices of the own archived landmarks inside a peer's cooperation
   /// ellipsoid (where it looks now), and answer its requests from them: a UAV that flies where
   /// another flew before gains from that UAV's map, as the ground station's shared map does
-  /// (docs/cooperation.md "Archived landmarks where a peer looks"). false: the thesis (live
-  /// overlaps only).
+  /// (docs/cooperation.md, the same section). false: the thesis (live overlaps only).
   bool offer_archived = true;
   int max_offered_landmarks = 30;  ///< archived landmarks offered per INDEX, nearest first
   /// Indices are true landmark ids (feature-level simulation); set by the runner, not YAML.
