@@ -18,17 +18,9 @@ namespace {
 enum Stream : int { kSummaryStream = 0, kIndexStream = 1, kRequestStream = 2, kSharedStream = 3 };
 constexpr double kUsPerS = 1e6;
 constexpr int kLandmarkDof = 3;
-/// Descriptors longer than this are not descriptors (SIFT: 128 bytes) [bytes].
-constexpr std::size_t kMaxDescriptorBytes = 1024;
-/// Relative asymmetry tolerated in a received covariance (rounding of the sender's algebra).
-constexpr double kSymmetryTolerance = 1e-6;
 
 double seconds(int64_t dt_us) {
   return static_cast<double>(dt_us) / kUsPerS;
-}
-
-bool validHeader(const CoopHeader& h) {
-  return h.agent_id >= 1 && h.seq >= 0 && h.t_us >= 0;
 }
 
 double vehiclePositionTrace(const VisualInertialSlam& slam) {
@@ -64,82 +56,6 @@ std::vector<int> DcCooperation::peers() const {
   std::vector<int> out;
   for (const auto& [id, p] : peers_) out.push_back(id);
   return out;
-}
-
-bool DcCooperation::enqueue(Inbound message) {
-  if (static_cast<int>(inbox_.size()) >= o_.max_queued_messages) {
-    inbox_.pop_front();
-    ++stats_.rejected_queue_full;
-  }
-  inbox_.push_back(std::move(message));
-  return true;
-}
-
-bool DcCooperation::onSummary(const CoopSummary& m) {
-  if (m.header.agent_id == self_) return ++stats_.rejected_not_for_me, false;
-  const bool ok = validHeader(m.header) && m.mean.allFinite() && m.std.allFinite() &&
-                  m.mean.norm() <= o_.max_position_m && (m.std.array() >= 0.0).all() &&
-                  m.std.maxCoeff() <= o_.max_position_m && m.num_features >= 0 &&
-                  std::isfinite(m.vehicle_cov_trace) && m.vehicle_cov_trace >= 0.0;
-  if (!ok) return ++stats_.rejected_invalid, false;
-  return enqueue(m);
-}
-
-bool DcCooperation::onIndex(const FeatureIndexList& m) {
-  if (m.header.agent_id == self_) return ++stats_.rejected_not_for_me, false;
-  if (!validHeader(m.header) || static_cast<int>(m.indices.size()) > o_.max_indices_per_message)
-    return ++stats_.rejected_invalid, false;
-  return enqueue(m);
-}
-
-bool DcCooperation::onRequest(const SharedRequest& m) {
-  if (m.header.agent_id == self_ || m.to_agent != self_) return ++stats_.rejected_not_for_me, false;
-  if (!validHeader(m.header) || static_cast<int>(m.indices.size()) > o_.max_landmarks_per_message)
-    return ++stats_.rejected_invalid, false;
-  return enqueue(m);
-}
-
-bool DcCooperation::onShared(const SharedLandmarks& m) {
-  if (m.header.agent_id == self_ || m.to_agent != self_) return ++stats_.rejected_not_for_me, false;
-  bool ok = validHeader(m.header) &&
-            static_cast<int>(m.landmarks.size()) <= o_.max_landmarks_per_message &&
-            std::isfinite(m.vehicle_cov_trace) && m.vehicle_cov_trace >= 0.0;
-  // Provenance: ascending ids ≥ 1 that name the sender, or empty (unknown).
-  const std::vector<int>& from = m.informed_by;
-  ok = ok && static_cast<int>(from.size()) <= o_.max_peers + 1 &&
-       std::adjacent_find(from.begin(), from.end(), std::greater_equal<int>()) == from.end() &&
-       (from.empty() ||
-        (from.front() >= 1 && std::binary_search(from.begin(), from.end(), m.header.agent_id)));
-  for (const SharedLandmark& l : m.landmarks) {
-    if (!ok) break;
-    ok = l.p_LinN.allFinite() && l.p_LinN.norm() <= o_.max_position_m && l.covariance.allFinite() &&
-         l.descriptor.size() <= kMaxDescriptorBytes;
-    if (!ok) break;
-    const double scale = l.covariance.cwiseAbs().maxCoeff();
-    ok = (l.covariance - l.covariance.transpose()).cwiseAbs().maxCoeff() <=
-         kSymmetryTolerance * scale;
-    if (!ok) break;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(l.covariance, Eigen::EigenvaluesOnly);
-    ok = eig.eigenvalues().minCoeff() >= o_.min_landmark_variance_m2 &&
-         eig.eigenvalues().maxCoeff() <= o_.max_landmark_variance_m2;
-  }
-  if (ok && m.joint_covariance.size() > 0) ok = validJointCovariance(m);
-  if (!ok) return ++stats_.rejected_invalid, false;
-  return enqueue(m);
-}
-
-bool DcCooperation::validJointCovariance(const SharedLandmarks& m) const {
-  const Eigen::MatrixXd& J = m.joint_covariance;
-  const auto n = static_cast<Eigen::Index>(m.landmarks.size());
-  if (J.rows() != 3 * n || J.cols() != 3 * n || !J.allFinite()) return false;
-  const double scale = J.cwiseAbs().maxCoeff();
-  if ((J - J.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * scale) return false;
-  for (Eigen::Index i = 0; i < n; ++i)
-    if ((J.block<3, 3>(3 * i, 3 * i) - m.landmarks[static_cast<std::size_t>(i)].covariance)
-            .cwiseAbs()
-            .maxCoeff() > kSymmetryTolerance * scale)
-      return false;
-  return Eigen::LLT<Eigen::MatrixXd>(J).info() == Eigen::Success;
 }
 
 bool DcCooperation::admit(int stream, const CoopHeader& h, int64_t now_us) {
@@ -323,44 +239,6 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
       !fuseConfirmed(m, pairs, local, answers_request, independent, slam, now_us, out, &e))
     return;
   events_.push_back(e);
-}
-
-bool DcCooperation::descriptorsAgree(const std::vector<uint8_t>& a,
-                                     const std::vector<uint8_t>& b) const {
-  if (a.empty() || a.size() != b.size()) return true;
-  const double dist = std::sqrt(static_cast<double>(
-      vision::distanceL2Squared(a.data(), b.data(), static_cast<int>(a.size()))));
-  return dist <= o_.max_descriptor_distance;
-}
-
-double DcCooperation::pairNis(const Eigen::Vector3d& d, const Eigen::Matrix3d& P_a,
-                              const Eigen::Matrix3d& P_b, bool independent) {
-  return independent ? d.dot((P_a + P_b).ldlt().solve(d)) : ciBoundedNis(d, P_a, P_b);
-}
-
-int DcCooperation::matchUnmapped(const SharedLandmark& s, const VisualInertialSlam& slam,
-                                 const StereoFrameObservations& frame, bool independent,
-                                 const std::vector<bool>& taken) const {
-  const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
-  double best = std::numeric_limits<double>::infinity();
-  int best_k = -1;
-  for (std::size_t k = 0; k < frame.observations.size(); ++k) {
-    const StereoObservation& obs = frame.observations[k];
-    // The index first, as for in-state landmarks: matching by descriptor alone over every
-    // observed point let word collisions through the gate where the vehicles are metres off
-    // (thesis_loop images: 2 of 7 fused pairs wrong, docs/cooperation.md).
-    if (taken[k] || obs.index != s.index || !slam.isUnmapped(obs) ||
-        !descriptorsAgree(obs.descriptor, s.descriptor))
-      continue;
-    // Where mapping it now would put it, with the covariance it would have (the vehicle's
-    // uncertainty included): the same gate as for an in-state landmark.
-    Eigen::Vector3d p;
-    Eigen::Matrix3d P;
-    if (!slam.triangulate(obs, &p, &P)) continue;
-    const double d2 = pairNis(s.p_LinN - p, P, s.covariance, independent);
-    if (d2 <= gate && d2 < best) best = d2, best_k = static_cast<int>(k);
-  }
-  return best_k;
 }
 
 std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
@@ -669,23 +547,6 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
       {now, CoopEventKind::kIndexSent, 0, static_cast<int>(idx.indices.size()), 0, 0, 0, 1.0});
   out->index = std::move(idx);
   return Status::Ok();
-}
-
-void DcCooperation::archivedInView(const VisualInertialSlam& slam, const FeatureEllipsoid& view,
-                                   std::vector<int64_t>* offer) const {
-  // The archived landmarks inside the peer's ellipsoid (mean ± coop_sigma·std, floored), the
-  // nearest to its centre first, at most max_offered_landmarks.
-  if (!view.valid()) return;
-  const Eigen::Vector3d a =
-      (o_.coop_sigma * view.std).cwiseMax(Eigen::Vector3d::Constant(o_.min_semi_axis_m));
-  std::vector<std::pair<double, int64_t>> inside;
-  for (const auto& [id, l] : slam.archive().all()) {
-    const double q = ((l.p_LinN - view.mean).array() / a.array()).square().sum();
-    if (q <= 1.0) inside.emplace_back(q, id);
-  }
-  const auto n = std::min(inside.size(), static_cast<std::size_t>(o_.max_offered_landmarks));
-  std::partial_sort(inside.begin(), inside.begin() + static_cast<std::ptrdiff_t>(n), inside.end());
-  for (std::size_t k = 0; k < n; ++k) offer->push_back(inside[k].second);
 }
 
 void DcCooperation::recordSent(int64_t seq, std::vector<int64_t> ids) {
