@@ -104,6 +104,9 @@ void runImages(const sim::Scenario& scenario, vision::DetectorType detector, Ima
       st.filter_ms / std::max(st.frames, 1L), st.render_ms / std::max(st.frames, 1L));
 }
 
+// Bound on the map's RMS error after the 15 s rendered circle from a perturbed start [m].
+constexpr double kMaxLandmarkRms = 0.6;
+
 void expectEndToEnd(const ImageRun& a, double max_landmark_rms) {
   ASSERT_EQ(a.frames, 151);
   const RenderedSensingStats& st = a.stats;
@@ -127,10 +130,11 @@ TEST(ImageSlam, FastSiftEndToEndOnRenderedCircle) {
   // The shipped default: fast SIFT (§4.2.5 on our scale space), 150 matches described.
   ImageRun a;
   runImages(imageScenario(15.0, 11), vision::DetectorType::kFastSift, &a);
-  // Measured: ATE 0.36 m, map 0.37 m (the reference below: 0.30 / 0.30 m). On this 15 s circle
-  // the reference is ahead; on thesis_loop's 210 s fast SIFT closes the loop that the
-  // reference misses (docs/image_sensing.md).
-  expectEndToEnd(a, 0.45);
+  // Measured with the bias estimates drawn from their prior (perturb_biases, the default since
+  // stop 42): ATE 0.52 m, map 0.52 m (the reference below: 0.54 / 0.53 m); with exactly known
+  // biases they were 0.36 / 0.37 and 0.30 / 0.30 m, under a bound of 0.45. On thesis_loop's
+  // 210 s fast SIFT closes the loop that the reference misses (docs/image_sensing.md).
+  expectEndToEnd(a, kMaxLandmarkRms);
   // The cap keeps what the association looks for: most observations near a prediction.
   EXPECT_LE(a.stats.observations, 150L * a.frames);
 }
@@ -138,11 +142,11 @@ TEST(ImageSlam, FastSiftEndToEndOnRenderedCircle) {
 TEST(ImageSlam, AdaptiveSiftEndToEndOnRenderedCircle) {
   // The OpenCV-based reference: adaptive SIFT (§4.2.5). The bound is fast SIFT's (above): the
   // map's error is mostly the perturbed start's unobservable pose error (0.1 m, 1°: 0.35 m at
-  // 20 m). Measured on seeds 11-16, invariant chart: 0.40 / 0.49 / 0.51 / 0.79 / 0.15 / 0.28 m;
-  // the additive chart 0.30 / 0.46 / 0.46 / 0.73 / 0.28 / 0.25 (the bound was 0.3 for it).
+  // 20 m) and the drawn biases' tilt. Measured on seeds 11-16 with exactly known biases,
+  // invariant chart: 0.40 / 0.49 / 0.51 / 0.79 / 0.15 / 0.28 m.
   ImageRun a;
   runImages(imageScenario(15.0, 11), vision::DetectorType::kAdaptiveSift, &a);
-  expectEndToEnd(a, 0.45);
+  expectEndToEnd(a, kMaxLandmarkRms);
 }
 
 TEST(ImageSlam, OrbPrecisionAndDeterminismOnRenderedCircle) {

@@ -22,9 +22,10 @@ struct InitialUncertainty {
   bool perturb = true;  ///< true: the initial estimate handed out is sampled from this
   /// With `perturb` and bias states: the initial bias estimates are sampled too, from the
   /// filter's stated bias σ (slam.initial_accel_bias_sigma / initial_gyro_bias_sigma) around
-  /// the IMU's true turn-on biases. false: the filter starts at slam.initial_*_bias (docs/filter.md
-  /// "Under-confident tilt").
-  bool perturb_biases = false;
+  /// the IMU's true turn-on biases, so that the whole initial error matches the stated P0.
+  /// false: the filter starts at slam.initial_*_bias, i.e. it knows a simulated IMU's biases
+  /// exactly while claiming their σ (docs/filter.md "Under-confident tilt").
+  bool perturb_biases = true;
 
   Status load(const ConfigNode& node);  ///< reads attitude_sigma_deg in degrees
 };
