@@ -107,7 +107,7 @@ void runImages(const sim::Scenario& scenario, vision::DetectorType detector, Ima
 // Bound on the map's RMS error after the 15 s rendered circle from a perturbed start [m].
 constexpr double kMaxLandmarkRms = 0.6;
 
-void expectEndToEnd(const ImageRun& a, double max_landmark_rms) {
+void expectEndToEnd(const ImageRun& a) {
   ASSERT_EQ(a.frames, 151);
   const RenderedSensingStats& st = a.stats;
   EXPECT_GT(st.observations / st.frames, 100) << "too few stereo observations per frame";
@@ -118,7 +118,7 @@ void expectEndToEnd(const ImageRun& a, double max_landmark_rms) {
   // Every landmark of the map has its true point (the renderer saw a surface there).
   EXPECT_GT(a.landmarks, 100);
   EXPECT_EQ(a.landmarks_with_truth, a.landmarks);
-  EXPECT_LT(a.landmark_error_rms, max_landmark_rms);
+  EXPECT_LT(a.landmark_error_rms, kMaxLandmarkRms);
   // … and no worse than the vehicle's own drift (no association errors in the map).
   EXPECT_LT(a.landmark_error_rms, 1.2 * a.ate);
   // Vision keeps the biased IMU in check: far better than dead reckoning.
@@ -134,7 +134,7 @@ TEST(ImageSlam, FastSiftEndToEndOnRenderedCircle) {
   // stop 42): ATE 0.52 m, map 0.52 m (the reference below: 0.54 / 0.53 m); with exactly known
   // biases they were 0.36 / 0.37 and 0.30 / 0.30 m, under a bound of 0.45. On thesis_loop's
   // 210 s fast SIFT closes the loop that the reference misses (docs/image_sensing.md).
-  expectEndToEnd(a, kMaxLandmarkRms);
+  expectEndToEnd(a);
   // The cap keeps what the association looks for: most observations near a prediction.
   EXPECT_LE(a.stats.observations, 150L * a.frames);
 }
@@ -146,7 +146,7 @@ TEST(ImageSlam, AdaptiveSiftEndToEndOnRenderedCircle) {
   // invariant chart: 0.40 / 0.49 / 0.51 / 0.79 / 0.15 / 0.28 m.
   ImageRun a;
   runImages(imageScenario(15.0, 11), vision::DetectorType::kAdaptiveSift, &a);
-  expectEndToEnd(a, kMaxLandmarkRms);
+  expectEndToEnd(a);
 }
 
 TEST(ImageSlam, OrbPrecisionAndDeterminismOnRenderedCircle) {

@@ -1,16 +1,13 @@
 #include "cvslam/coop/dc_cooperation.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <iterator>
 #include <limits>
 
 #include "cvslam/filter/chi_square.h"
 #include "cvslam/filter/covariance_helper.h"
 #include "cvslam/slam/visual_inertial_slam.h"
-#include "cvslam/vision/descriptor_distance.h"
 
 namespace cvslam::coop {
 
@@ -268,7 +265,7 @@ std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
       if (d2 <= gate && d2 < best) best = d2, best_i = i;
     }
     if (!any_index && may_map) {
-      if (const int k = matchUnmapped(s, slam, frame, independent, taken); k >= 0) {
+      if (const int k = matchUnmapped(s, slam, frame, independent, gate, taken); k >= 0) {
         taken[static_cast<std::size_t>(k)] = true;
         to_map.observations.push_back(frame.observations[static_cast<std::size_t>(k)]);
         mapped_for.push_back(&s);

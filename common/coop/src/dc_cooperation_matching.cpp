@@ -7,15 +7,10 @@
 #include <limits>
 
 #include "cvslam/coop/dc_cooperation.h"
-#include "cvslam/filter/chi_square.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 #include "cvslam/vision/descriptor_distance.h"
 
 namespace cvslam::coop {
-
-namespace {
-constexpr int kLandmarkDof = 3;
-}  // namespace
 
 bool DcCooperation::descriptorsAgree(const std::vector<uint8_t>& a,
                                      const std::vector<uint8_t>& b) const {
@@ -32,8 +27,7 @@ double DcCooperation::pairNis(const Eigen::Vector3d& d, const Eigen::Matrix3d& P
 
 int DcCooperation::matchUnmapped(const SharedLandmark& s, const VisualInertialSlam& slam,
                                  const StereoFrameObservations& frame, bool independent,
-                                 const std::vector<bool>& taken) const {
-  const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
+                                 double gate, const std::vector<bool>& taken) const {
   double best = std::numeric_limits<double>::infinity();
   int best_k = -1;
   for (std::size_t k = 0; k < frame.observations.size(); ++k) {

@@ -277,9 +277,10 @@ class DcCooperation {
                                      const StereoFrameObservations& frame, bool independent,
                                      std::vector<StateLandmark>* local, CoopEvent* e);
   /// The unmapped observation of `frame` that best matches `s` (same index, descriptor check,
-  /// χ² gate on its triangulated point), or -1; `taken` marks observations already matched.
+  /// pairNis within `gate`, confirm's χ²(3) gate, on its triangulated point), or -1; `taken`
+  /// marks observations already matched.
   int matchUnmapped(const SharedLandmark& s, const VisualInertialSlam& slam,
-                    const StereoFrameObservations& frame, bool independent,
+                    const StereoFrameObservations& frame, bool independent, double gate,
                     const std::vector<bool>& taken) const;
   /// Appends the own archived landmarks inside `view` (a peer's ellipsoid) to *offer.
   void archivedInView(const VisualInertialSlam& slam, const FeatureEllipsoid& view,
