@@ -56,6 +56,8 @@ options:
                           rest — from the IMU's first rest period; dynamic — in motion, from
                           the first frames and the IMU; auto — rest if at rest, else dynamic
   --config FILE           agent configuration (default: config/agent.yaml of the source tree)
+  --set SECTION.KEY=VALUE one key of the configuration changed, e.g. map.kind=full or
+                          frontend.detector.type=orb (repeatable; the rest stays as --config)
   --mode single|dc|cc     single: alone; dc: decentralised cooperation; cc: centralised, with
                           cvslam_ground_station (default single)
   --gs-wait S             cc: overrides agent.cc.gs_wait_s, how long a frame waits for the

@@ -8,7 +8,7 @@
 #
 #   scripts/euroc_recorded.sh --calibration MAV0 [--out DIR] [--duration S] [--build DIR]
 #                             [--only NAME ...] [--table FILE] [--lcm-url URL]
-#                             [--agent-arg ARG ...]
+#                             [--map room|knearest] [--agent-arg ARG ...]
 #
 #   --calibration MAV0   a real EuRoC mav0/ folder whose cam0/cam1 sensor.yaml are the rig
 #                        (e.g. the euroc_micro test data's mav0)                    [required]
@@ -19,6 +19,8 @@
 #                        V1_01 V1_02 V1_02_real_imu
 #   --table FILE         write the Markdown table there (default DIR/euroc_recorded.md)
 #   --lcm-url URL        LCM provider for the runs (default: run_dataset.sh's)
+#   --map room|knearest  the agent's map (run_dataset.sh --map; default room: the full map
+#                        bounded at 500 landmarks)
 #   --agent-arg ARG      extra argument for every agent (repeatable)
 # Datasets already in DIR/data are reused. Exit status: 0 when every run finished, 1 if one
 # failed, 2 on bad usage.
@@ -39,6 +41,7 @@ while [ $# -gt 0 ]; do
     --only) ONLY+=("${2:?--only needs a value}"); shift 2 ;;
     --table) TABLE="${2:?--table needs a value}"; shift 2 ;;
     --lcm-url) EXTRA+=(--lcm-url "${2:?--lcm-url needs a value}"); shift 2 ;;
+    --map) EXTRA+=(--map "${2:?--map needs a value}"); shift 2 ;;
     --agent-arg) EXTRA+=(--agent-arg "${2:?--agent-arg needs a value}"); shift 2 ;;
     *) die "unknown argument '$1' (try --help)" ;;
   esac
@@ -97,20 +100,22 @@ name, imu, run, wall = sys.argv[1:5]
 se3 = next(iter(json.load(open(run + "/summary_se3.json"))["agents"].values()))
 yaw = next(iter(json.load(open(run + "/summary.json"))["agents"].values()))
 def cm(x): return "%.1f" % (100 * x) if x is not None else "—"
+frame = se3.get('frame_time_ms_median')
 print(f"| {name} | {imu} | {cm(se3.get('ate_rmse_m'))} | {cm(yaw.get('ate_rmse_m'))} | "
-      f"{cm(se3.get('ate_max_m'))} | {float(wall):.0f} |")
+      f"{cm(se3.get('ate_max_m'))} | {'%.0f' % frame if frame is not None else '—'} | "
+      f"{float(wall):.0f} |")
 PY
 )")
   else
     status=1
-    rows+=("| $name | $imu | failed | failed | — | — |")
+    rows+=("| $name | $imu | failed | failed | — | — | — |")
     echo "euroc_recorded.sh: $name failed (log: $run.log)" >&2
   fi
 done <<< "$SEQUENCES"
 
 {
-  echo "| sequence | IMU | ATE SE(3) [cm] | ATE 4-DoF [cm] | max error SE(3) [cm] | wall [s] |"
-  echo "|---|---|---|---|---|---|"
+  echo "| sequence | IMU | ATE SE(3) [cm] | ATE 4-DoF [cm] | max error SE(3) [cm] | frame [ms] | wall [s] |"
+  echo "|---|---|---|---|---|---|---|"
   printf '%s\n' "${rows[@]}"
 } > "$TABLE"
 cat "$TABLE"

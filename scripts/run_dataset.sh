@@ -3,8 +3,8 @@
 # (scripts/launch.sh), evaluate the result against the folder's ground truth when it has one
 # (cvslam_eval), and draw the plots (scripts/plot_run.py).
 #
-#   scripts/run_dataset.sh PATH [--out DIR] [--start auto|rest|dynamic|known] [--duration S] [--build DIR]
-#                          [--lcm-url URL] [--agent-arg ARG ...]
+#   scripts/run_dataset.sh PATH [--out DIR] [--start auto|rest|dynamic|known] [--map room|knearest]
+#                          [--duration S] [--build DIR] [--lcm-url URL] [--agent-arg ARG ...]
 #
 #   PATH                 EuRoC ASL folder (PATH/mav0/...) with cam0, cam1, imu0 and their sensor.yaml
 #   --out DIR            run folder (default runs/<folder name>)
@@ -15,6 +15,12 @@
 #                        translation (4-DoF)
 #   --start known        the agent starts at the folder's first ground-truth pose (a NED folder,
 #                        e.g. written by cvslam_simulate); no alignment
+#   --map room           (default) one vehicle's recording keeps its map whole: the full
+#                        stochastic map, bounded at 500 landmarks (the least recently observed
+#                        leave first), so one agent keeps up with 20 Hz on this class of machine
+#                        (docs/results/euroc_recorded.md "Stop 43")
+#   --map knearest       the thesis's k-nearest map of config/agent.yaml (what the team
+#                        scenarios run; 2-4x less accurate inside one room)
 #   --duration S         replay only the first S seconds of the folder (default: all of it)
 #   --build DIR          where the programs are (default build/)
 #   --lcm-url URL        LCM provider (default: launch.sh's)
@@ -24,7 +30,7 @@ set -uo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BUILD="$ROOT/build"
-DATA="" OUT="" START=auto URL="" DURATION=""
+DATA="" OUT="" START=auto MAP=room URL="" DURATION=""
 EXTRA=()
 die() { echo "run_dataset.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -32,6 +38,7 @@ while [ $# -gt 0 ]; do
     -h|--help) sed -n '2,/^set -uo/p' "$0" | grep '^#' | sed 's/^# \{0,1\}//'; exit 0 ;;
     --out) OUT="${2:?--out needs a value}"; shift 2 ;;
     --start) START="${2:?--start needs a value}"; shift 2 ;;
+    --map) MAP="${2:?--map needs a value}"; shift 2 ;;
     --duration) DURATION="${2:?--duration needs a value}"; shift 2 ;;
     --build) BUILD="${2:?--build needs a value}"; shift 2 ;;
     --lcm-url) URL="${2:?--lcm-url needs a value}"; shift 2 ;;
@@ -43,11 +50,16 @@ done
 [ -n "$DATA" ] || die "give the EuRoC folder (try --help)"
 [ -d "$DATA/mav0" ] || [ "$(basename "$DATA")" = mav0 ] || die "$DATA: no mav0/ folder (not a EuRoC ASL dataset)"
 case "$START" in auto|rest|dynamic) ALIGN=yaw ;; known) ALIGN=none ;; *) die "--start must be auto, rest, dynamic or known" ;; esac
+case "$MAP" in
+  room) MAP_ARGS=(--agent-arg --map --agent-arg full --agent-arg --set --agent-arg map.max_landmarks=500) ;;
+  knearest) MAP_ARGS=() ;;
+  *) die "--map must be room or knearest" ;;
+esac
 [ -n "$OUT" ] || OUT="runs/$(basename "$(cd "$DATA" && pwd)")"
 [ -x "$BUILD/tools/cvslam_eval" ] || die "$BUILD/tools/cvslam_eval not built (cmake --build build)"
 
 launch=("$ROOT/scripts/launch.sh" --dataset "1:$DATA" --lockstep --out "$OUT" --build "$BUILD"
-        --agent-arg --start --agent-arg "$START" "${EXTRA[@]}")
+        --agent-arg --start --agent-arg "$START" "${MAP_ARGS[@]}" "${EXTRA[@]}")
 [ -n "$URL" ] && launch+=(--lcm-url "$URL")
 [ -n "$DURATION" ] && launch+=(--duration "$DURATION")
 "${launch[@]}" || { echo "run_dataset.sh: the run failed (logs in $OUT/logs/)" >&2; exit 1; }

@@ -45,6 +45,8 @@ options:
   --out DIR               output folder (created)                               [required]
   --config FILE           agent configuration (default: config/agent.yaml of the
                           source tree, else built-in defaults)
+  --set SECTION.KEY=VALUE one key of the configuration changed, e.g. map.kind=full or
+                          frontend.detector.type=orb (repeatable; the rest stays as --config)
   --mode single|dc|cc     single: every UAV alone; dc: decentralised cooperation
                           (thesis §6.6; LCM-encoded messages through an in-process
                           mailbox, configuration section `coop:`, docs/cooperation.md);

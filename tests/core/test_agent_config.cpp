@@ -129,6 +129,42 @@ TEST(AgentConfig, DefaultFileToolSectionsAndErrors) {
   EXPECT_EQ(e.status().message().rfind("--map: kind:", 0), 0u) << e.status().message();
 }
 
+// --set SECTION.KEY=VALUE: any key of the file, the rest as the file has it; recorded in
+// config_used.yaml; unknown keys, bad values and malformed assignments are refused.
+TEST(AgentConfig, SetChangesOneKeyAndIsCheckedAsTheFileWouldBe) {
+  auto base = AgentConfig::load({}, shippedConfig(), skipAgent);
+  ASSERT_TRUE(base.ok()) << base.status().message();
+  AgentConfigArgs args;
+  args.set = {"map.kind=full", "map.max_landmarks=500", "frontend.detector.type=orb"};
+  auto c = AgentConfig::load(args, shippedConfig(), skipAgent);
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_EQ(c->mapName(), "full");
+  EXPECT_EQ(c->slam.map.max_landmarks, 500);
+  EXPECT_NE(c->slam.map.max_landmarks, base->slam.map.max_landmarks);
+  EXPECT_EQ(c->frontend.front_end.detector.type, vision::DetectorType::kOrb);
+  EXPECT_EQ(c->slam.map.k, base->slam.map.k);  // the file's other keys stay
+  EXPECT_EQ(c->slam.slam.pixel_sigma, base->slam.slam.pixel_sigma);
+  auto back = ConfigNode::fromString(c->effective.yaml(), "back");
+  ASSERT_TRUE(back.ok());
+  int recorded = 0;
+  back->child("map").get("max_landmarks", recorded);
+  EXPECT_EQ(recorded, 500);
+
+  const auto error = [&](std::vector<std::string> set) {
+    AgentConfigArgs bad;
+    bad.set = std::move(set);
+    auto e = AgentConfig::load(bad, shippedConfig(), skipAgent);
+    return e.ok() ? std::string() : e.status().message();
+  };
+  for (const char* malformed : {"map.kind", "kind=full", "map..kind=full", ".kind=full", "map.k="})
+    EXPECT_NE(error({malformed}).find("--set: expected SECTION.KEY=VALUE"), std::string::npos)
+        << malformed;
+  EXPECT_NE(error({"map.max_landmarks=-1"}).find("max_landmarks"), std::string::npos);
+  EXPECT_NE(error({"map.max_landmarks=-1"}).find("with --set"), std::string::npos);
+  EXPECT_NE(error({"map.kindd=full"}).find("kindd"), std::string::npos);
+  EXPECT_NE(error({"nosuchsection.key=1"}).find("nosuchsection"), std::string::npos);
+}
+
 TEST(AgentConfig, TheInvariantChartRefusesTheAdditiveChartsYawFixes) {
   // First estimates and the observability constraint pin the yaw direction of the additive
   // chart; with the invariant chart they would break it (docs/filter.md), so asking for both

@@ -18,6 +18,7 @@ std::string resolved(const std::string& name, const std::string& dir) {
 
 void AgentConfigArgs::addTo(CLI::App& app) {
   app.add_option("--config", config);
+  app.add_option("--set", set)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_option("--filter", filter);
   app.add_option("--map", map);
   app.add_option("--attitude", attitude);
@@ -41,6 +42,7 @@ Expected<AgentConfig> AgentConfig::load(
   }
   Expected<EffectiveConfig> file = EffectiveConfig::load(path);
   if (!file.ok()) return file.status();
+  if (Status s = file->assign(args.set, "--set"); !s.ok()) return s;
   AgentConfig c{{}, {}, {}, std::move(*file)};
   const ConfigNode& root = c.effective.node();
   c.slam.load(root);

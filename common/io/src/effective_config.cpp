@@ -1,5 +1,6 @@
 #include "cvslam/io/effective_config.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -43,6 +44,35 @@ void EffectiveConfig::set(const std::vector<std::string>& section, const std::st
     at.reset(next);
   }
   at[key] = value;
+}
+
+Status EffectiveConfig::assign(const std::vector<std::string>& assignments,
+                               const std::string& option) {
+  if (assignments.empty()) return Status::Ok();
+  for (const std::string& a : assignments) {
+    const std::size_t eq = a.find('=');
+    std::vector<std::string> path;
+    for (std::size_t begin = 0; eq != std::string::npos && begin <= eq;) {
+      const std::size_t dot = std::min(a.find('.', begin), eq);
+      path.push_back(a.substr(begin, dot - begin));
+      begin = dot + 1;
+    }
+    const bool named =
+        path.size() >= 2 &&
+        std::none_of(path.begin(), path.end(), [](const std::string& p) { return p.empty(); });
+    if (!named || eq + 1 == a.size()) {
+      return Status::Error(option + ": expected SECTION.KEY=VALUE, e.g. map.kind=full (got '" + a +
+                           "')");
+    }
+    const std::string key = path.back();
+    path.pop_back();
+    set(path, key, a.substr(eq + 1));
+  }
+  Expected<ConfigNode> node =
+      ConfigNode::fromString(yaml(), (path_.empty() ? "defaults" : path_) + " with " + option);
+  if (!node.ok()) return node.status();
+  node_ = std::move(*node);
+  return Status::Ok();
 }
 
 std::string EffectiveConfig::yaml() const {

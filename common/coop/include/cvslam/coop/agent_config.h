@@ -2,7 +2,7 @@
 // One agent's configuration as every tool loads it (cvslam_run, cvslam_agent): the sections of
 // config/agent.yaml — filter/ins/map/slam (VisualInertialSlamOptions), frontend
 // (VisualFrontEndOptions), coop (DcCooperationOptions) and whatever the tool reads itself
-// (cvslam_agent's `agent:`) — plus the command-line overrides the tools share (--filter,
+// (cvslam_agent's `agent:`) — plus the command-line overrides the tools share (--set, --filter,
 // --map, --attitude, --passes, --detector, --ci, --both-ways, --one-way), kept as the
 // effective YAML (io/effective_config.h) that the run records in agent_<id>/config_used.yaml
 // (docs/run_format.md). It lives in coop, the lowest module that knows every section.
@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "cvslam/coop/dc_cooperation.h"
 #include "cvslam/core/status.h"
@@ -25,9 +26,12 @@ struct AgentConfigArgs {
   std::string filter, map, detector, ci, attitude;
   int passes = 0;
   bool both_ways = false, one_way = false;
+  /// --set SECTION.KEY=VALUE (repeatable): any key of the file, applied before the options are
+  /// read, so unknown keys and bad values are reported as the file's would be.
+  std::vector<std::string> set;
 
-  /// Adds --config, --filter, --map, --attitude, --passes, --detector, --ci, --both-ways and
-  /// --one-way to `app` (help texts: the tool's usage text).
+  /// Adds --config, --set, --filter, --map, --attitude, --passes, --detector, --ci,
+  /// --both-ways and --one-way to `app` (help texts: the tool's usage text).
   void addTo(CLI::App& app);
   /// The options that need cooperation (--ci, --both-ways, --one-way) were given.
   bool anyCoop() const { return !ci.empty() || both_ways || one_way; }

@@ -45,6 +45,10 @@ class EffectiveConfig {
   /// Records `key: value` at `section` in the YAML only (the caller set the option itself).
   void set(const std::vector<std::string>& section, const std::string& key,
            const std::string& value);
+  /// Applies `SECTION.KEY=VALUE` assignments (e.g. "map.max_landmarks=500", "frontend.detector.
+  /// type=orb") to the configuration before any options struct reads node(), so an unknown key or
+  /// a bad value is reported as the file's own would be; messages name the file "with `option`".
+  Status assign(const std::vector<std::string>& assignments, const std::string& option);
 
   /// The configuration with every override, as YAML that ConfigNode (and --config) reads.
   std::string yaml() const;
