@@ -17,8 +17,8 @@
 #                        e.g. written by cvslam_simulate); no alignment
 #   --map room           (default) one vehicle's recording keeps its map whole: the full
 #                        stochastic map, bounded at 500 landmarks (the least recently observed
-#                        leave first), so one agent keeps up with 20 Hz on this class of machine
-#                        (docs/results/euroc_recorded.md "Stop 43")
+#                        leave first); 30-90 ms per frame on a 2-core machine, which the lockstep
+#                        replay waits for (docs/results/euroc_recorded.md "Stop 43")
 #   --map knearest       the thesis's k-nearest map of config/agent.yaml (what the team
 #                        scenarios run; 2-4x less accurate inside one room)
 #   --duration S         replay only the first S seconds of the folder (default: all of it)
