@@ -20,7 +20,7 @@
 #                        leave first); 30-90 ms per frame on a 2-core machine, which the lockstep
 #                        replay waits for (docs/results/euroc_recorded.md "Stop 43")
 #   --map knearest       the thesis's k-nearest map of config/agent.yaml (what the team
-#                        scenarios run; 2-4x less accurate inside one room)
+#                        scenarios run; up to 2.4x less accurate inside one room)
 #   --duration S         replay only the first S seconds of the folder (default: all of it)
 #   --build DIR          where the programs are (default build/)
 #   --lcm-url URL        LCM provider (default: launch.sh's)

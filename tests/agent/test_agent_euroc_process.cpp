@@ -143,7 +143,16 @@ TEST(AgentEurocProcess, RunDatasetScriptOnTheRealMicroSequence) {
   const Json& ate = summary->at("agents").at("1").at("ate_rmse_m");
   ASSERT_TRUE(ate.is_number()) << summary->dump();
   EXPECT_LT(ate.get<double>(), 0.01);
+  // One vehicle's recording runs the room map: the full map, bounded (run_dataset.sh --map).
+  const std::string config = test::slurp(tmp / "run/agent_1/config_used.yaml");
+  EXPECT_NE(config.find("kind: full"), std::string::npos) << config;
+  EXPECT_NE(config.find("max_landmarks: 500"), std::string::npos) << config;
 
+  EXPECT_EQ(
+      test::run({"/bin/bash", script, test::sharedDataDir() + "/euroc_micro", "--map", "octree"},
+                tmp / "bad_map", &out, &err, 30s),
+      2);
+  EXPECT_NE(err.find("run_dataset.sh: --map must be room or knearest"), std::string::npos) << err;
   EXPECT_EQ(test::run({"/bin/bash", script, tmp / "nothing_here"}, tmp / "bad", &out, &err, 30s),
             2);
   EXPECT_NE(err.find("run_dataset.sh: " + tmp / "nothing_here" + ": no mav0/ folder"),
