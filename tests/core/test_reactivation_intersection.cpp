@@ -25,6 +25,10 @@
 namespace cvslam {
 namespace {
 
+/// The intersection alone: ω by the position trace, and no remapping without gain.
+const ReactivationOptions kIntersectAlways{0.05, 0.99,
+                                           ReactivationOptions::Objective::kPositionTrace, false};
+
 /// A vehicle 10 m above ground looking down at six landmarks it has just mapped, and the
 /// frame that observes them.
 class ReactivationScene : public ::testing::Test {
@@ -96,7 +100,7 @@ class ReactivationScene : public ::testing::Test {
 
 TEST_F(ReactivationScene, IntersectionBoundsTheLostCorrelation) {
   const StereoUpdater updater(key_, camera_, options_);
-  ReactivationIntersection reactivation({0.05, 0.99});
+  ReactivationIntersection reactivation(kIntersectAlways);
   ReactivationReport report;
   ASSERT_TRUE(
       reactivation.reactivate(state_, book_, archive_, ids_, updater, frame_, &report).ok());
@@ -121,7 +125,7 @@ TEST_F(ReactivationScene, AfterDriftTheArchiveHelpsAndStaysBounded) {
                   .ok());
   joint_.topLeftCorner(vehicle::kSizeNoBias, vehicle::kSizeNoBias) += Qd;
   const StereoUpdater updater(key_, camera_, options_);
-  ReactivationIntersection reactivation({0.05, 0.99});
+  ReactivationIntersection reactivation(kIntersectAlways);
   ReactivationReport report;
   ASSERT_TRUE(
       reactivation.reactivate(state_, book_, archive_, ids_, updater, frame_, &report).ok());
@@ -165,6 +169,73 @@ TEST_F(ReactivationScene, ChosenWeightMinimisesThePredictedPositionTrace) {
     EXPECT_NEAR(ReactivationIntersection::positionTraceAfter(P, H, R, b_columns, {0, 3}, w),
                 post.topLeftCorner(6, 6).trace(), 1e-10);
     EXPECT_GT(post.block(3, 3, 3, 3).trace(), 1e-6);  // the second block counts
+    const auto logDet = [](const Eigen::MatrixXd& M) {
+      return std::log(M.determinant());
+    };
+    EXPECT_NEAR(ReactivationIntersection::vehicleLogDetAfter(P, H, R, b_columns,
+                                                             {{0, vehicle::kSizeNoBias}}, w),
+                logDet(post.topLeftCorner(vehicle::kSizeNoBias, vehicle::kSizeNoBias)), 1e-8);
+    EXPECT_NEAR(ReactivationIntersection::vehicleLogDetAfter(P, H, R, b_columns, {{0, 3}, {6, 3}},
+                                                             w),
+                logDet((Eigen::MatrixXd(6, 6) << post.topLeftCorner(3, 3), post.block(0, 6, 3, 3),
+                        post.block(6, 0, 3, 3), post.block(6, 6, 3, 3))
+                           .finished()),
+                1e-8);
+  }
+}
+
+TEST_F(ReactivationScene, WithoutGainTheLandmarksAreMappedAnew) {
+  // Seen again from where they were mapped, by a vehicle that has not drifted: they can tell
+  // it nothing the 1/ω scaling would not cost it more, so they leave the archive for the
+  // initialiser and the state is untouched.
+  const Eigen::MatrixXd before = state_.covariance();
+  const StereoUpdater updater(key_, camera_, options_);
+  ReactivationOptions options;
+  options.remap_without_gain = true;
+  ReactivationIntersection reactivation(options);
+  ReactivationReport report;
+  ASSERT_TRUE(
+      reactivation.reactivate(state_, book_, archive_, ids_, updater, frame_, &report).ok());
+  EXPECT_EQ(report.remapped, 6);
+  EXPECT_EQ(report.landmarks, 0);
+  EXPECT_EQ(archive_.size(), 0u);
+  EXPECT_EQ(state_.landmarkCount(), 0);
+  for (int64_t id : ids_) EXPECT_EQ(book_.find(id), nullptr);
+  EXPECT_EQ(state_.covariance(), before);
+  EXPECT_DOUBLE_EQ(report.position_trace_after, report.position_trace_prior);
+}
+
+TEST_F(ReactivationScene, AfterDriftTheArchiveStillReentersWithoutGainRemapping) {
+  // The loop case: the vehicle has drifted 1 m per axis; the archive knows where it is.
+  Eigen::MatrixXd Qd = Eigen::MatrixXd::Zero(vehicle::kSizeNoBias, vehicle::kSizeNoBias);
+  Qd.topLeftCorner<3, 3>().setIdentity();
+  ASSERT_TRUE(CovarianceHelper::propagate(
+                  state_, key_, state_.value(*state_.find(key_)),
+                  Eigen::MatrixXd::Identity(vehicle::kSizeNoBias, vehicle::kSizeNoBias), Qd,
+                  UpdatePolicy())
+                  .ok());
+  joint_.topLeftCorner(vehicle::kSizeNoBias, vehicle::kSizeNoBias) += Qd;
+  const StereoUpdater updater(key_, camera_, options_);
+  for (auto objective : {ReactivationOptions::Objective::kPositionTrace,
+                         ReactivationOptions::Objective::kVehicleLogDet}) {
+    SlamState state = state_;
+    LandmarkBook book = book_;
+    LandmarkArchive archive = archive_;
+    ReactivationOptions options;
+    options.remap_without_gain = true;
+    options.objective = objective;
+    ReactivationIntersection reactivation(options);
+    ReactivationReport report;
+    ASSERT_TRUE(reactivation.reactivate(state, book, archive, ids_, updater, frame_, &report).ok());
+    std::cout << "objective " << static_cast<int>(objective) << ": omega " << report.omega
+              << ", position trace " << report.position_trace_prior << " -> "
+              << report.position_trace_after << "\n";
+    EXPECT_EQ(report.landmarks, 6);
+    EXPECT_EQ(report.remapped, 0);
+    EXPECT_LT(report.position_trace_after, 0.5 * report.position_trace_prior);
+    std::swap(state, state_);
+    EXPECT_GE(smallestMargin(), -1e-12);  // consistent whatever the objective
+    std::swap(state, state_);
   }
 }
 

@@ -18,8 +18,13 @@ CcTeamFilter::CcTeamFilter(const CcTeamFilterOptions& options)
   impl_->map_manager = KNearestMapManager(o_.slam.map);
   impl_->held_landmarks = o_.slam.slam.held_landmarks;
   impl_->held_eviction = o_.slam.slam.held_eviction;
-  impl_->reactivation = ReactivationIntersection(
-      {o_.slam.slam.reactivation_min_omega, o_.slam.slam.reactivation_max_omega});
+  // The joint map's re-entry bookkeeping (cc_team_filter_map.cpp) has no path for landmarks
+  // taken back out, and its ω weighs the team's positions: the ground station keeps its
+  // measured choice (docs/ground_station.md), whatever the agents' `slam:` section says.
+  ReactivationOptions reactivation = o_.slam.slam.intersection;
+  reactivation.objective = ReactivationOptions::Objective::kPositionTrace;
+  reactivation.remap_without_gain = false;
+  impl_->reactivation = ReactivationIntersection(reactivation);
   impl_->state.setErrorChart(o_.slam.slam.error_chart);
   Expected<UpdatePolicy> policy = o_.slam.filter.policy();
   if (policy.ok()) {

@@ -71,7 +71,7 @@ struct CcTeamFilter::Impl {
   int held_landmarks = 0;                  ///< SlamOptions::held_landmarks of the joint map
   /// Loop landmarks re-enter by covariance intersection with the whole joint state when
   /// SlamOptions::reactivation says so (as VisualInertialSlam); bounds set by the constructor.
-  ReactivationIntersection reactivation{ReactivationWeights{}};
+  ReactivationIntersection reactivation{ReactivationOptions{}};
   UpdatePolicy policy;
   Status policy_status;
   std::map<int, std::unique_ptr<CcVehicle>> vehicles;

@@ -1,6 +1,8 @@
 #include "cvslam/slam/reactivation_intersection.h"
 
 #include <algorithm>
+#include <limits>
+#include <utility>
 
 #include <Eigen/Cholesky>
 
@@ -15,21 +17,38 @@ namespace {
 
 /// The pieces of the split-prior update that do not depend on ω. With H = [H_A H_B] and the
 /// prior blockdiag(P_A/ω, n·P_B/(1 − ω)) (n landmarks in B), the innovation covariance is
-/// S_A/ω + S_B/(1 − ω) + R with S_B = n·H_B P_B H_Bᵀ, and the position rows of P H̃ᵀ are G/ω,
-/// so the posterior position covariance is P_pp/ω − G S⁻¹ Gᵀ/ω² (P_pp and G over the position
-/// rows of every vehicle of the objective).
+/// S_A/ω + S_B/(1 − ω) + R with S_B = n·H_B P_B H_Bᵀ, and the rows V of P H̃ᵀ are G_V/ω, so the
+/// posterior covariance of V is P_VV/ω − G_V S⁻¹ G_Vᵀ/ω² (V: the position rows of every
+/// vehicle of the objective, or their whole blocks).
 struct SplitUpdate {
-  Eigen::MatrixXd S_A, S_B, R, G;
+  Eigen::MatrixXd S_A, S_B, R, G, G_V, P_VV;
   double trace_pp = 0.0;
 
+  Eigen::MatrixXd innovation(double omega) const {
+    return S_A / omega + S_B / (1.0 - omega) + R;
+  }
   double positionTrace(double omega) const {
-    const Eigen::MatrixXd S = S_A / omega + S_B / (1.0 - omega) + R;
+    const Eigen::MatrixXd S = innovation(omega);
     return trace_pp / omega - (G * S.ldlt().solve(G.transpose())).trace() / (omega * omega);
+  }
+  /// log det of the vehicles' blocks after the update; +∞ when not positive definite.
+  double vehicleLogDet(double omega) const {
+    const Eigen::MatrixXd S = innovation(omega);
+    const Eigen::MatrixXd M =
+        P_VV / omega - G_V * S.ldlt().solve(G_V.transpose()) / (omega * omega);
+    return logDet(M);
+  }
+  static double logDet(const Eigen::MatrixXd& M) {
+    const Eigen::LLT<Eigen::MatrixXd> llt(M);
+    if (llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
+    return 2.0 * llt.matrixL().toDenseMatrix().diagonal().array().log().sum();
   }
 };
 
+/// `vehicles`: (first index, size) of every objective vehicle's block.
 SplitUpdate split(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R,
-                  const std::vector<int>& b_columns, const std::vector<int>& p_indices) {
+                  const std::vector<int>& b_columns, const std::vector<int>& p_indices,
+                  const std::vector<std::pair<int, int>>& vehicles = {}) {
   const auto m = H.rows();
   const auto nb = static_cast<Eigen::Index>(b_columns.size());
   Eigen::MatrixXd H_A = H, H_B(m, nb), P_BB(nb, nb);
@@ -50,6 +69,17 @@ SplitUpdate split(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eige
     s.G.middleRows(row, 3) = P.middleRows(p_indices[k], 3) * H_A.transpose();
     s.trace_pp += P.block(p_indices[k], p_indices[k], 3, 3).trace();
   }
+  std::vector<Eigen::Index> rows;
+  for (const auto& [first, size] : vehicles)
+    for (int k = 0; k < size; ++k) rows.push_back(first + k);
+  const auto nv = static_cast<Eigen::Index>(rows.size());
+  s.G_V.resize(nv, m);
+  s.P_VV.resize(nv, nv);
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    s.G_V.row(i) = P.row(rows[static_cast<std::size_t>(i)]) * H_A.transpose();
+    for (Eigen::Index j = 0; j < nv; ++j)
+      s.P_VV(i, j) = P(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
+  }
   return s;
 }
 
@@ -59,6 +89,13 @@ double ReactivationIntersection::positionTraceAfter(
     const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R,
     const std::vector<int>& b_columns, const std::vector<int>& p_indices, double omega) {
   return split(P, H, R, b_columns, p_indices).positionTrace(omega);
+}
+
+double ReactivationIntersection::vehicleLogDetAfter(
+    const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R,
+    const std::vector<int>& b_columns, const std::vector<std::pair<int, int>>& vehicles,
+    double omega) {
+  return split(P, H, R, b_columns, {}, vehicles).vehicleLogDet(omega);
 }
 
 Status ReactivationIntersection::reactivate(
@@ -71,11 +108,13 @@ Status ReactivationIntersection::reactivate(
   if (state.find(updater.vehicle()) == nullptr)
     return Status::Error("re-activation: vehicle not in the state");
   std::vector<int> p_indices;
+  std::vector<std::pair<int, int>> blocks;
   for (const VariableKey& key :
        objective.empty() ? std::vector<VariableKey>{updater.vehicle()} : objective) {
     const StateVariable* vehicle = state.find(key);
     if (vehicle == nullptr) return Status::Error("re-activation: vehicle not in the state");
     p_indices.push_back(vehicle->index + vehicle::kPosition);
+    blocks.emplace_back(vehicle->index, vehicle->size);
     r.position_trace_prior +=
         state.covariance().block(p_indices.back(), p_indices.back(), 3, 3).trace();
   }
@@ -103,20 +142,37 @@ Status ReactivationIntersection::reactivate(
       !s.ok()) {
     return s;
   }
-  // Unseen (behind the camera) or nothing to gain: the archive's estimates are kept but count
-  // for little, Q/(1 − max_omega).
+  // Unseen (behind the camera): the archive's estimates count for little, Q/(1 − max_omega).
   double omega = w_.max_omega;
   // The archive keeps marginals only: the landmarks' errors may be correlated with each other
   // too (all carry the vehicle's global error of their time), so each gets (1 − ω)/n.
   const double n = static_cast<double>(added.size());
+  bool gain = batch_.rows() > 0;
   if (batch_.rows() > 0) {
-    const SplitUpdate s = split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_indices);
-    auto cost = [&](double w) { return s.positionTrace(w); };
+    const SplitUpdate s =
+        split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_indices, blocks);
+    auto cost = [&](double w) {
+      return w_.objective == ReactivationOptions::Objective::kPositionTrace ? s.positionTrace(w)
+                                                                            : s.vehicleLogDet(w);
+    };
     omega = minimizeGoldenSection(cost, w_.min_omega, w_.max_omega, 1e-4).x;
     for (double bound : {w_.min_omega, w_.max_omega}) {
       if (cost(bound) < cost(omega)) omega = bound;
     }
-    r.position_trace_after = cost(omega);
+    r.position_trace_after = s.positionTrace(omega);
+    if (w_.remap_without_gain) gain = s.vehicleLogDet(omega) < SplitUpdate::logDet(s.P_VV);
+  }
+  if (w_.remap_without_gain && !gain) {
+    // Out of the state again, exactly (they are uncorrelated with it until scaled) and out of
+    // the book: the initialiser maps them anew from this frame.
+    for (int64_t id : added) {
+      CovarianceHelper::marginalize(state, VariableKey::landmark(static_cast<uint64_t>(id)));
+      book.remove(id);
+    }
+    r.remapped = r.landmarks;
+    r.landmarks = 0;
+    r.position_trace_after = r.position_trace_prior;
+    return Status::Ok();
   }
   r.omega = omega;
   // blockdiag(P_A/ω, Q/(1 − ω)): everything by 1/ω, then the re-activated block by ω/(1 − ω).

@@ -43,12 +43,16 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.check(held_landmarks >= 0, "held_landmarks", "must be ≥ 0");
   node.getEnum("held_eviction", held_eviction,
                {{"oldest", HeldEviction::kOldest}, {"nearest", HeldEviction::kNearest}});
-  node.get("reactivation_min_omega", reactivation_min_omega);
-  node.get("reactivation_max_omega", reactivation_max_omega);
-  node.check(reactivation_min_omega > 0.0 && reactivation_min_omega <= reactivation_max_omega &&
-                 reactivation_max_omega < 1.0,
+  node.get("reactivation_min_omega", intersection.min_omega);
+  node.get("reactivation_max_omega", intersection.max_omega);
+  node.check(intersection.min_omega > 0.0 && intersection.min_omega <= intersection.max_omega &&
+                 intersection.max_omega < 1.0,
              "reactivation_min_omega",
              "need 0 < reactivation_min_omega ≤ reactivation_max_omega < 1");
+  node.getEnum("reactivation_objective", intersection.objective,
+               {{"position_trace", ReactivationOptions::Objective::kPositionTrace},
+                {"vehicle_log_det", ReactivationOptions::Objective::kVehicleLogDet}});
+  node.get("reactivation_remap_without_gain", intersection.remap_without_gain);
   node.get("first_estimate_jacobians", first_estimate_jacobians);
   node.get("observability_constrained", observability_constrained);
   node.get("oc_tilt", oc_tilt);

@@ -27,7 +27,7 @@ VisualInertialSlam::VisualInertialSlam(const VisualInertialSlamOptions& options,
       updater_(vehicle_, camera, options.slam),
       initialiser_(vehicle_, camera, options.slam),
       loop_closer_(vehicle_, camera, options.slam),
-      reactivation_({options.slam.reactivation_min_omega, options.slam.reactivation_max_omega}),
+      reactivation_(options.slam.intersection),
       ci_updater_(vehicle_),
       gps_updater_(vehicle_, options.gps) {
   Expected<UpdatePolicy> policy = o_.filter.policy();

@@ -23,6 +23,7 @@
 // (cc_team_filter.h) every UAV and the whole joint map.
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "cvslam/camera/stereo_observation.h"
@@ -31,19 +32,15 @@
 #include "cvslam/filter/slam_state.h"
 #include "cvslam/slam/landmark_archive.h"
 #include "cvslam/slam/landmark_book.h"
+#include "cvslam/slam/reactivation_options.h"
 #include "cvslam/slam/stereo_updater.h"
 
 namespace cvslam {
 
-/// Bounds of ω (config `slam:` reactivation_min_omega / reactivation_max_omega).
-struct ReactivationWeights {
-  double min_omega = 0.05;  ///< ω → 0 would scale the state's prior by 1/ω → ∞
-  double max_omega = 0.99;  ///< ω → 1 would give the re-activated landmarks Q/(1 − ω) → ∞
-};
-
 /// What one frame's re-activation did.
 struct ReactivationReport {
   int landmarks = 0;                ///< landmarks moved from the archive to the state
+  int remapped = 0;                 ///< taken from the archive to be mapped anew (no gain)
   double omega = 1.0;               ///< weight of the state's prior (1: nothing re-activated)
   double position_trace_prior = 0;  ///< tr of the objective's position covariance before [m²]
   double position_trace_after = 0;  ///< the same after this frame's observations (predicted)
@@ -51,12 +48,13 @@ struct ReactivationReport {
 
 class ReactivationIntersection {
  public:
-  explicit ReactivationIntersection(ReactivationWeights weights) : w_(weights) {}
+  explicit ReactivationIntersection(ReactivationOptions options) : w_(options) {}
 
   /// Moves the archived landmarks `ids` into the state and `book` by covariance intersection
   /// with the rest of the state, ω chosen with `updater`'s Jacobians of `frame`. Ids that are
-  /// not archived are skipped. ω minimises the summed position covariance traces of the
-  /// `objective` vehicles (empty: the updater's vehicle alone).
+  /// not archived are skipped. ω minimises ReactivationOptions::objective over the
+  /// `objective` vehicles (empty: the updater's vehicle alone). With remap_without_gain, ids
+  /// without gain leave the archive and the state (the initialiser maps them anew).
   Status reactivate(SlamState& state, LandmarkBook& book, LandmarkArchive& archive,
                     const std::vector<int64_t>& ids, const StereoUpdater& updater,
                     const StereoFrameObservations& frame, ReactivationReport* report,
@@ -69,9 +67,15 @@ class ReactivationIntersection {
   static double positionTraceAfter(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H,
                                    const Eigen::MatrixXd& R, const std::vector<int>& b_columns,
                                    const std::vector<int>& p_indices, double omega);
+  /// The same prior and update: the log-determinant of the joint covariance of the blocks
+  /// (first index, size) `vehicles` after it (kVehicleLogDet, remap_without_gain).
+  static double vehicleLogDetAfter(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H,
+                                   const Eigen::MatrixXd& R, const std::vector<int>& b_columns,
+                                   const std::vector<std::pair<int, int>>& vehicles,
+                                   double omega);
 
  private:
-  ReactivationWeights w_;
+  ReactivationOptions w_;
   MeasurementBatch batch_;  // reused
 };
 

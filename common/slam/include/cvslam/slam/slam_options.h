@@ -6,6 +6,7 @@
 
 #include "cvslam/core/status.h"
 #include "cvslam/filter/slam_state.h"
+#include "cvslam/slam/reactivation_options.h"
 
 namespace cvslam {
 
@@ -69,8 +70,9 @@ struct SlamOptions {
   ///    within about 1.5 s (a single agent's 100 last about 7 s).
   enum class HeldEviction { kOldest, kNearest };
   HeldEviction held_eviction = HeldEviction::kOldest;
-  double reactivation_min_omega = 0.05;  ///< kIntersection: bounds of the weight ω of the state
-  double reactivation_max_omega = 0.99;  ///< (the landmarks get n·Q/(1 − ω))
+  /// kIntersection: the weight ω's bounds and objective, and whether landmarks that bring no
+  /// gain are mapped anew (reactivation_options.h).
+  ReactivationOptions intersection;
   /// A landmark observed again after at least this long unseen is a loop landmark [s]
   /// (whether it was archived meanwhile or, with the full map, stayed in the state).
   double loop_closure_min_age_s = 30.0;
