@@ -24,9 +24,7 @@ struct SplitUpdate {
   Eigen::MatrixXd S_A, S_B, R, G, G_V, P_VV;
   double trace_pp = 0.0;
 
-  Eigen::MatrixXd innovation(double omega) const {
-    return S_A / omega + S_B / (1.0 - omega) + R;
-  }
+  Eigen::MatrixXd innovation(double omega) const { return S_A / omega + S_B / (1.0 - omega) + R; }
   double positionTrace(double omega) const {
     const Eigen::MatrixXd S = innovation(omega);
     return trace_pp / omega - (G * S.ldlt().solve(G.transpose())).trace() / (omega * omega);

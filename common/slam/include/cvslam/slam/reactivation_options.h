@@ -29,5 +29,4 @@ struct ReactivationOptions {
   bool remap_without_gain = true;
 };
 
-
 }  // namespace cvslam
