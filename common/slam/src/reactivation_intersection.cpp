@@ -140,7 +140,8 @@ Status ReactivationIntersection::reactivate(
       !s.ok()) {
     return s;
   }
-  // Unseen (behind the camera): the archive's estimates count for little, Q/(1 − max_omega).
+  // Unseen (behind the camera): no gain to weigh; intersected anyway, the archive's estimates
+  // count for little, Q/(1 − max_omega).
   double omega = w_.max_omega;
   // The archive keeps marginals only: the landmarks' errors may be correlated with each other
   // too (all carry the vehicle's global error of their time), so each gets (1 − ω)/n.
