@@ -68,6 +68,19 @@ class ReactivationScene : public ::testing::Test {
     ASSERT_EQ(state_.landmarkCount(), 0);
   }
 
+  /// The vehicle drifts while the landmarks are archived: independent process noise on its
+  /// position (1 m per axis), in the filter and in the true joint covariance alike.
+  void driftOneMetrePerAxis() {
+    Eigen::MatrixXd Qd = Eigen::MatrixXd::Zero(vehicle::kSizeNoBias, vehicle::kSizeNoBias);
+    Qd.topLeftCorner<3, 3>().setIdentity();
+    ASSERT_TRUE(CovarianceHelper::propagate(
+                    state_, key_, state_.value(*state_.find(key_)),
+                    Eigen::MatrixXd::Identity(vehicle::kSizeNoBias, vehicle::kSizeNoBias), Qd,
+                    UpdatePolicy())
+                    .ok());
+    joint_.topLeftCorner(vehicle::kSizeNoBias, vehicle::kSizeNoBias) += Qd;
+  }
+
   /// Smallest eigenvalue of (the state's covariance − the true joint one), both in the order
   /// vehicle, landmarks 100..105: ≥ 0 when the filter's prior bounds the truth.
   double smallestMargin() const {
@@ -115,15 +128,7 @@ TEST_F(ReactivationScene, IntersectionBoundsTheLostCorrelation) {
 }
 
 TEST_F(ReactivationScene, AfterDriftTheArchiveHelpsAndStaysBounded) {
-  // The vehicle drifts while the landmarks are archived: independent process noise on its
-  // position (1 m per axis), in the filter and in the true joint covariance alike.
-  const Eigen::MatrixXd Phi = Eigen::MatrixXd::Identity(vehicle::kSizeNoBias, vehicle::kSizeNoBias);
-  Eigen::MatrixXd Qd = Eigen::MatrixXd::Zero(vehicle::kSizeNoBias, vehicle::kSizeNoBias);
-  Qd.topLeftCorner<3, 3>().setIdentity();
-  ASSERT_TRUE(CovarianceHelper::propagate(state_, key_, state_.value(*state_.find(key_)), Phi, Qd,
-                                          UpdatePolicy())
-                  .ok());
-  joint_.topLeftCorner(vehicle::kSizeNoBias, vehicle::kSizeNoBias) += Qd;
+  ASSERT_NO_FATAL_FAILURE(driftOneMetrePerAxis());
   const StereoUpdater updater(key_, camera_, options_);
   ReactivationIntersection reactivation(kIntersectAlways);
   ReactivationReport report;
@@ -210,14 +215,7 @@ TEST_F(ReactivationScene, AfterDriftTheLogDetWeightReentersAndThePositionTraceOn
   // the block). ω by the position trace alone goes so low (0.27) that its 1/ω widens the rest
   // of the block more than the update narrows it, and the log-det test maps the landmarks
   // anew: why the agents' objective is the log-det (docs/filter.md "Re-activation", stop 44).
-  Eigen::MatrixXd Qd = Eigen::MatrixXd::Zero(vehicle::kSizeNoBias, vehicle::kSizeNoBias);
-  Qd.topLeftCorner<3, 3>().setIdentity();
-  ASSERT_TRUE(CovarianceHelper::propagate(
-                  state_, key_, state_.value(*state_.find(key_)),
-                  Eigen::MatrixXd::Identity(vehicle::kSizeNoBias, vehicle::kSizeNoBias), Qd,
-                  UpdatePolicy())
-                  .ok());
-  joint_.topLeftCorner(vehicle::kSizeNoBias, vehicle::kSizeNoBias) += Qd;
+  ASSERT_NO_FATAL_FAILURE(driftOneMetrePerAxis());
   const StereoUpdater updater(key_, camera_, options_);
   {
     SlamState state = state_;

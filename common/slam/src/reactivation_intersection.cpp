@@ -21,31 +21,46 @@ namespace {
 /// posterior covariance of V is P_VV/ω − G_V S⁻¹ G_Vᵀ/ω² (V: the position rows of every
 /// vehicle of the objective, or their whole blocks).
 struct SplitUpdate {
-  Eigen::MatrixXd S_A, S_B, R, G, G_V, P_VV;
-  double trace_pp = 0.0;
+  Eigen::MatrixXd S_A, S_B, R, G, P_pp, G_V, P_VV;
 
   Eigen::MatrixXd innovation(double omega) const { return S_A / omega + S_B / (1.0 - omega) + R; }
   double positionTrace(double omega) const {
     const Eigen::MatrixXd S = innovation(omega);
-    return trace_pp / omega - (G * S.ldlt().solve(G.transpose())).trace() / (omega * omega);
+    return P_pp.trace() / omega - (G * S.ldlt().solve(G.transpose())).trace() / (omega * omega);
   }
   /// log det of the vehicles' blocks after the update; +∞ when not positive definite.
   double vehicleLogDet(double omega) const {
     const Eigen::MatrixXd S = innovation(omega);
-    const Eigen::MatrixXd M =
-        P_VV / omega - G_V * S.ldlt().solve(G_V.transpose()) / (omega * omega);
-    return logDet(M);
+    return logDet(P_VV / omega - G_V * S.ldlt().solve(G_V.transpose()) / (omega * omega));
   }
   static double logDet(const Eigen::MatrixXd& M) {
     const Eigen::LLT<Eigen::MatrixXd> llt(M);
     if (llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
-    return 2.0 * llt.matrixL().toDenseMatrix().diagonal().array().log().sum();
+    return 2.0 * llt.matrixLLT().diagonal().array().log().sum();
   }
 };
 
-/// `vehicles`: (first index, size) of every objective vehicle's block.
+/// The rows `blocks` (first index, size) of P: their products with H_Aᵀ and their covariance.
+void gatherRows(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H_A,
+                const std::vector<std::pair<int, int>>& blocks, Eigen::MatrixXd* G,
+                Eigen::MatrixXd* P_rr) {
+  std::vector<Eigen::Index> rows;
+  for (const auto& [first, size] : blocks)
+    for (int k = 0; k < size; ++k) rows.push_back(first + k);
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  G->resize(n, H_A.rows());
+  P_rr->resize(n, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    G->row(i) = P.row(rows[static_cast<std::size_t>(i)]) * H_A.transpose();
+    for (Eigen::Index j = 0; j < n; ++j)
+      (*P_rr)(i, j) = P(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
+  }
+}
+
+/// `positions`: the objective vehicles' position rows; `vehicles`: their whole blocks (first
+/// index, size), needed only by the log-det objective and the gain test.
 SplitUpdate split(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R,
-                  const std::vector<int>& b_columns, const std::vector<int>& p_indices,
+                  const std::vector<int>& b_columns, const std::vector<int>& positions,
                   const std::vector<std::pair<int, int>>& vehicles = {}) {
   const auto m = H.rows();
   const auto nb = static_cast<Eigen::Index>(b_columns.size());
@@ -61,23 +76,10 @@ SplitUpdate split(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eige
   s.S_A = H_A * P * H_A.transpose();
   s.S_B = (static_cast<double>(nb) / 3.0) * (H_B * P_BB * H_B.transpose());  // n = nb / 3
   s.R = R;
-  s.G.resize(3 * static_cast<Eigen::Index>(p_indices.size()), m);
-  for (std::size_t k = 0; k < p_indices.size(); ++k) {
-    const auto row = 3 * static_cast<Eigen::Index>(k);
-    s.G.middleRows(row, 3) = P.middleRows(p_indices[k], 3) * H_A.transpose();
-    s.trace_pp += P.block(p_indices[k], p_indices[k], 3, 3).trace();
-  }
-  std::vector<Eigen::Index> rows;
-  for (const auto& [first, size] : vehicles)
-    for (int k = 0; k < size; ++k) rows.push_back(first + k);
-  const auto nv = static_cast<Eigen::Index>(rows.size());
-  s.G_V.resize(nv, m);
-  s.P_VV.resize(nv, nv);
-  for (Eigen::Index i = 0; i < nv; ++i) {
-    s.G_V.row(i) = P.row(rows[static_cast<std::size_t>(i)]) * H_A.transpose();
-    for (Eigen::Index j = 0; j < nv; ++j)
-      s.P_VV(i, j) = P(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
-  }
+  std::vector<std::pair<int, int>> position_rows;
+  for (int p : positions) position_rows.emplace_back(p, 3);
+  gatherRows(P, H_A, position_rows, &s.G, &s.P_pp);
+  gatherRows(P, H_A, vehicles, &s.G_V, &s.P_VV);
   return s;
 }
 
@@ -148,15 +150,21 @@ Status ReactivationIntersection::reactivate(
   const double n = static_cast<double>(added.size());
   bool gain = batch_.rows() > 0;
   if (batch_.rows() > 0) {
-    const SplitUpdate s =
-        split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_indices, blocks);
+    const bool log_det =
+        w_.objective == ReactivationOptions::Objective::kVehicleLogDet || w_.remap_without_gain;
+    const SplitUpdate s = split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_indices,
+                                log_det ? blocks : std::vector<std::pair<int, int>>{});
     auto cost = [&](double w) {
       return w_.objective == ReactivationOptions::Objective::kPositionTrace ? s.positionTrace(w)
                                                                             : s.vehicleLogDet(w);
     };
     omega = minimizeGoldenSection(cost, w_.min_omega, w_.max_omega, 1e-4).x;
+    double best = cost(omega);
     for (double bound : {w_.min_omega, w_.max_omega}) {
-      if (cost(bound) < cost(omega)) omega = bound;
+      if (const double c = cost(bound); c < best) {
+        omega = bound;
+        best = c;
+      }
     }
     r.position_trace_after = s.positionTrace(omega);
     if (w_.remap_without_gain) gain = s.vehicleLogDet(omega) < SplitUpdate::logDet(s.P_VV);
