@@ -149,8 +149,8 @@ TEST_F(ReactivationScene, IndependentReentryIsOverConfident) {
 }
 
 TEST_F(ReactivationScene, ChosenWeightMinimisesThePredictedPositionTrace) {
-  // Brute force: the split prior built explicitly, the EKF posterior, its position trace. The
-  // ground station's weight minimises the team's position traces: rows 3-5 stand for a second
+  // Brute force: the split prior built explicitly, the EKF posterior, its position trace. With
+  // a team as objective (the ground station's) the traces sum: rows 3-5 stand for a second
   // vehicle's position here, and that objective is the sum of both posterior blocks.
   for (int64_t id : ids_) ASSERT_TRUE(reactivateLandmark(state_, book_, archive_, id));
   const StereoUpdater updater(key_, camera_, options_);

@@ -19,10 +19,8 @@ CcTeamFilter::CcTeamFilter(const CcTeamFilterOptions& options)
   impl_->held_landmarks = o_.slam.slam.held_landmarks;
   impl_->held_eviction = o_.slam.slam.held_eviction;
   // The joint map's re-entry bookkeeping (cc_team_filter_map.cpp) has no path for landmarks
-  // taken back out, and the agents' log-det rule was measured on single vehicles only: the
-  // ground station keeps ω by the team's position traces and always intersects.
+  // taken back out: the ground station always intersects, with ω by the configured objective.
   ReactivationOptions reactivation = o_.slam.slam.intersection;
-  reactivation.objective = ReactivationOptions::Objective::kPositionTrace;
   reactivation.remap_without_gain = false;
   impl_->reactivation = ReactivationIntersection(reactivation);
   impl_->state.setErrorChart(o_.slam.slam.error_chart);

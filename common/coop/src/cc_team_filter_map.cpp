@@ -351,7 +351,8 @@ Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptio
   }
   Status s = Status::Ok();
   if (!intersected.empty()) {
-    // ω for the team: the summed position covariance traces of every UAV, which all pay 1/ω.
+    // ω for the team: the objective (slam.reactivation_objective) over every UAV's block, since
+    // all pay 1/ω.
     std::vector<VariableKey> team;
     for (const auto& [id, other] : vehicles) team.push_back(other->key);
     ReactivationReport rep;

@@ -23,8 +23,9 @@
 //      itself mapped that it observes now; j keeps its k nearest to its m* active; a landmark
 //      active for no UAV is archived; chosen archived ones are re-activated as
 //      slam.recent_reentry / slam.reactivation say: held ones exactly, by covariance
-//      intersection with the whole joint state (ω for the summed position traces of the team),
-//      or independent with the UAV's position covariance on top (reactivation_inflation).
+//      intersection with the whole joint state (ω by the log-determinant of every UAV's block
+//      after the update: the team pays 1/ω), or independent with the UAV's position
+//      covariance on top (reactivation_inflation).
 //      Another UAV's archived landmark is not re-activated but mapped anew by j (step 5): as an
 //      independent prior it would repeat information the team already used. The state holds
 //      the union of the UAVs' active sets (≤ M·(vehicle + 3(k + max_new)));

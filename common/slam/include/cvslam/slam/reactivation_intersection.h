@@ -16,14 +16,15 @@
 // UAVs). So the landmarks of a frame re-enter uncorrelated with Q/(1−ω) while the prior of the
 // rest of the state is scaled by 1/ω: a consistent joint prior whatever the lost correlation.
 // ω minimises, after the frame's observations of those landmarks, by golden section on
-// [min_omega, max_omega], either the log-determinant of the vehicle's whole block (the agents'
-// choice) or the trace of its position covariance (in a joint state, of every vehicle's: the
-// team's; the ground station's); ω → 1 means that the archive adds nothing to what the frame
-// sees. Every variable but the re-activated landmarks is scaled: in VisualInertialSlam one
-// vehicle's map, in the ground station's joint state (cc_team_filter.h) every UAV and the whole
-// joint map. Since each such scaling also widens what the landmarks cannot inform (tilt, biases),
-// an agent maps a frame's landmarks anew instead when the update is not predicted to shrink its
-// vehicle block by more than the scaling widens it (ReactivationOptions::remap_without_gain).
+// [min_omega, max_omega], either the log-determinant of the vehicle's whole block (the default;
+// in a joint state, of every vehicle's blocks: the team's, the ground station's) or the trace of
+// its position covariance (summed over the vehicles); ω → 1 means that the archive adds nothing
+// to what the frame sees. Every variable but the re-activated landmarks is scaled: in
+// VisualInertialSlam one vehicle's map, in the ground station's joint state (cc_team_filter.h)
+// every UAV and the whole joint map. Since each such scaling also widens what the landmarks cannot
+// inform (tilt, biases), an agent maps a frame's landmarks anew instead when the update is not
+// predicted to shrink its vehicle block by more than the scaling widens it
+// (ReactivationOptions::remap_without_gain).
 
 #include <cstdint>
 #include <utility>
