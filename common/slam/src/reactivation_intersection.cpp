@@ -47,14 +47,8 @@ void gatherRows(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H_A,
   std::vector<Eigen::Index> rows;
   for (const auto& [first, size] : blocks)
     for (int k = 0; k < size; ++k) rows.push_back(first + k);
-  const auto n = static_cast<Eigen::Index>(rows.size());
-  G->resize(n, H_A.rows());
-  P_rr->resize(n, n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    G->row(i) = P.row(rows[static_cast<std::size_t>(i)]) * H_A.transpose();
-    for (Eigen::Index j = 0; j < n; ++j)
-      (*P_rr)(i, j) = P(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
-  }
+  *G = P(rows, Eigen::all) * H_A.transpose();
+  *P_rr = P(rows, rows);
 }
 
 /// `positions`: the objective vehicles' position rows; `vehicles`: their whole blocks (first
@@ -62,19 +56,14 @@ void gatherRows(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H_A,
 SplitUpdate split(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R,
                   const std::vector<int>& b_columns, const std::vector<int>& positions,
                   const std::vector<std::pair<int, int>>& vehicles = {}) {
-  const auto m = H.rows();
-  const auto nb = static_cast<Eigen::Index>(b_columns.size());
-  Eigen::MatrixXd H_A = H, H_B(m, nb), P_BB(nb, nb);
-  for (Eigen::Index i = 0; i < nb; ++i) {
-    H_B.col(i) = H.col(b_columns[static_cast<std::size_t>(i)]);
-    H_A.col(b_columns[static_cast<std::size_t>(i)]).setZero();
-    for (Eigen::Index j = 0; j < nb; ++j)
-      P_BB(i, j) =
-          P(b_columns[static_cast<std::size_t>(i)], b_columns[static_cast<std::size_t>(j)]);
-  }
+  const Eigen::MatrixXd H_B = H(Eigen::all, b_columns);
+  Eigen::MatrixXd H_A = H;
+  H_A(Eigen::all, b_columns).setZero();
   SplitUpdate s;
   s.S_A = H_A * P * H_A.transpose();
-  s.S_B = (static_cast<double>(nb) / 3.0) * (H_B * P_BB * H_B.transpose());  // n = nb / 3
+  // n = b_columns.size() / 3 landmarks.
+  s.S_B = (static_cast<double>(b_columns.size()) / 3.0) *
+          (H_B * P(b_columns, b_columns) * H_B.transpose());
   s.R = R;
   std::vector<std::pair<int, int>> position_rows;
   for (int p : positions) position_rows.emplace_back(p, 3);
@@ -150,14 +139,11 @@ Status ReactivationIntersection::reactivate(
   const double n = static_cast<double>(added.size());
   bool gain = batch_.rows() > 0;
   if (batch_.rows() > 0) {
-    const bool log_det =
-        w_.objective == ReactivationOptions::Objective::kVehicleLogDet || w_.remap_without_gain;
-    const SplitUpdate s = split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_indices,
-                                log_det ? blocks : std::vector<std::pair<int, int>>{});
-    auto cost = [&](double w) {
-      return w_.objective == ReactivationOptions::Objective::kPositionTrace ? s.positionTrace(w)
-                                                                            : s.vehicleLogDet(w);
-    };
+    const bool by_log_det = w_.objective == ReactivationOptions::Objective::kVehicleLogDet;
+    const SplitUpdate s =
+        split(state.covariance(), batch_.H(), batch_.R(), b_columns, p_indices,
+              by_log_det || w_.remap_without_gain ? blocks : std::vector<std::pair<int, int>>{});
+    auto cost = [&](double w) { return by_log_det ? s.vehicleLogDet(w) : s.positionTrace(w); };
     omega = minimizeGoldenSection(cost, w_.min_omega, w_.max_omega, 1e-4).x;
     double best = cost(omega);
     for (double bound : {w_.min_omega, w_.max_omega}) {
@@ -166,8 +152,10 @@ Status ReactivationIntersection::reactivate(
         best = c;
       }
     }
-    r.position_trace_after = s.positionTrace(omega);
-    if (w_.remap_without_gain) gain = s.vehicleLogDet(omega) < SplitUpdate::logDet(s.P_VV);
+    // The objective's value at ω is `best`; the other quantity is evaluated once.
+    r.position_trace_after = by_log_det ? s.positionTrace(omega) : best;
+    if (w_.remap_without_gain)
+      gain = (by_log_det ? best : s.vehicleLogDet(omega)) < SplitUpdate::logDet(s.P_VV);
   }
   if (w_.remap_without_gain && !gain) {
     // Out of the state again, exactly (they are uncorrelated with it until scaled) and out of
