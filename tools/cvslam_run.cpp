@@ -90,7 +90,8 @@ options:
                           Jacobians of propagation, stereo update and landmark
                           initialisation at the true state (the "ideal EKF",
                           docs/results/ideal_ekf.md); the residuals stay at the
-                          estimate; run.json says so
+                          estimate; with Euler angles (--attitude euler, implied)
+                          and the additive chart; run.json says so
   --quiet                 no progress output
   -h, --help              this text
 )";
@@ -144,6 +145,10 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   // truth would be worse than none.
   if (a->linearise_at_truth && a->sensing != "features")
     return fail("--linearise-at-truth needs --sensing features");
+  // The ideal EKF runs Euler angles (VisualInertialSlam refuses the error state with it).
+  if (a->linearise_at_truth && a->config.attitude == "error_state")
+    return fail("--linearise-at-truth needs Euler angles (--attitude euler, its default)");
+  if (a->linearise_at_truth) a->config.attitude = "euler";
   return std::nullopt;
 }
 
