@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cvslam/coop/agent_config.h"
+#include "cvslam/coop/cc_team_filter.h"
 #include "cvslam/io/build_info.h"
 #include "cvslam/io/effective_config.h"
 #include "cvslam/io/run_reader.h"
@@ -127,6 +128,25 @@ TEST(AgentConfig, DefaultFileToolSectionsAndErrors) {
       AgentConfig::load(args, shippedConfig(), [](const ConfigNode& root) { root.skip("agent"); });
   ASSERT_FALSE(e.ok());
   EXPECT_EQ(e.status().message().rfind("--map: kind:", 0), 0u) << e.status().message();
+}
+
+// The shipped configuration adds the stereo model's second-order term at feature level, the
+// image front end overrides it off, and the ground station's joint filter keeps it off
+// (docs/filter.md "The first second").
+TEST(AgentConfig, TheSecondOrderTermIsOnForFeaturesOffForImagesAndTheGroundStation) {
+  auto c = AgentConfig::load({}, shippedConfig(), skipAgent);
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_TRUE(c->slam.slam.second_order_noise);
+  ASSERT_TRUE(c->frontend.second_order_noise.has_value());
+  EXPECT_FALSE(*c->frontend.second_order_noise);
+  coop::CcTeamFilterOptions gs;
+  gs.useAgentOptions(c->slam);
+  EXPECT_FALSE(gs.slam.slam.second_order_noise);
+  AgentConfigArgs args;
+  args.set = {"frontend.second_order_noise=true"};
+  auto d = AgentConfig::load(args, shippedConfig(), skipAgent);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+  EXPECT_TRUE(*d->frontend.second_order_noise);
 }
 
 // --set SECTION.KEY=VALUE: any key of the file, the rest as the file has it; recorded in

@@ -80,6 +80,12 @@ void VisualInertialSlam::setObservabilityConstrained(bool on) {
   configureModels();
 }
 
+void VisualInertialSlam::setSecondOrderNoise(bool on) {
+  if (o_.slam.second_order_noise == on) return;
+  o_.slam.second_order_noise = on;
+  configureModels();
+}
+
 Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,
                                       const Eigen::MatrixXd& P_v) {
   return initializeVehicle(t_us, x_v, nullptr, P_v);

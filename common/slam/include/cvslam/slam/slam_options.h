@@ -23,7 +23,8 @@ struct SlamOptions {
   bool scale_noise_per_pass = true;
   /// Add the second-order term of the prediction, ½ tr(∇²h_i P ∇²h_j P), to each stereo
   /// observation's R (the Gaussian second-order filter; stereo_second_order_noise.h): the
-  /// linearisation error of landmarks whose depth is still uncertain.
+  /// linearisation error of landmarks whose depth is still uncertain. config/agent.yaml turns
+  /// it on at feature level (docs/filter.md "The second-order term at feature level").
   bool second_order_noise = false;
   int max_new_landmarks_per_frame = 8;  ///< new landmarks initialised per frame, nearest to m*
   double min_init_disparity_px = 1.0;   ///< farther points (smaller disparity) are not mapped

@@ -176,6 +176,8 @@ class VisualInertialSlam {
   /// The same for the observability-constrained updates (SlamOptions): their bookkeeping is
   /// always kept, only the projection of the Jacobians is switched.
   void setObservabilityConstrained(bool on);
+  /// slam.second_order_noise, as setFirstEstimateJacobians (the image front end's override).
+  void setSecondOrderNoise(bool on);
   /// Takes the Jacobians of propagation, stereo update and initialisation at the truth the
   /// oracle gives (linearisation_oracle.h: the ideal EKF, a diagnostic of simulation; null:
   /// off); the loop update's iterated Jacobians too. The oracle must outlive this filter.
