@@ -57,4 +57,4 @@ if not worst[1]:
 print(f'smallest yaw σ over its initial value: {worst[0]:.4f} ({worst[1]})')
 sys.exit(0 if worst[0] >= 0.99 else 1)
 PYEOF
-exit "${FAILED:-0}"
+exit "$FAILED"

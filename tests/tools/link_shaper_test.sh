@@ -4,9 +4,10 @@
 # shaper (loss 20 %, delay 50 ms ± 10 ms); 1000 UDP datagrams, each stamped with its send
 # time, cross at 2 ms intervals. Checks no datagram leaves early (every delay ≥ 40 ms), 99 % of
 # them within [40, 60] ms + 2 ms of scheduling (a single late wake-up on a loaded 2-core CI
-# machine reached 67 ms; lateness of one packet is the host's, not the shaper's), their mean is 50 ± 3 ms, their spread is that of a uniform ±10 ms, the loss
-# is 20 ± 4 % (3.2 σ of a binomial on 1000), jitter larger than the interval reorders, and
-# the shaper's own counters agree with what the receiver saw.
+# machine reached 67 ms; lateness of one packet is the host's, not the shaper's), their mean
+# is 50 ± 3 ms, their spread is that of a uniform ±10 ms, the loss is 20 ± 4 % (3.2 σ of a
+# binomial on 1000), jitter larger than the interval reorders, and the shaper's own counters
+# agree with what the receiver saw.
 # Skipped (77) where namespaces or NFQUEUE are not available (needs root).
 set -uo pipefail
 BUILD="$1" OUT="$2"

@@ -70,12 +70,15 @@ ErrorChart VisualInertialSlam::chart() const {
   return oracle_ != nullptr ? ErrorChart::kAdditive : o_.slam.error_chart;
 }
 
+// The image front end applies its overrides on every frame: rebuild the models only on a change.
 void VisualInertialSlam::setFirstEstimateJacobians(bool on) {
+  if (o_.slam.first_estimate_jacobians == on) return;
   o_.slam.first_estimate_jacobians = on;
   configureModels();
 }
 
 void VisualInertialSlam::setObservabilityConstrained(bool on) {
+  if (o_.slam.observability_constrained == on) return;
   o_.slam.observability_constrained = on;
   configureModels();
 }
