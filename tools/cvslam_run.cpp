@@ -260,6 +260,9 @@ cvslam::Expected<cvslam::coop::CcTeamFilterOptions> groundStationOptions(
   o.useAgentOptions(config.slam);
   o.association = args.sensing == "features" ? cvslam::coop::CcAssociation::kTrueIds
                                              : cvslam::coop::CcAssociation::kLocalIds;
+  // With images, the agents' front-end override of the second-order term (local_ids applies it).
+  o.image_second_order_noise =
+      config.frontend.second_order_noise.value_or(config.slam.slam.second_order_noise);
   return o;
 }
 

@@ -130,10 +130,10 @@ TEST(AgentConfig, DefaultFileToolSectionsAndErrors) {
   EXPECT_EQ(e.status().message().rfind("--map: kind:", 0), 0u) << e.status().message();
 }
 
-// The shipped configuration adds the stereo model's second-order term at feature level, the
-// image front end overrides it off, and the ground station's joint filter keeps it off
-// (docs/filter.md "The first second").
-TEST(AgentConfig, TheSecondOrderTermIsOnForFeaturesOffForImagesAndTheGroundStation) {
+// The shipped configuration adds the stereo model's second-order term at feature level and the
+// image front end overrides it off; the ground station's joint filter takes the agents' choice
+// (docs/filter.md "The first second", docs/ground_station.md "Second-order term").
+TEST(AgentConfig, TheSecondOrderTermIsOnForFeaturesAndOffForImages) {
   auto c = AgentConfig::load({}, shippedConfig(), skipAgent);
   ASSERT_TRUE(c.ok()) << c.status().message();
   EXPECT_TRUE(c->slam.slam.second_order_noise);
@@ -141,7 +141,7 @@ TEST(AgentConfig, TheSecondOrderTermIsOnForFeaturesOffForImagesAndTheGroundStati
   EXPECT_FALSE(*c->frontend.second_order_noise);
   coop::CcTeamFilterOptions gs;
   gs.useAgentOptions(c->slam);
-  EXPECT_FALSE(gs.slam.slam.second_order_noise);
+  EXPECT_TRUE(gs.slam.slam.second_order_noise);
   AgentConfigArgs args;
   args.set = {"frontend.second_order_noise=true"};
   auto d = AgentConfig::load(args, shippedConfig(), skipAgent);

@@ -10,9 +10,6 @@ void CcTeamFilterOptions::setJointEstimator() {
   slam.slam.error_chart = ErrorChart::kRightInvariant;
   slam.slam.first_estimate_jacobians = false;
   slam.slam.observability_constrained = false;
-  // The agents' second-order term (feature level) is not measured for the joint filter in this
-  // chart; in the additive one it cost CC accuracy (docs/results/ideal_ekf.md).
-  slam.slam.second_order_noise = false;
   slam.slam.held_eviction = SlamOptions::HeldEviction::kNearest;  // one pool for every UAV
 }
 
@@ -21,6 +18,7 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   const ConfigNode cc = root.child("cc");
   cc.getEnum("association", association,
              {{"true_ids", CcAssociation::kTrueIds}, {"local_ids", CcAssociation::kLocalIds}});
+  cc.get("image_second_order_noise", image_second_order_noise);
   cc.get("max_descriptor_distance", max_descriptor_distance);
   cc.get("association_gate_chi2", association_gate_chi2);
   cc.get("max_association_distance_m", max_association_distance_m);

@@ -94,6 +94,10 @@ struct CcTeamFilterOptions {
   VisualInertialSlamOptions slam;
   // Section `cc:`.
   CcAssociation association = CcAssociation::kTrueIds;  ///< `true_ids` or `local_ids`
+  /// local_ids (image keypoints): slam.second_order_noise is this instead, as the agents'
+  /// frontend.second_order_noise (real keypoints are closer than the assumed pixel σ, and the
+  /// term cost the recordings; docs/filter.md "The first second").
+  bool image_second_order_noise = false;
   /// local_ids: a new local id matches a joint landmark of the same feature index only with a
   /// descriptor L2 distance at most this (as DC's coop.max_descriptor_distance).
   double max_descriptor_distance = 250.0;
