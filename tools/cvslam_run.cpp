@@ -260,9 +260,11 @@ cvslam::Expected<cvslam::coop::CcTeamFilterOptions> groundStationOptions(
   o.useAgentOptions(config.slam);
   o.association = args.sensing == "features" ? cvslam::coop::CcAssociation::kTrueIds
                                              : cvslam::coop::CcAssociation::kLocalIds;
-  // With images, the agents' front-end override of the second-order term (local_ids applies it).
+  // With images, the agents' front-end overrides of the second-order term and the pixel σ
+  // (local_ids applies them).
   o.image_second_order_noise =
       config.frontend.second_order_noise.value_or(config.slam.slam.second_order_noise);
+  o.image_pixel_sigma = config.frontend.pixel_sigma.value_or(config.slam.slam.pixel_sigma);
   return o;
 }
 

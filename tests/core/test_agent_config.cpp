@@ -149,6 +149,24 @@ TEST(AgentConfig, TheSecondOrderTermIsOnForFeaturesAndOffForImages) {
   EXPECT_TRUE(*d->frontend.second_order_noise);
 }
 
+// Detected keypoints are assumed tighter than the feature-level simulator's pixel noise, and the
+// ground station assumes for them what the agents do (docs/image_sensing.md "Pixel σ of
+// keypoints"): the two files must not drift apart.
+TEST(AgentConfig, ImagesAssumeTheSameTighterPixelSigmaAtAgentsAndGroundStation) {
+  auto c = AgentConfig::load({}, shippedConfig(), skipAgent);
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  ASSERT_TRUE(c->frontend.pixel_sigma.has_value());
+  EXPECT_LT(*c->frontend.pixel_sigma, c->slam.slam.pixel_sigma);
+  auto gs = coop::CcTeamFilterOptions::loadFile(std::string(CVSLAM_SOURCE_DIR) +
+                                                "/config/ground_station.yaml");
+  ASSERT_TRUE(gs.ok()) << gs.status().message();
+  EXPECT_EQ(gs->image_pixel_sigma, *c->frontend.pixel_sigma);
+  EXPECT_EQ(gs->slam.slam.pixel_sigma, c->slam.slam.pixel_sigma);
+  AgentConfigArgs args;
+  args.set = {"frontend.pixel_sigma=0"};
+  EXPECT_FALSE(AgentConfig::load(args, shippedConfig(), skipAgent).ok());
+}
+
 // --set SECTION.KEY=VALUE: any key of the file, the rest as the file has it; recorded in
 // config_used.yaml; unknown keys, bad values and malformed assignments are refused.
 TEST(AgentConfig, SetChangesOneKeyAndIsCheckedAsTheFileWouldBe) {

@@ -475,13 +475,20 @@ TEST(CcTeamFilterOptions, GroundStationYamlLoadsAndBadValuesFail) {
   EXPECT_FALSE(coop::CcTeamFilter(images).options().slam.slam.second_order_noise);
   images.image_second_order_noise = true;
   EXPECT_TRUE(coop::CcTeamFilter(images).options().slam.slam.second_order_noise);
+  // … and the pixel σ of detected keypoints with local ids, the simulator's with true ids.
+  EXPECT_EQ(coop::CcTeamFilter(*o).options().slam.slam.pixel_sigma, o->slam.slam.pixel_sigma);
+  EXPECT_LT(o->image_pixel_sigma, o->slam.slam.pixel_sigma);
+  EXPECT_EQ(coop::CcTeamFilter(images).options().slam.slam.pixel_sigma, o->image_pixel_sigma);
   auto bad = ConfigNode::fromString("cc: {association: psychic}\n");
   ASSERT_TRUE(bad.ok());
   coop::CcTeamFilterOptions b;
   EXPECT_FALSE(b.load(*bad).ok());
-  auto negative = ConfigNode::fromString("cc: {max_vehicles: 0}\n");
-  coop::CcTeamFilterOptions n;
-  EXPECT_FALSE(n.load(*negative).ok());
+  for (const char* text : {"cc: {max_vehicles: 0}\n", "cc: {image_pixel_sigma: 0}\n"}) {
+    auto negative = ConfigNode::fromString(text);
+    ASSERT_TRUE(negative.ok());
+    coop::CcTeamFilterOptions n;
+    EXPECT_FALSE(n.load(*negative).ok()) << text;
+  }
 }
 
 }  // namespace

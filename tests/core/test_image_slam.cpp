@@ -47,6 +47,7 @@ struct ImageRun {
   double ate = 0.0, ins_ate = 0.0;
   int frames = 0, landmarks = 0, landmarks_with_truth = 0;
   double landmark_error_rms = 0.0;
+  double pixel_sigma = 0.0;  ///< the pixel σ the filter assumed (frontend's override) [px]
   std::vector<Eigen::Vector3d> positions;
 };
 
@@ -60,6 +61,7 @@ void runImages(const sim::Scenario& scenario, vision::DetectorType detector, Ima
   ASSERT_TRUE(options.load(*cfg).ok());
   ASSERT_TRUE(fe.load(cfg->child("frontend")).ok()) << cfg->status().message();
   fe.front_end.detector.type = detector;
+  out.pixel_sigma = fe.pixel_sigma.value_or(options.slam.pixel_sigma);
   auto factory = makeRenderedSensingFactory(scenario, fe, nullptr);
   EXPECT_TRUE(factory.ok()) << factory.status().message();
   if (!factory.ok()) return;
@@ -137,6 +139,9 @@ TEST(ImageSlam, FastSiftEndToEndOnRenderedCircle) {
   expectEndToEnd(a);
   // The cap keeps what the association looks for: most observations near a prediction.
   EXPECT_LE(a.stats.observations, 150L * a.frames);
+  // The assumed pixel σ is tighter than the simulator's but not below the keypoints' error
+  // against the renderer's truth (measured 0.07-0.09 px; docs/image_sensing.md "Pixel σ").
+  EXPECT_GE(a.pixel_sigma, a.stats.reobservationRms());
 }
 
 TEST(ImageSlam, AdaptiveSiftEndToEndOnRenderedCircle) {
@@ -373,6 +378,28 @@ TEST(VisualSlamPipeline, RejectsBadImagesAndOptions) {
                    .ok());
 }
 
+// The front end's overrides of slam options reach the filter it feeds, on the first frame.
+TEST(VisualSlamPipeline, OverridesReachTheFilter) {
+  const StereoCamera camera{StereoCameraOptions()};
+  VisualInertialSlamOptions so;
+  so.slam.pixel_sigma = 0.5;
+  so.slam.second_order_noise = true;
+  VisualFrontEndOptions o;
+  o.pixel_sigma = 0.2;
+  o.second_order_noise = false;
+  auto pipeline = VisualSlamPipeline::create(o, camera, nullptr);
+  ASSERT_TRUE(pipeline.ok()) << pipeline.status().message();
+  VisualInertialSlam slam(so, camera);
+  const int n = vehicle::size(so.ins.estimate_imu_bias);
+  ASSERT_TRUE(
+      slam.initialize(0, Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Identity(n, n) * 0.01).ok());
+  const cv::Mat blank(240, 320, CV_8UC1, cv::Scalar(100));
+  VisualFrameResult r;
+  ASSERT_TRUE(pipeline->process(100000, blank, blank, slam, &r).ok());
+  EXPECT_EQ(slam.options().slam.pixel_sigma, 0.2);
+  EXPECT_FALSE(slam.options().slam.second_order_noise);
+}
+
 TEST(ImageSlam, ScenarioRenderSectionErrors) {
   const std::string agents =
       "agents:\n  - id: 1\n    trajectory: {kind: circle, radius: 25.0, altitude: 10.0, "
@@ -398,7 +425,7 @@ TEST(ImageSlam, ShippedFrontendConfigLoads) {
   EXPECT_EQ(o.tracked_landmarks, 0);
   EXPECT_EQ(o.new_landmark_order, NewLandmarkOrder::kConfirmation);
   EXPECT_EQ(o.new_landmark_grid, 4);
-  for (const char* text : {"confirm_gate_px: -1\n", "tracked_landmarks: -2\n",
+  for (const char* text : {"confirm_gate_px: -1\n", "pixel_sigma: 0\n", "tracked_landmarks: -2\n",
                            "new_landmark_order: strongest\n", "new_landmark_grid: 0\n",
                            "loop_detection: {min_inliers: 1}\n", "loop_detection: {typo: 1}\n"}) {
     auto bad = ConfigNode::fromString(text, "bad.yaml");

@@ -15,8 +15,10 @@ namespace cvslam::coop {
 
 CcTeamFilter::CcTeamFilter(const CcTeamFilterOptions& options)
     : o_(options), impl_(std::make_unique<Impl>()) {
-  if (o_.association == CcAssociation::kLocalIds)
+  if (o_.association == CcAssociation::kLocalIds) {
     o_.slam.slam.second_order_noise = o_.image_second_order_noise;
+    o_.slam.slam.pixel_sigma = o_.image_pixel_sigma;
+  }
   impl_->map_manager = KNearestMapManager(o_.slam.map);
   impl_->held_landmarks = o_.slam.slam.held_landmarks;
   impl_->held_eviction = o_.slam.slam.held_eviction;

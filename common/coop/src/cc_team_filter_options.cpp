@@ -19,6 +19,7 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.getEnum("association", association,
              {{"true_ids", CcAssociation::kTrueIds}, {"local_ids", CcAssociation::kLocalIds}});
   cc.get("image_second_order_noise", image_second_order_noise);
+  cc.get("image_pixel_sigma", image_pixel_sigma);
   cc.get("max_descriptor_distance", max_descriptor_distance);
   cc.get("association_gate_chi2", association_gate_chi2);
   cc.get("max_association_distance_m", max_association_distance_m);
@@ -30,6 +31,7 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.check(reactivation_inflation >= 0.0, "reactivation_inflation", "must be ≥ 0");
   cc.check(rendezvous_min_sigma_m >= 0.0, "rendezvous_min_sigma_m", "must be ≥ 0");
   cc.check(max_descriptor_distance >= 0.0, "max_descriptor_distance", "must be ≥ 0");
+  cc.check(image_pixel_sigma > 0.0, "image_pixel_sigma", "must be > 0");
   cc.check(association_gate_chi2 > 0.0, "association_gate_chi2", "must be > 0");
   cc.check(max_association_distance_m > 0.0, "max_association_distance_m", "must be > 0");
   cc.check(max_vehicles >= 1, "max_vehicles", "must be ≥ 1");

@@ -89,6 +89,12 @@ void VisualInertialSlam::setSecondOrderNoise(bool on) {
   configureModels();
 }
 
+void VisualInertialSlam::setPixelSigma(double sigma_px) {
+  if (o_.slam.pixel_sigma == sigma_px) return;
+  o_.slam.pixel_sigma = sigma_px;
+  configureModels();
+}
+
 Status VisualInertialSlam::initialize(int64_t t_us, const Eigen::VectorXd& x_v,
                                       const Eigen::MatrixXd& P_v) {
   return initializeVehicle(t_us, x_v, nullptr, P_v);

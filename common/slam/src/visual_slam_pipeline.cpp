@@ -120,6 +120,12 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
   override("first_estimate_jacobians", &first_estimate_jacobians);
   override("observability_constrained", &observability_constrained);
   override("second_order_noise", &second_order_noise);
+  if (node.has("pixel_sigma")) {
+    double sigma = 0.0;
+    node.get("pixel_sigma", sigma);
+    node.check(sigma > 0.0, "pixel_sigma", "must be > 0");
+    pixel_sigma = sigma;
+  }
   node.check(confirm_gate_px > 0.0, "confirm_gate_px", "must be > 0");
   node.check(tracked_landmarks >= 0, "tracked_landmarks", "must be ≥ 0");
   node.check(max_hamming_distance > 0.0, "max_hamming_distance", "must be > 0");
@@ -178,6 +184,7 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
     slam.setObservabilityConstrained(*o_.observability_constrained);
   }
   if (o_.second_order_noise) slam.setSecondOrderNoise(*o_.second_order_noise);
+  if (o_.pixel_sigma) slam.setPixelSigma(*o_.pixel_sigma);
   r.frame.t_us = t_us;
   if (left.empty() || right.empty()) return Status::Error("pipeline: empty image");
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1) {

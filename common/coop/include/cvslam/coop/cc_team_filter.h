@@ -98,6 +98,9 @@ struct CcTeamFilterOptions {
   /// frontend.second_order_noise (real keypoints are closer than the assumed pixel σ, and the
   /// term cost the recordings; docs/filter.md "The first second").
   bool image_second_order_noise = false;
+  /// local_ids: slam.pixel_sigma is this instead, as the agents' frontend.pixel_sigma (detected
+  /// keypoints are localised tighter than the feature-level simulator's noise).
+  double image_pixel_sigma = 0.3;
   /// local_ids: a new local id matches a joint landmark of the same feature index only with a
   /// descriptor L2 distance at most this (as DC's coop.max_descriptor_distance).
   double max_descriptor_distance = 250.0;
