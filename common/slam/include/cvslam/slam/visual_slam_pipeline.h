@@ -105,8 +105,8 @@ struct VisualFrontEndOptions {
   /// FEJ too 29.7 m), without it UAV1 2.96 m with the loop closed at 199 s, NEES 5.8
   /// (docs/image_sensing.md). Why the constraint hurts with real keypoints is open.
   std::optional<bool> observability_constrained;
-  /// Overrides slam.second_order_noise likewise. With real keypoints the assumed pixel σ
-  /// (0.5 px) is already several times their re-observation error, and the term only slowed the
+  /// Overrides slam.second_order_noise likewise. With real keypoints the assumed pixel σ is
+  /// already several times their re-observation error, and the term only slowed the
   /// map on the recordings (docs/results/ideal_ekf.md "Second-order noise").
   std::optional<bool> second_order_noise;
   /// Overrides slam.pixel_sigma likewise (absent: the slam setting). The slam value is the
