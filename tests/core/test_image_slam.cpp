@@ -61,7 +61,6 @@ void runImages(const sim::Scenario& scenario, vision::DetectorType detector, Ima
   ASSERT_TRUE(options.load(*cfg).ok());
   ASSERT_TRUE(fe.load(cfg->child("frontend")).ok()) << cfg->status().message();
   fe.front_end.detector.type = detector;
-  out.pixel_sigma = fe.pixel_sigma.value_or(options.slam.pixel_sigma);
   auto factory = makeRenderedSensingFactory(scenario, fe, nullptr);
   EXPECT_TRUE(factory.ok()) << factory.status().message();
   if (!factory.ok()) return;
@@ -85,6 +84,7 @@ void runImages(const sim::Scenario& scenario, vision::DetectorType detector, Ima
   ASSERT_NE(rendered, nullptr);
   const RenderedSensing& sensing = *rendered;
   out.stats = sensing.stats();
+  out.pixel_sigma = (*run)->slam(0).options().slam.pixel_sigma;
   double e2 = 0.0;
   for (const MapLandmark& m : (*run)->slam(0).map()) {
     ++out.landmarks;

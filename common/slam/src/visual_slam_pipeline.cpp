@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <type_traits>
 
 #include <Eigen/Eigenvalues>
 
@@ -111,21 +112,17 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
   node.check(new_landmark_grid >= 1 && new_landmark_grid <= 64, "new_landmark_grid",
              "must be in [1, 64]");
   // Overrides of slam options: set only when the key is present.
-  auto override = [&node](const char* key, std::optional<bool>* out) {
+  auto override = [&node](const char* key, auto* out) {
     if (!node.has(key)) return;
-    bool value = true;
+    typename std::decay_t<decltype(*out)>::value_type value{};
     node.get(key, value);
     *out = value;
   };
   override("first_estimate_jacobians", &first_estimate_jacobians);
   override("observability_constrained", &observability_constrained);
   override("second_order_noise", &second_order_noise);
-  if (node.has("pixel_sigma")) {
-    double sigma = 0.0;
-    node.get("pixel_sigma", sigma);
-    node.check(sigma > 0.0, "pixel_sigma", "must be > 0");
-    pixel_sigma = sigma;
-  }
+  override("pixel_sigma", &pixel_sigma);
+  if (pixel_sigma) node.check(*pixel_sigma > 0.0, "pixel_sigma", "must be > 0");
   node.check(confirm_gate_px > 0.0, "confirm_gate_px", "must be > 0");
   node.check(tracked_landmarks >= 0, "tracked_landmarks", "must be ≥ 0");
   node.check(max_hamming_distance > 0.0, "max_hamming_distance", "must be > 0");
