@@ -350,7 +350,7 @@ void auditMatches(cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t
     const cvslam::coop::FusedMatch& m = fused[i];
     const int64_t peer_id =
         index_of.count(m.peer) > 0 ? dc.agent(m.peer).sentLandmarkId(m.peer_seq, m.slot) : -1;
-    audit->fused(id, m.local_id, truth(id), m.peer, peer_id, truth(m.peer));
+    audit->fused(id, m.local_id, truth(id), m.peer, peer_id, truth(m.peer), m.t_us);
   }
   progress->fused[id] = fused.size();
 }

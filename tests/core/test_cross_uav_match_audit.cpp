@@ -1,5 +1,6 @@
 // CrossUavMatchAudit (simrun/cross_uav_match_audit.h): twins in view, their feature index and
-// descriptor, and the precision and recall of fused pairs, on hand-made landmark sets.
+// descriptor, the precision and recall of fused pairs, and the crossings, on hand-made landmark
+// sets.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -99,6 +100,60 @@ TEST_F(CrossUavMatchAuditTest, FusedPairsAreRightOnlyWhenTheyAreTwins) {
   EXPECT_EQ(audit.report().distinct_twin_pairs, 3);
   EXPECT_DOUBLE_EQ(audit.report().recall(), 2.0 / 3.0);
   EXPECT_DOUBLE_EQ(audit.json()["precision"].get<double>(), 0.75) << audit.json().dump();
+}
+
+TEST_F(CrossUavMatchAuditTest, CrossingsAreSplitByGapsAndFusedOnlyByARightPairInTime) {
+  CrossUavMatchAuditOptions o;
+  o.crossing_gap_s = 2.0;
+  CrossUavMatchAudit audit(o);
+  const auto at = [&](int64_t t_us) {
+    for (StateLandmark& l : own) l.last_seen_us = t_us;
+    audit.observe(1, t_us, own, truthOf(own_truth), 2, peer, truthOf(peer_truth));
+  };
+  // First crossing: 10.0–11.0 s (gaps of 0.5 s); second: from 20 s (9 s later).
+  for (int64_t t : {10'000'000, 10'500'000, 11'000'000}) at(t);
+  at(20'000'000);
+  EXPECT_EQ(audit.report().crossings, 2);
+  // A right pair fused 1.5 s after the first crossing's last frame (the exchange's latency)
+  // belongs to it; a wrong pair in the second does not fuse it; a right pair without a time
+  // is attributed to none.
+  audit.fused(1, 1, truthOf(own_truth), 2, 11, truthOf(peer_truth), 12'500'000);
+  audit.fused(2, 11, truthOf(peer_truth), 1, 1, truthOf(own_truth), 12'500'000);
+  audit.fused(1, 2, truthOf(own_truth), 2, 13, truthOf(peer_truth), 20'000'000);
+  audit.fused(1, 1, truthOf(own_truth), 2, 11, truthOf(peer_truth));
+  EXPECT_EQ(audit.report().crossings_fused, 1);
+  const std::vector<Crossing> c = audit.crossings();
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0].start_us, 10'000'000);
+  EXPECT_EQ(c[0].end_us, 11'000'000);
+  EXPECT_EQ(c[0].frames, 3);
+  EXPECT_EQ(c[0].fused_right, 2);  // both directions of the exchange
+  EXPECT_EQ(c[1].fused_right, 0);
+  // Fused 3 s after the second crossing's last frame: beyond the gap, no crossing.
+  audit.fused(1, 3, truthOf(own_truth), 2, 13, truthOf(peer_truth), 23'000'000);
+  EXPECT_EQ(audit.report().crossings_fused, 1);
+  const Json j = audit.json();
+  ASSERT_EQ(j["crossings"].size(), 2u) << j.dump();
+  EXPECT_EQ(j["crossings"][0]["uavs"][1].get<int>(), 2);
+  EXPECT_DOUBLE_EQ(j["crossings"][1]["start_s"].get<double>(), 20.0);
+  EXPECT_EQ(j["crossings_fused"].get<long>(), 1);
+}
+
+TEST_F(CrossUavMatchAuditTest, ACrossingNeedsGroundThePeerMappedNotATwin) {
+  CrossUavMatchAuditOptions o;
+  o.crossing_radius_m = 1.0;
+  CrossUavMatchAudit audit(o);
+  const std::vector<StateLandmark> seen{landmark(5, 7, kNow, 100)};
+  // 0.5 m from the peer's 14: over its map, but no twin (0.1 m).
+  audit.observe(1, kNow, seen, truthOf({{5, {20.5, 0.0, 0.0}}}), 2, peer, truthOf(peer_truth));
+  EXPECT_EQ(audit.report().twin_observations, 0);
+  EXPECT_EQ(audit.report().crossings, 1);
+  // 2 m from it, 5 s later: no crossing.
+  const std::vector<StateLandmark> later{landmark(5, 7, kNow + 5'000'000, 100)};
+  audit.observe(1, kNow + 5'000'000, later, truthOf({{5, {22.0, 0.0, 0.0}}}), 2, peer,
+                truthOf(peer_truth));
+  EXPECT_EQ(audit.report().crossings, 1);
+  EXPECT_EQ(audit.report().crossings_fused, 0);
 }
 
 TEST(CrossUavMatchReport, PrecisionIsOneAndRecallZeroWhenNothingHappened) {

@@ -1,5 +1,6 @@
 #include "cvslam/simrun/cross_uav_match_audit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -30,6 +31,38 @@ CrossUavMatchAudit::PairKey CrossUavMatchAudit::key(int a, int64_t a_id, int b, 
   return {a, a_id, b, b_id};
 }
 
+void CrossUavMatchAudit::countCrossing(int a, int b, int64_t t_us) {
+  std::vector<Crossing>& list = crossings_[std::minmax(a, b)];
+  const auto gap_us = static_cast<int64_t>(std::llround(o_.crossing_gap_s * 1e6));
+  if (list.empty() || t_us - list.back().end_us > gap_us) {
+    Crossing c;
+    std::tie(c.uav_a, c.uav_b) = std::minmax(a, b);
+    c.start_us = c.end_us = t_us;
+    list.push_back(c);
+    ++report_.crossings;
+  }
+  Crossing& c = list.back();
+  c.end_us = std::max(c.end_us, t_us);
+  ++c.frames;
+}
+
+Crossing* CrossUavMatchAudit::crossingAt(int a, int b, int64_t t_us) {
+  if (t_us < 0) return nullptr;
+  auto it = crossings_.find(std::minmax(a, b));
+  if (it == crossings_.end()) return nullptr;
+  const auto gap_us = static_cast<int64_t>(std::llround(o_.crossing_gap_s * 1e6));
+  for (auto c = it->second.rbegin(); c != it->second.rend(); ++c) {
+    if (t_us >= c->start_us && t_us <= c->end_us + gap_us) return &*c;
+  }
+  return nullptr;
+}
+
+std::vector<Crossing> CrossUavMatchAudit::crossings() const {
+  std::vector<Crossing> out;
+  for (const auto& [pair, list] : crossings_) out.insert(out.end(), list.begin(), list.end());
+  return out;
+}
+
 void CrossUavMatchAudit::observe(int agent, int64_t t_us, const std::vector<StateLandmark>& own,
                                  const Truth& own_truth, int peer,
                                  const std::vector<StateLandmark>& peer_state,
@@ -41,12 +74,15 @@ void CrossUavMatchAudit::observe(int agent, int64_t t_us, const std::vector<Stat
     Eigen::Vector3d p;
     if (peer_truth(l.id, &p)) theirs.emplace_back(&l, p);
   }
+  bool over_peer_map = false;
   for (const StateLandmark& mine : own) {
     if (mine.last_seen_us != t_us) continue;
     Eigen::Vector3d p_mine;
     if (!own_truth(mine.id, &p_mine)) continue;
     for (const auto& [twin, p_twin] : theirs) {
-      if ((p_twin - p_mine).norm() > o_.twin_radius_m) continue;
+      const double d = (p_twin - p_mine).norm();
+      if (d <= o_.crossing_radius_m) over_peer_map = true;
+      if (d > o_.twin_radius_m) continue;
       ++report_.twin_observations;
       twins_.insert(key(agent, mine.id, peer, twin->id));
       if (twin->index != mine.index) continue;
@@ -61,10 +97,11 @@ void CrossUavMatchAudit::observe(int agent, int64_t t_us, const std::vector<Stat
     }
   }
   report_.distinct_twin_pairs = static_cast<long>(twins_.size());
+  if (over_peer_map) countCrossing(agent, peer, t_us);
 }
 
 void CrossUavMatchAudit::fused(int agent, int64_t own_id, const Truth& own_truth, int peer,
-                               int64_t peer_id, const Truth& peer_truth) {
+                               int64_t peer_id, const Truth& peer_truth, int64_t t_us) {
   ++report_.fused;
   Eigen::Vector3d p_own, p_peer;
   if (peer_id < 0 || !own_truth(own_id, &p_own) || !peer_truth(peer_id, &p_peer)) {
@@ -73,6 +110,9 @@ void CrossUavMatchAudit::fused(int agent, int64_t own_id, const Truth& own_truth
   }
   if ((p_own - p_peer).norm() > o_.twin_radius_m) return;
   ++report_.fused_right;
+  if (Crossing* c = crossingAt(agent, peer, t_us)) {
+    if (c->fused_right++ == 0) ++report_.crossings_fused;
+  }
   // A pair fused that was never seen as an opportunity (the twin left the view before the
   // exchange completed) still counts as found.
   const PairKey k = key(agent, own_id, peer, peer_id);
@@ -96,6 +136,20 @@ Json CrossUavMatchAudit::json() const {
   j["distinct_twin_pairs_fused"] = r.distinct_twin_pairs_fused;
   j["precision"] = r.precision();
   j["recall"] = r.recall();
+  j["crossing_radius_m"] = o_.crossing_radius_m;
+  j["crossing_gap_s"] = o_.crossing_gap_s;
+  j["crossings_fused"] = r.crossings_fused;
+  Json list = Json::array();
+  for (const Crossing& c : crossings()) {
+    Json e;
+    e["uavs"] = {c.uav_a, c.uav_b};
+    e["start_s"] = static_cast<double>(c.start_us) * 1e-6;
+    e["end_s"] = static_cast<double>(c.end_us) * 1e-6;
+    e["frames"] = c.frames;
+    e["fused_right"] = c.fused_right;
+    list.push_back(e);
+  }
+  j["crossings"] = list;
   return j;
 }
 
@@ -103,14 +157,15 @@ std::string CrossUavMatchAudit::summaryLine() const {
   const CrossUavMatchReport& r = report_;
   const auto pct = [](long a, long b) { return b > 0 ? 100.0 * a / b : 0.0; };
   char buf[512];
-  std::snprintf(buf, sizeof(buf),
-                "cross-UAV matches against the truth: %ld twin pairs in view (%ld observations, "
-                "%.0f %% same index, %.0f %% also within the descriptor gate); fused %ld pairs, "
-                "%ld right (precision %.1f %%, %ld without truth), recall %.1f %%",
-                r.distinct_twin_pairs, r.twin_observations,
-                pct(r.twin_same_index, r.twin_observations),
-                pct(r.twin_descriptor_ok, r.twin_observations), r.fused, r.fused_right,
-                100.0 * r.precision(), r.fused_unknown, 100.0 * r.recall());
+  std::snprintf(
+      buf, sizeof(buf),
+      "cross-UAV matches against the truth: %ld twin pairs in view (%ld observations, "
+      "%.0f %% same index, %.0f %% also within the descriptor gate); fused %ld pairs, "
+      "%ld right (precision %.1f %%, %ld without truth), recall %.1f %%; %ld of %ld "
+      "crossings with a right pair fused",
+      r.distinct_twin_pairs, r.twin_observations, pct(r.twin_same_index, r.twin_observations),
+      pct(r.twin_descriptor_ok, r.twin_observations), r.fused, r.fused_right, 100.0 * r.precision(),
+      r.fused_unknown, 100.0 * r.recall(), r.crossings_fused, r.crossings);
   return buf;
 }
 
