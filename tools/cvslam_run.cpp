@@ -222,13 +222,13 @@ void printAgentSummary(const cvslam::SimulatedTeamRun& run, std::size_t i, const
       "%.2f ms; stereo precision %.4f (%ld checked), map "
       "association precision %.4f (%ld of %ld type-1 checked; %.4f of the %ld the filter "
       "used); disparity error of right matches mean %.3f px, RMS %.3f px; re-observed left "
-      "pixel error RMS %.3f px\n",
+      "pixel error RMS %.3f px; the filter assumed %.3f px\n",
       static_cast<double>(s.observations) / n, s.render_ms / n, s.front_end_ms / n,
       s.front_end.detect_ms / n, s.front_end.stereo_ms / n, s.front_end.describe_ms / n,
       s.front_end.index_ms / n, s.association_ms / n, s.filter_ms / n, s.stereoPrecision(),
       s.stereo_checked, s.associationPrecision(), s.associated_checked, s.associated,
       s.usedAssociationPrecision(), s.associated_checked - s.associated_unused_checked,
-      s.disparityBias(), s.disparityRms(), s.reobservationRms());
+      s.disparityBias(), s.disparityRms(), s.reobservationRms(), rs->lastResult().pixel_sigma);
 }
 
 /// run.json: what, beyond every agent's config_used.yaml, the run needs to be repeated.
