@@ -7,7 +7,8 @@
 #    least twice the twin pairs in view;
 #  - the shipped exchange (a peer's landmarks matched to unmapped observed points, archived
 #    landmarks offered where a peer looks): at least three times the fused pairs of the
-#    thesis's exchange, and at least 8.
+#    thesis's exchange, and at least 8, and a right pair fused on each of the three crossings
+#    (issue #14: "landmarks fused on every crossing").
 # Usage: cmake -DRUN=<cvslam_run> -DSOURCE=<source dir> -DOUT=<dir> -P new_landmark_order.cmake
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
@@ -44,6 +45,12 @@ foreach(run confirmation response shipped)
     message(FATAL_ERROR "${run}: a fused cross-UAV pair is wrong: ${audit}")
   endif()
 endforeach()
+string(JSON crossings LENGTH "${audit}" crossings)  # the last run: shipped
+string(JSON crossings_fused GET "${audit}" crossings_fused)
+if(crossings LESS 3 OR NOT crossings_fused EQUAL crossings)
+  message(FATAL_ERROR "shipped: ${crossings_fused} of ${crossings} crossings with a right pair "
+                      "fused; expected all of at least 3")
+endif()
 math(EXPR twice "2 * ${twins_confirmation}")
 if(twins_response LESS twice OR twins_response LESS 4)
   message(FATAL_ERROR "twin pairs in view: response ${twins_response}, confirmation "
