@@ -228,7 +228,8 @@ void printAgentSummary(const cvslam::SimulatedTeamRun& run, std::size_t i, const
       s.front_end.index_ms / n, s.association_ms / n, s.filter_ms / n, s.stereoPrecision(),
       s.stereo_checked, s.associationPrecision(), s.associated_checked, s.associated,
       s.usedAssociationPrecision(), s.associated_checked - s.associated_unused_checked,
-      s.disparityBias(), s.disparityRms(), s.reobservationRms(), rs->lastResult().pixel_sigma);
+      s.disparityBias(), s.disparityRms(), s.reobservationRms(),
+      run.slam(i).options().slam.pixel_sigma);
 }
 
 /// run.json: what, beyond every agent's config_used.yaml, the run needs to be repeated.

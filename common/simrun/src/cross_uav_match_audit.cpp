@@ -31,10 +31,13 @@ CrossUavMatchAudit::PairKey CrossUavMatchAudit::key(int a, int64_t a_id, int b, 
   return {a, a_id, b, b_id};
 }
 
+int64_t CrossUavMatchAudit::gapUs() const {
+  return static_cast<int64_t>(std::llround(o_.crossing_gap_s * 1e6));
+}
+
 void CrossUavMatchAudit::countCrossing(int a, int b, int64_t t_us) {
   std::vector<Crossing>& list = crossings_[std::minmax(a, b)];
-  const auto gap_us = static_cast<int64_t>(std::llround(o_.crossing_gap_s * 1e6));
-  if (list.empty() || t_us - list.back().end_us > gap_us) {
+  if (list.empty() || t_us - list.back().end_us > gapUs()) {
     Crossing c;
     std::tie(c.uav_a, c.uav_b) = std::minmax(a, b);
     c.start_us = c.end_us = t_us;
@@ -50,9 +53,8 @@ Crossing* CrossUavMatchAudit::crossingAt(int a, int b, int64_t t_us) {
   if (t_us < 0) return nullptr;
   auto it = crossings_.find(std::minmax(a, b));
   if (it == crossings_.end()) return nullptr;
-  const auto gap_us = static_cast<int64_t>(std::llround(o_.crossing_gap_s * 1e6));
   for (auto c = it->second.rbegin(); c != it->second.rend(); ++c) {
-    if (t_us >= c->start_us && t_us <= c->end_us + gap_us) return &*c;
+    if (t_us >= c->start_us && t_us <= c->end_us + gapUs()) return &*c;
   }
   return nullptr;
 }

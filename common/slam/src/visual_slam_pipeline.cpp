@@ -182,7 +182,6 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
   }
   if (o_.second_order_noise) slam.setSecondOrderNoise(*o_.second_order_noise);
   if (o_.pixel_sigma) slam.setPixelSigma(*o_.pixel_sigma);
-  r.pixel_sigma = slam.options().slam.pixel_sigma;
   r.frame.t_us = t_us;
   if (left.empty() || right.empty()) return Status::Error("pipeline: empty image");
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1) {

@@ -98,6 +98,8 @@ class CrossUavMatchAudit {
   /// Unordered pair of (agent, landmark) ids.
   using PairKey = std::tuple<int, int64_t, int, int64_t>;
   static PairKey key(int a, int64_t a_id, int b, int64_t b_id);
+  /// crossing_gap_s [µs].
+  int64_t gapUs() const;
   /// A frame of UAV a over b's map at t_us: extends their last crossing or opens one.
   void countCrossing(int a, int b, int64_t t_us);
   /// The crossing of a and b that a right pair fused at t_us belongs to; null if none.

@@ -134,7 +134,6 @@ struct VisualFrameResult {
   int prioritised = 0;          ///< observations kept under max_observations for a priority region
   double association_ms = 0.0;  ///< prediction and association [ms]
   double filter_ms = 0.0;       ///< VisualInertialSlam::processFrame [ms]
-  double pixel_sigma = 0.0;     ///< the pixel σ the filter assumed for this frame [px]
 };
 
 /// Loads the feature-index vocabulary of the configured detector (`vocabulary` or
