@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cvslam/coop/cc_team_filter.h"
+#include "cvslam/ins/imu_noise_monitor.h"
 #include "cvslam/slam/k_nearest_map_manager.h"
 #include "cvslam/slam/landmark_archive.h"
 #include "cvslam/slam/landmark_book.h"
@@ -28,6 +29,8 @@ struct CcVehicle {
         key(VariableKey::vehicle(static_cast<uint64_t>(id))),
         camera(cam),
         propagator(ins),
+        noise_monitor(ins.noise_monitor),
+        measure_noise(ins.noise_monitor.enabled),
         updater(key, cam, slam),
         initialiser(key, cam, slam),
         loop_closer(key, cam, slam) {}
@@ -42,6 +45,8 @@ struct CcVehicle {
   VariableKey key;
   StereoCamera camera;
   InsPropagator propagator;
+  ImuNoiseMonitor noise_monitor;  // the IMU's in-flight noise (ins.measure_noise_density)
+  bool measure_noise;
   VehiclePropagation propagation;
   LandmarkBook book;  // the state landmarks this UAV observed
   StereoUpdater updater;

@@ -2,6 +2,7 @@
 
 #include <ceres/jet.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -21,6 +22,7 @@ Status InsPropagatorOptions::load(const ConfigNode& node) {
   node.get("estimate_imu_bias", estimate_imu_bias);
   node.get("gravity", gravity);
   node.get("max_dt", max_dt);
+  noise_monitor.load(node);
   std::string attitude_name = attitude == vehicle::Attitude::kEuler ? "euler" : "error_state";
   node.get("attitude", attitude_name);
   node.check(attitude_name == "euler" || attitude_name == "error_state", "attitude",
@@ -51,6 +53,9 @@ std::string InsPropagatorOptions::print() const {
      << "estimate_imu_bias: " << (estimate_imu_bias ? "true" : "false") << "\n"
      << "gravity: " << gravity << "\n"
      << "max_dt: " << max_dt << "\n"
+     << "measure_noise_density: " << (noise_monitor.enabled ? "true" : "false") << "\n"
+     << "noise_tau_s: " << noise_monitor.tau_s << "\n"
+     << "noise_window_s: " << noise_monitor.window_s << "\n"
      << "attitude: " << (attitude == vehicle::Attitude::kEuler ? "euler" : "error_state") << "\n";
   return os.str();
 }
@@ -325,13 +330,27 @@ ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, int64_t t_us) {
   return out;
 }
 
+double InsPropagator::gyroNoiseDensity() const {
+  return std::max(o_.noise_density_scale * o_.gyro_noise_density, measured_gyro_density_);
+}
+
+double InsPropagator::accelNoiseDensity() const {
+  return std::max(o_.noise_density_scale * o_.accel_noise_density, measured_accel_density_);
+}
+
 Eigen::VectorXd InsPropagator::noiseVariances(double dt) const {
   Eigen::VectorXd q(noiseSize());
   const double white = o_.noise_density_scale * o_.noise_density_scale / dt;
   const double walk_scale = o_.random_walk_scale * o_.datasheet_random_walk_scale;
   const double walk = walk_scale * walk_scale / dt;
-  q.segment<3>(0).setConstant(o_.accel_noise_density * o_.accel_noise_density * white);
-  q.segment<3>(3).setConstant(o_.gyro_noise_density * o_.gyro_noise_density * white);
+  // The configured term as it always was (bit for bit) unless the measured one is larger.
+  const auto variance = [&](double density, double measured) {
+    const double configured = density * density * white;
+    const double in_flight = measured * measured / dt;
+    return in_flight > configured ? in_flight : configured;
+  };
+  q.segment<3>(0).setConstant(variance(o_.accel_noise_density, measured_accel_density_));
+  q.segment<3>(3).setConstant(variance(o_.gyro_noise_density, measured_gyro_density_));
   if (o_.estimate_imu_bias) {
     q.segment<3>(6).setConstant(o_.accel_random_walk * o_.accel_random_walk * walk);
     q.segment<3>(9).setConstant(o_.gyro_random_walk * o_.gyro_random_walk * walk);

@@ -18,7 +18,11 @@ AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
     agent_options.ins.accel_random_walk = imu.accel_random_walk;
     // A synthesised IMU's own densities are its truth; a recording's (imu.recording) are its
     // datasheet, which a real IMU in flight exceeds.
-    if (imu.recording.empty()) agent_options.ins.datasheet_random_walk_scale = 1.0;
+    // Nor is there anything to measure in flight that the filter does not know already.
+    if (imu.recording.empty()) {
+      agent_options.ins.datasheet_random_walk_scale = 1.0;
+      agent_options.ins.noise_monitor.enabled = false;
+    }
   }
   const sim::InitialEstimate& init = agent.initialEstimate();
   AgentFilterSetup setup = initialEstimateSetup(init.state.t_us, init.state.p_BinN, init.state.v_B,

@@ -23,6 +23,7 @@ VisualInertialSlam::VisualInertialSlam(const VisualInertialSlamOptions& options,
     : o_(options),
       camera_(camera),
       propagator_(options.ins),
+      noise_monitor_(options.ins.noise_monitor),
       map_manager_(options.map),
       updater_(vehicle_, camera, options.slam),
       initialiser_(vehicle_, camera, options.slam),
@@ -138,11 +139,17 @@ Status VisualInertialSlam::initializeVehicle(int64_t t_us, const Eigen::VectorXd
 
 Status VisualInertialSlam::addImu(const ImuSample& sample) {
   if (!initialized_) return Status::Error("addImu before initialize");
-  return propagation_.addImu(sample);
+  if (Status s = propagation_.addImu(sample); !s.ok()) return s;
+  if (o_.ins.noise_monitor.enabled) noise_monitor_.add(sample);
+  return Status::Ok();
 }
 
 Status VisualInertialSlam::propagateTo(int64_t t_us) {
   if (!initialized_) return Status::Error("propagateTo before initialize");
+  if (noise_monitor_.ready()) {
+    propagator_.setMeasuredNoiseDensities(noise_monitor_.gyroDensity(),
+                                          noise_monitor_.accelDensity());
+  }
   if (Status s = propagation_.propagateTo(t_us, propagator_, policy_, vehicle_, state_, book_);
       !s.ok()) {
     return s;

@@ -32,6 +32,7 @@
 #include "cvslam/core/status.h"
 #include "cvslam/geometry/euler.h"
 #include "cvslam/geometry/so3.h"
+#include "cvslam/ins/imu_noise_monitor.h"
 #include "cvslam/ins/imu_sample.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 
@@ -61,6 +62,10 @@ struct InsPropagatorOptions {
   /// 3: most of what larger factors gain on euroc_mh03_hall's real-IMU UAV over seeds 301–320
   /// (docs/results/euroc_recorded.md "Datasheet random walks").
   double datasheet_random_walk_scale = 3.0;
+  /// The white-noise densities measured in flight (imu_noise_monitor.h; keys
+  /// measure_noise_density, noise_tau_s, noise_window_s): the filter assumes the larger of
+  /// them and the scaled densities above. Off for a simulated IMU, whose densities are true.
+  ImuNoiseMonitorOptions noise_monitor;
   /// Adds b_a and b_g (6 states) to the vehicle state.
   bool estimate_imu_bias = false;
   /// |g_N| [m/s²]; g_N = [0 0 gravity] in NED.
@@ -102,7 +107,16 @@ class InsPropagator {
   int noiseSize() const { return stateSize() - 3; }
 
   /// Diagonal of Q_w for an interval dt: σ²/dt for each noise (zero-order-hold white noise).
+  /// The white noises' σ is max(noise_density_scale × density, the measured density).
   Eigen::VectorXd noiseVariances(double dt) const;
+
+  /// Densities measured in flight (ImuNoiseMonitor) [rad/s/√Hz], [m/s²/√Hz]; 0: none.
+  void setMeasuredNoiseDensities(double gyro, double accel) {
+    measured_gyro_density_ = gyro;
+    measured_accel_density_ = accel;
+  }
+  double gyroNoiseDensity() const;   ///< σ_g the model uses
+  double accelNoiseDensity() const;  ///< σ_a the model uses
 
   /// Mean of one RK4 step from s0 to s1 with the noise w held over the step (w may be zero).
   /// x's attitude is read per options().attitude; error_state: about the nominal q_BtoN, and
@@ -152,6 +166,8 @@ class InsPropagator {
 
  private:
   InsPropagatorOptions o_;
+  double measured_gyro_density_ = 0.0;
+  double measured_accel_density_ = 0.0;
 };
 
 // ---- template implementation ----------------------------------------------------------

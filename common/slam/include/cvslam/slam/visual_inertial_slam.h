@@ -32,6 +32,7 @@
 #include "cvslam/filter/slam_state.h"
 #include "cvslam/filter/update_policy.h"
 #include "cvslam/filter/vehicle_model.h"
+#include "cvslam/ins/imu_noise_monitor.h"
 #include "cvslam/ins/imu_sample.h"
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/slam/ci_updater.h"
@@ -201,6 +202,7 @@ class VisualInertialSlam {
   VisualInertialSlamOptions o_;
   StereoCamera camera_;
   InsPropagator propagator_;
+  ImuNoiseMonitor noise_monitor_;  // the IMU's in-flight noise (ins.measure_noise_density)
   KNearestMapManager map_manager_;
   UpdatePolicy policy_;
   Status policy_status_;

@@ -1,0 +1,72 @@
+#include "cvslam/ins/imu_noise_monitor.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cvslam/io/config_node.h"
+
+namespace cvslam {
+
+Status ImuNoiseMonitorOptions::load(const ConfigNode& node) {
+  node.get("measure_noise_density", enabled);
+  node.get("noise_tau_s", tau_s);
+  node.get("noise_window_s", window_s);
+  node.check(tau_s > 0, "noise_tau_s", "must be > 0");
+  node.check(window_s >= 4 * tau_s, "noise_window_s", "must be at least 4 × noise_tau_s");
+  return node.status();
+}
+
+void ImuNoiseMonitor::add(const ImuSample& sample) {
+  if (started_ && sample.t_us <= last_us_) return;
+  if (!started_) {
+    started_ = true;
+    block_start_us_ = sample.t_us;
+  }
+  const int64_t tau_us = static_cast<int64_t>(std::llround(o_.tau_s * 1e6));
+  if (count_ > 0 && sample.t_us - block_start_us_ >= tau_us) {
+    // Close the block: its length runs to this sample, the start of the next.
+    blocks_.push_back({sum_ / count_, 1e-6 * static_cast<double>(sample.t_us - block_start_us_)});
+    sum_.setZero();
+    count_ = 0;
+    block_start_us_ = sample.t_us;
+    if (blocks_.size() > 4) blocks_.pop_front();
+    if (blocks_.size() == 4) {
+      Term term;
+      term.t_us = sample.t_us;
+      term.d = blocks_[3].mean - 3.0 * blocks_[2].mean + 3.0 * blocks_[1].mean - blocks_[0].mean;
+      term.tau_s = 0.25 * (blocks_[0].length_s + blocks_[1].length_s + blocks_[2].length_s +
+                           blocks_[3].length_s);
+      terms_.push_back(term);
+      sum_d_ += term.d;
+      sum_d2_ += term.d.cwiseAbs2();
+      sum_tau_ += term.tau_s;
+    }
+    const int64_t window_us = static_cast<int64_t>(std::llround(o_.window_s * 1e6));
+    while (!terms_.empty() && sample.t_us - terms_.front().t_us > window_us) {
+      sum_d_ -= terms_.front().d;
+      sum_d2_ -= terms_.front().d.cwiseAbs2();
+      sum_tau_ -= terms_.front().tau_s;
+      terms_.pop_front();
+    }
+  }
+  Vector6d x;
+  x << sample.gyro_B, sample.accel_B;
+  sum_ += x;
+  ++count_;
+  last_us_ = sample.t_us;
+}
+
+double ImuNoiseMonitor::density(int first_row) const {
+  if (!ready()) return 0.0;
+  const double n = static_cast<double>(terms_.size());
+  const Vector6d mean = sum_d_ / n;
+  // var(d) per axis (the mean removes a cubic term common to the window), averaged over axes.
+  double var = 0.0;
+  for (int i = first_row; i < first_row + 3; ++i) {
+    var += std::max(0.0, sum_d2_(i) / n - mean(i) * mean(i));
+  }
+  var /= 3.0;
+  return std::sqrt(var * (sum_tau_ / n) / 20.0);
+}
+
+}  // namespace cvslam
