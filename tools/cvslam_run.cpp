@@ -212,6 +212,15 @@ void printAgentSummary(const cvslam::SimulatedTeamRun& run, std::size_t i, const
       run.agentId(i), c.frames, c.frames > 0 ? c.cpu_ms / c.frames : 0.0, run.slam(i).map().size(),
       loop.c_str(), st.observations_rejected, st.observations_accepted + st.observations_rejected,
       st.theta_reductions);
+  const cvslam::InsPropagatorOptions& ins = run.slam(i).options().ins;
+  if (ins.noise_monitor.enabled) {
+    const cvslam::InsPropagator& model = run.slam(i).insModel();
+    std::printf(
+        "        IMU white noise assumed at the end (measured in flight, at least the "
+        "configured): gyro %.3g rad/s/√Hz (%.1f× configured), accel %.3g m/s²/√Hz (%.1f×)\n",
+        model.gyroNoiseDensity(), model.gyroNoiseDensity() / ins.gyro_noise_density,
+        model.accelNoiseDensity(), model.accelNoiseDensity() / ins.accel_noise_density);
+  }
   const auto* rs = dynamic_cast<const cvslam::RenderedSensing*>(&run.sensing(i));
   if (rs == nullptr) return;
   const cvslam::RenderedSensingStats& s = rs->stats();

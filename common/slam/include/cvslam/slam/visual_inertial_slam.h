@@ -186,6 +186,8 @@ class VisualInertialSlam {
   /// off); the loop update's iterated Jacobians too. The oracle must outlive this filter.
   void setLinearisationOracle(const LinearisationOracle* oracle);
   const VisualInertialSlamOptions& options() const { return o_; }
+  /// The INS process model, with the noise it assumes now (ins.measure_noise_density).
+  const InsPropagator& insModel() const { return propagator_; }
   const StereoCamera& camera() const { return camera_; }
 
  private:
