@@ -63,6 +63,13 @@ TEST(ImuNoiseMonitor, TheSimulatedRotorLineIsNotCountedAsNoise) {
   ImuNoiseMonitor naive(per_sample);
   fly(0.0, 10.0, 1.0, 0.5, 0.02, rng, &naive);
   EXPECT_GT(naive.accelDensity(), 10.0 * kAccelDensity);
+  // Disabled (a simulated IMU's filter, whose densities are true): never ready.
+  ImuNoiseMonitorOptions off;
+  off.enabled = false;
+  ImuNoiseMonitor disabled(off);
+  fly(0.0, 10.0, 1.0, 0.5, 0.02, rng, &disabled);
+  EXPECT_FALSE(disabled.ready());
+  EXPECT_EQ(disabled.accelDensity(), 0.0);
 }
 
 TEST(ImuNoiseMonitor, FollowsTakeOffOverItsWindowAndNeedsEnoughTerms) {

@@ -218,7 +218,7 @@ Status CcTeamFilter::processBatch(const CcObservationBatch& batch, CcStepReport*
     if (Status st = v.propagation.addImu(s); !st.ok()) {
       return reject(&stats_, &stats_.rejected_invalid, &r, st.message());
     }
-    if (v.measure_noise) v.noise_monitor.add(s);
+    v.noise_monitor.add(s);
   }
   if (v.noise_monitor.ready()) {
     v.propagator.setMeasuredNoiseDensities(v.noise_monitor.gyroDensity(),

@@ -30,7 +30,6 @@ struct CcVehicle {
         camera(cam),
         propagator(ins),
         noise_monitor(ins.noise_monitor),
-        measure_noise(ins.noise_monitor.enabled),
         updater(key, cam, slam),
         initialiser(key, cam, slam),
         loop_closer(key, cam, slam) {}
@@ -46,7 +45,6 @@ struct CcVehicle {
   StereoCamera camera;
   InsPropagator propagator;
   ImuNoiseMonitor noise_monitor;  // the IMU's in-flight noise (ins.measure_noise_density)
-  bool measure_noise;
   VehiclePropagation propagation;
   LandmarkBook book;  // the state landmarks this UAV observed
   StereoUpdater updater;

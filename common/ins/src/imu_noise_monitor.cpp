@@ -17,7 +17,7 @@ Status ImuNoiseMonitorOptions::load(const ConfigNode& node) {
 }
 
 void ImuNoiseMonitor::add(const ImuSample& sample) {
-  if (started_ && sample.t_us <= last_us_) return;
+  if (!o_.enabled || (started_ && sample.t_us <= last_us_)) return;
   if (!started_) {
     started_ = true;
     block_start_us_ = sample.t_us;

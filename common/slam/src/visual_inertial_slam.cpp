@@ -140,7 +140,7 @@ Status VisualInertialSlam::initializeVehicle(int64_t t_us, const Eigen::VectorXd
 Status VisualInertialSlam::addImu(const ImuSample& sample) {
   if (!initialized_) return Status::Error("addImu before initialize");
   if (Status s = propagation_.addImu(sample); !s.ok()) return s;
-  if (o_.ins.noise_monitor.enabled) noise_monitor_.add(sample);
+  noise_monitor_.add(sample);
   return Status::Ok();
 }
 

@@ -46,7 +46,8 @@ class ImuNoiseMonitor {
  public:
   explicit ImuNoiseMonitor(const ImuNoiseMonitorOptions& options = {}) : o_(options) {}
 
-  /// Adds the next sample (samples not later than the previous one are ignored).
+  /// Adds the next sample (samples not later than the previous one are ignored, and every
+  /// sample when the options disable the measurement: it is then never ready).
   void add(const ImuSample& sample);
   /// Enough differences in the window for an estimate.
   bool ready() const { return static_cast<int>(terms_.size()) >= o_.min_terms; }
