@@ -2,7 +2,7 @@
 // The white-noise density of an IMU measured in flight from its own samples.
 //
 // A datasheet gives the noise of an IMU at rest. On a multirotor the rotors shake it: the real
-// EuRoC IMUs (ADIS16448 on a hexacopter) are 25–28× noisier in flight than their datasheet
+// EuRoC IMUs (ADIS16448 on a hexacopter) are 22–26× noisier in flight than their datasheet
 // (docs/results/euroc_recorded.md "In-flight noise"), and a filter that believes the datasheet
 // is over-confident in velocity and tilt. This monitor measures the noise the filter should
 // assume without knowing the motion, from a third difference of block means (a Hadamard-type
