@@ -43,7 +43,7 @@ TEST(ImuNoiseMonitor, MeasuresTheWhiteNoiseDensityWhileTheVehicleManoeuvres) {
     ImuNoiseMonitor monitor;
     fly(0.0, 10.0, scale, 0.0, 0.0, rng, &monitor);
     ASSERT_TRUE(monitor.ready());
-    // 4 s of 25 ms blocks: 160 overlapping third differences × 3 axes, a median: ±10 % (1σ).
+    // 4 s of 25 ms blocks: 160 overlapping third differences × 3 axes, a median: ±7 % (1σ).
     EXPECT_NEAR(monitor.gyroDensity() / (scale * kGyroDensity), 1.0, 0.2) << scale;
     EXPECT_NEAR(monitor.accelDensity() / (scale * kAccelDensity), 1.0, 0.2) << scale;
   }
