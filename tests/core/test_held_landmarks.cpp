@@ -7,13 +7,17 @@
 
 #include <Eigen/Eigenvalues>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "cvslam/filter/covariance_helper.h"
 #include "cvslam/filter/update_policy.h"
+#include "cvslam/io/config_node.h"
 #include "cvslam/slam/landmark_archive.h"
 #include "cvslam/slam/landmark_book.h"
 #include "cvslam/slam/landmark_lifecycle.h"
+#include "cvslam/slam/slam_options.h"
 #include "filter_fixtures.h"
 
 namespace cvslam {
@@ -199,6 +203,74 @@ TEST(HeldLandmark, NearestEvictionKeepsTheLandmarksNearSomeVehiclesView) {
   archiveLandmark(state, archive_one, 103, std::nullopt, 2'000'000, 1, m_stars);
   EXPECT_FALSE(isHeld(state, 102));
   EXPECT_TRUE(isHeld(state, 103));
+}
+
+// Anchors (SlamOptions::anchor_landmarks): beyond the recent ones, older held landmarks stay
+// spread over the map; of the two nearest each other, the less well known leaves.
+TEST(HeldLandmark, AnchorsStaySpreadOverTheMap) {
+  const auto build = [](double var_10, double var_11) {
+    SlamState state;
+    EXPECT_TRUE(CovarianceHelper::addVariable(state, VariableKey::vehicle(0),
+                                              Eigen::VectorXd::Zero(9),
+                                              Eigen::MatrixXd::Identity(9, 9))
+                    .ok());
+    // Along x: 0, 10 and 11 (a dense pair), 20, 30; archived in that order.
+    const std::vector<std::pair<double, double>> x_var = {
+        {0.0, 1.0}, {10.0, var_10}, {11.0, var_11}, {20.0, 1.0}, {30.0, 1.0}};
+    for (std::size_t i = 0; i < x_var.size(); ++i) {
+      EXPECT_TRUE(CovarianceHelper::addVariable(state, VariableKey::landmark(200 + i),
+                                                Eigen::Vector3d(x_var[i].first, 0, 0),
+                                                Eigen::Matrix3d::Identity() * x_var[i].second)
+                      .ok());
+    }
+    return state;
+  };
+  const auto archiveAll = [](SlamState& state, LandmarkArchive& archive, int anchors) {
+    for (int64_t i = 0; i < 5; ++i)
+      archiveLandmark(state, archive, 200 + i, std::nullopt, (i + 1) * 1'000'000, 1, {}, anchors);
+  };
+  // One recent (x = 30) and three anchors: the pair at 10 / 11 loses its less known member.
+  SlamState state = build(1.0, 2.0);
+  LandmarkArchive archive;
+  archiveAll(state, archive, 3);
+  EXPECT_EQ(state.count(VariableKey::Kind::kHeldLandmark), 4);
+  for (int64_t id : {200, 201, 203, 204}) EXPECT_TRUE(isHeld(state, id)) << id;
+  EXPECT_FALSE(isHeld(state, 202));
+  EXPECT_EQ(archive.size(), 5u);
+  SlamState other = build(2.0, 1.0);
+  LandmarkArchive other_archive;
+  archiveAll(other, other_archive, 3);
+  EXPECT_FALSE(isHeld(other, 201));
+  EXPECT_TRUE(isHeld(other, 202));
+  // Two anchors: the spread pair 0 / 20 stays, whatever the ages.
+  SlamState two = build(1.0, 2.0);
+  LandmarkArchive two_archive;
+  archiveAll(two, two_archive, 2);
+  for (int64_t id : {200, 203, 204}) EXPECT_TRUE(isHeld(two, id)) << id;
+  EXPECT_EQ(two.count(VariableKey::Kind::kHeldLandmark), 3);
+  // No anchors: the most recent only, as before.
+  SlamState none = build(1.0, 2.0);
+  LandmarkArchive none_archive;
+  archiveAll(none, none_archive, 0);
+  EXPECT_EQ(none.count(VariableKey::Kind::kHeldLandmark), 1);
+  EXPECT_TRUE(isHeld(none, 204));
+}
+
+TEST(HeldLandmark, AnchorOptionIsReadAndChecked) {
+  const auto load = [](const char* yaml, SlamOptions* o) {
+    auto node = ConfigNode::fromString(yaml, "slam.yaml");
+    EXPECT_TRUE(node.ok());
+    return o->load(*node);
+  };
+  SlamOptions o;
+  ASSERT_TRUE(load("anchor_landmarks: 7\n", &o).ok());
+  EXPECT_EQ(o.anchor_landmarks, 7);
+  for (const char* bad : {"anchor_landmarks: -1\n", "held_landmarks: 0\nanchor_landmarks: 5\n"}) {
+    SlamOptions b;
+    const Status s = load(bad, &b);
+    ASSERT_FALSE(s.ok()) << bad;
+    EXPECT_NE(s.message().find("anchor_landmarks"), std::string::npos) << s.message();
+  }
 }
 
 TEST(HeldLandmark, RekeyRefusesMissingAndTakenKeys) {

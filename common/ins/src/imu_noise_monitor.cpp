@@ -37,11 +37,9 @@ void ImuNoiseMonitor::add(const ImuSample& sample) {
       term.tau_s = 0.25 * (blocks_[0].length_s + blocks_[1].length_s + blocks_[2].length_s +
                            blocks_[3].length_s);
       terms_.push_back(term);
-      sum_tau_ += term.tau_s;
     }
     const int64_t window_us = static_cast<int64_t>(std::llround(o_.window_s * 1e6));
     while (!terms_.empty() && sample.t_us - terms_.front().t_us > window_us) {
-      sum_tau_ -= terms_.front().tau_s;
       terms_.pop_front();
     }
   }
@@ -66,7 +64,9 @@ double ImuNoiseMonitor::density(int first_row) const {
     var += *mid / kMedianOfChiSquare1;
   }
   var /= 3.0;
-  const double tau = sum_tau_ / static_cast<double>(terms_.size());
+  double tau = 0.0;
+  for (const Term& t : terms_) tau += t.tau_s;
+  tau /= static_cast<double>(terms_.size());
   return std::sqrt(var * tau / 20.0);
 }
 

@@ -25,9 +25,52 @@ Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const Stere
   return KNearestMapManager::virtualPoint(camera, x.p_BinN, x.R_BtoN, manager.sceneDepth(depths));
 }
 
+namespace {
+
+/// Of the held landmarks beyond the recent ones (`*pool`, ids), keeps `capacity` spread over
+/// the map as anchors and leaves in *pool those to marginalise: while too many remain, of the
+/// two nearest each other the one with the larger position variance goes (ties: the larger
+/// id), so the anchors thin evenly where the map is dense and keep the better known ones.
+void thinAnchors(const SlamState& state, int capacity, std::vector<int64_t>* pool) {
+  struct Anchor {
+    int64_t id;
+    Eigen::Vector3d p;
+    double variance;
+  };
+  std::vector<Anchor> anchors;
+  for (const int64_t id : *pool) {
+    const StateVariable* v = state.find(VariableKey::heldLandmark(static_cast<uint64_t>(id)));
+    anchors.push_back({id, state.value(*v), state.covarianceOf(*v).trace()});
+  }
+  std::vector<int64_t> leaving;
+  while (anchors.size() > static_cast<std::size_t>(capacity)) {
+    std::size_t a = 0, b = 1;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < anchors.size(); ++i) {
+      for (std::size_t j = i + 1; j < anchors.size(); ++j) {
+        const double d = (anchors[i].p - anchors[j].p).squaredNorm();
+        if (d < nearest) {
+          nearest = d;
+          a = i;
+          b = j;
+        }
+      }
+    }
+    const Anchor& x = anchors[a];
+    const Anchor& y = anchors[b];
+    const bool drop_a = x.variance != y.variance ? x.variance > y.variance : x.id > y.id;
+    const std::size_t drop = drop_a ? a : b;
+    leaving.push_back(anchors[drop].id);
+    anchors.erase(anchors.begin() + static_cast<std::ptrdiff_t>(drop));
+  }
+  *pool = std::move(leaving);
+}
+
+}  // namespace
+
 void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
                      std::optional<LandmarkBookEntry> record, int64_t t_us, int held_capacity,
-                     const std::vector<Eigen::Vector3d>& keep_near) {
+                     const std::vector<Eigen::Vector3d>& keep_near, int anchor_capacity) {
   const VariableKey key = VariableKey::landmark(static_cast<uint64_t>(id));
   const StateVariable* v = state.find(key);
   if (v == nullptr) return;
@@ -73,8 +116,11 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
     if (l.archived_us != r.archived_us) return l.archived_us < r.archived_us;
     return l.id < r.id;
   });
-  for (std::size_t i = 0; i + static_cast<std::size_t>(held_capacity) < held.size(); ++i) {
-    const int64_t leaving = held[i].id;
+  const std::size_t excess = held.size() - std::min(held.size(), std::size_t(held_capacity));
+  std::vector<int64_t> leaving_ids;
+  for (std::size_t i = 0; i < excess; ++i) leaving_ids.push_back(held[i].id);
+  if (anchor_capacity > 0) thinAnchors(state, anchor_capacity, &leaving_ids);
+  for (const int64_t leaving : leaving_ids) {
     const VariableKey held_key = VariableKey::heldLandmark(static_cast<uint64_t>(leaving));
     // The archive keeps the marginal as it is now (NH∞ updates may have inflated it).
     if (std::optional<ArchivedLandmark> entry = archive.take(leaving)) {

@@ -41,6 +41,10 @@ Status SlamOptions::load(const ConfigNode& node) {
              "must be intersection or independent (loop closing needs the archived estimate)");
   node.get("held_landmarks", held_landmarks);
   node.check(held_landmarks >= 0, "held_landmarks", "must be ≥ 0");
+  node.get("anchor_landmarks", anchor_landmarks);
+  node.check(anchor_landmarks >= 0, "anchor_landmarks", "must be ≥ 0");
+  node.check(anchor_landmarks == 0 || held_landmarks > 0, "anchor_landmarks",
+             "needs held_landmarks > 0 (anchors are held landmarks)");
   node.getEnum("held_eviction", held_eviction,
                {{"oldest", HeldEviction::kOldest}, {"nearest", HeldEviction::kNearest}});
   node.get("reactivation_min_omega", intersection.min_omega);

@@ -216,7 +216,7 @@ Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, Frame
     // An archived candidate that stays archived is not in the state.
     if (!state_.has(VariableKey::landmark(static_cast<uint64_t>(cand.landmark_id)))) continue;
     archiveLandmark(state_, archive_, cand.landmark_id, book_.remove(cand.landmark_id), t_us_,
-                    o_.slam.held_landmarks, keep_near);
+                    o_.slam.held_landmarks, keep_near, o_.slam.anchor_landmarks);
     ++report->archived;
   }
   // Re-activate the chosen archived landmarks (loop closing, §5.5.2), each as the options

@@ -79,7 +79,6 @@ class ImuNoiseMonitor {
   // The last four closed blocks, oldest first.
   std::deque<Block> blocks_;
   std::deque<Term> terms_;
-  double sum_tau_ = 0.0;
   mutable std::vector<double> scratch_;  // the median's workspace
 };
 

@@ -38,11 +38,12 @@ Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const Stere
 /// (slam_state.h, kHeldLandmark), and held landmarks are marginalised until at most
 /// held_capacity remain: with no `keep_near` points those archived longest ago, else those
 /// farthest from the nearest of the points (SlamOptions::HeldEviction; ties: the older, then the
-/// smaller id). Their archive entries are exact either way (a held landmark's mean and marginal
-/// covariance do not change).
+/// smaller id). With anchor_capacity > 0, of those beyond held_capacity up to anchor_capacity
+/// more stay held as anchors spread over the map (SlamOptions::anchor_landmarks). Their archive
+/// entries are exact either way (a held landmark's mean and marginal covariance do not change).
 void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
                      std::optional<LandmarkBookEntry> record, int64_t t_us, int held_capacity = 0,
-                     const std::vector<Eigen::Vector3d>& keep_near = {});
+                     const std::vector<Eigen::Vector3d>& keep_near = {}, int anchor_capacity = 0);
 
 /// True when archived landmark `id` is held in the state (it then re-enters exactly).
 bool isHeld(const SlamState& state, int64_t id);

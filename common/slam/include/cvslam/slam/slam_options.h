@@ -71,6 +71,12 @@ struct SlamOptions {
   ///    within about 1.5 s (a single agent's 100 last about 7 s).
   enum class HeldEviction { kOldest, kNearest };
   HeldEviction held_eviction = HeldEviction::kOldest;
+  /// Older held landmarks kept beyond held_landmarks as anchors spread over the whole map
+  /// (landmark_lifecycle.h): when the vehicle comes back after a long absence, a loop landmark
+  /// that is an anchor re-enters exactly, with its correlations, instead of by intersection,
+  /// which cannot know what the landmark and the vehicle share (docs/filter.md "Anchor
+  /// landmarks"). Each costs 3 state entries in every update. 0: none.
+  int anchor_landmarks = 0;
   /// kIntersection: the weight ω's bounds and objective, and whether landmarks that bring no
   /// gain are mapped anew (reactivation_options.h).
   ReactivationOptions intersection;
