@@ -116,7 +116,8 @@ void archiveLandmark(SlamState& state, LandmarkArchive& archive, int64_t id,
     if (l.archived_us != r.archived_us) return l.archived_us < r.archived_us;
     return l.id < r.id;
   });
-  const std::size_t excess = held.size() - std::min(held.size(), std::size_t(held_capacity));
+  const std::size_t excess =
+      held.size() - std::min(held.size(), static_cast<std::size_t>(held_capacity));
   std::vector<int64_t> leaving_ids;
   for (std::size_t i = 0; i < excess; ++i) leaving_ids.push_back(held[i].id);
   if (anchor_capacity > 0) thinAnchors(state, anchor_capacity, &leaving_ids);
