@@ -220,35 +220,46 @@ TEST(VisualInertialSlam, HeldLandmarksKeepAHoveringVehicleConsistent) {
   // MH_01 in the hall (features): 20 s at rest, then the flight, before any landmark is 30 s
   // unseen. At rest ~40 landmarks are visible, k = 20 are in the state: they leave and come
   // back every few frames. Re-mapped, each return forgets what the map knew and the tilt and
-  // gyro bias turn over-confident (docs/filter.md); held, each comes back exactly. Shipped
-  // configuration, perturbed starts, seeds no default was chosen on.
+  // gyro bias turn over-confident (docs/filter.md); held, each comes back exactly. Perturbed
+  // starts, seeds no default was chosen on. The held landmarks' own effect is measured without
+  // the anchors (slam.anchor_landmarks), which bring older landmarks back exactly too and take
+  // the mean from 8.8 to 9.1 here (remap 8.9): the shipped configuration is checked for its
+  // bound only.
   auto hall = sim::Scenario::loadFile(kHallScenario);
   ASSERT_TRUE(hall.ok()) << hall.status().message();
   hall->agents.resize(1);
   hall->duration = 40.0;
-  VisualInertialSlamOptions held;  // the shipped count
-  ASSERT_TRUE(loadShippedOptions(&held));
+  VisualInertialSlamOptions shipped;
+  ASSERT_TRUE(loadShippedOptions(&shipped));
+  ASSERT_GT(shipped.slam.anchor_landmarks, 0);
+  VisualInertialSlamOptions held = shipped;  // the shipped count of recent held landmarks
+  held.slam.anchor_landmarks = 0;
   VisualInertialSlamOptions remap = held;
   remap.slam.held_landmarks = 0;
-  double nees_remap = 0.0, nees_held = 0.0;
+  double nees_remap = 0.0, nees_held = 0.0, nees_shipped = 0.0;
   const std::vector<uint64_t> seeds = {21, 22, 23, 24, 25, 26, 27, 28};
+  const auto n = static_cast<double>(seeds.size());
   for (uint64_t seed : seeds) {
     hall->seed = seed;
-    const RunErrors a = runScenario(*hall, remap), b = runScenario(*hall, held);
+    const RunErrors a = runScenario(*hall, remap), b = runScenario(*hall, held),
+                    c = runScenario(*hall, shipped);
     ASSERT_GT(b.frames, 700);
     EXPECT_GT(b.reactivated, b.frames) << "seed " << seed;
-    for (std::size_t i = 0; i < b.state_size.size(); ++i) {
-      ASSERT_LE(b.state_size[i],
-                15 + 3 * (held.map.k + b.initialised[i] + held.slam.held_landmarks))
+    for (std::size_t i = 0; i < c.state_size.size(); ++i) {
+      ASSERT_LE(c.state_size[i],
+                15 + 3 * (shipped.map.k + c.initialised[i] + shipped.slam.held_landmarks +
+                          shipped.slam.anchor_landmarks))
           << "frame " << i;
     }
-    nees_remap += a.meanVehicleNees() / static_cast<double>(seeds.size());
-    nees_held += b.meanVehicleNees() / static_cast<double>(seeds.size());
+    nees_remap += a.meanVehicleNees() / n;
+    nees_held += b.meanVehicleNees() / n;
+    nees_shipped += c.meanVehicleNees() / n;
     std::cout << "seed " << seed << ": vehicle NEES remap " << a.meanVehicleNees() << ", held "
-              << b.meanVehicleNees() << "\n";
+              << b.meanVehicleNees() << ", with anchors " << c.meanVehicleNees() << "\n";
   }
   EXPECT_LT(nees_held, 2.0 * 9.0);
   EXPECT_LT(nees_held, nees_remap);
+  EXPECT_LT(nees_shipped, 2.0 * 9.0);
 }
 
 TEST(VisualInertialSlam, TiltConstraintTakesTheFullMapCloseToItsNees) {

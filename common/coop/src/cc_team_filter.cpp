@@ -21,6 +21,7 @@ CcTeamFilter::CcTeamFilter(const CcTeamFilterOptions& options)
   }
   impl_->map_manager = KNearestMapManager(o_.slam.map);
   impl_->held_landmarks = o_.slam.slam.held_landmarks;
+  impl_->anchor_landmarks = o_.slam.slam.anchor_landmarks;
   impl_->held_eviction = o_.slam.slam.held_eviction;
   // The joint map's re-entry bookkeeping (cc_team_filter_map.cpp) has no path for landmarks
   // taken back out: the ground station always intersects, with ω by the configured objective.

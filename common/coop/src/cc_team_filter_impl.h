@@ -72,6 +72,7 @@ struct CcTeamFilter::Impl {
   SlamOptions::HeldEviction held_eviction =
       SlamOptions::HeldEviction::kOldest;  ///< of the joint map
   int held_landmarks = 0;                  ///< SlamOptions::held_landmarks of the joint map
+  int anchor_landmarks = 0;                ///< SlamOptions::anchor_landmarks of the joint map
   /// Loop landmarks re-enter by covariance intersection with the whole joint state when
   /// SlamOptions::reactivation says so (as VisualInertialSlam); bounds set by the constructor.
   ReactivationIntersection reactivation{ReactivationOptions{}};

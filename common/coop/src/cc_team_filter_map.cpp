@@ -64,7 +64,8 @@ void CcTeamFilter::Impl::archiveEverywhere(int64_t id, int64_t t_us) {
     for (const auto& [agent, v] : vehicles)
       if (v->m_star) keep_near.push_back(*v->m_star);
   }
-  archiveLandmark(state, archive, id, std::move(merged), t_us, held_landmarks, keep_near);
+  archiveLandmark(state, archive, id, std::move(merged), t_us, held_landmarks, keep_near,
+                  anchor_landmarks);
 }
 
 double CcTeamFilter::Impl::positionSigma(const CcVehicle& v) const {
