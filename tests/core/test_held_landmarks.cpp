@@ -225,33 +225,30 @@ TEST(HeldLandmark, AnchorsStaySpreadOverTheMap) {
     }
     return state;
   };
-  const auto archiveAll = [](SlamState& state, LandmarkArchive& archive, int anchors) {
+  // Archives all five with room for one recent held landmark and `anchors` anchors; each stays
+  // in the archive whatever is held.
+  const auto archiveAll = [&build](double var_10, double var_11, int anchors) {
+    SlamState state = build(var_10, var_11);
+    LandmarkArchive archive;
     for (int64_t i = 0; i < 5; ++i)
       archiveLandmark(state, archive, 200 + i, std::nullopt, (i + 1) * 1'000'000, 1, {}, anchors);
+    EXPECT_EQ(archive.size(), 5u);
+    return state;
   };
   // One recent (x = 30) and three anchors: the pair at 10 / 11 loses its less known member.
-  SlamState state = build(1.0, 2.0);
-  LandmarkArchive archive;
-  archiveAll(state, archive, 3);
+  const SlamState state = archiveAll(1.0, 2.0, 3);
   EXPECT_EQ(state.count(VariableKey::Kind::kHeldLandmark), 4);
   for (int64_t id : {200, 201, 203, 204}) EXPECT_TRUE(isHeld(state, id)) << id;
   EXPECT_FALSE(isHeld(state, 202));
-  EXPECT_EQ(archive.size(), 5u);
-  SlamState other = build(2.0, 1.0);
-  LandmarkArchive other_archive;
-  archiveAll(other, other_archive, 3);
+  const SlamState other = archiveAll(2.0, 1.0, 3);
   EXPECT_FALSE(isHeld(other, 201));
   EXPECT_TRUE(isHeld(other, 202));
   // Two anchors: the spread pair 0 / 20 stays, whatever the ages.
-  SlamState two = build(1.0, 2.0);
-  LandmarkArchive two_archive;
-  archiveAll(two, two_archive, 2);
+  const SlamState two = archiveAll(1.0, 2.0, 2);
   for (int64_t id : {200, 203, 204}) EXPECT_TRUE(isHeld(two, id)) << id;
   EXPECT_EQ(two.count(VariableKey::Kind::kHeldLandmark), 3);
   // No anchors: the most recent only, as before.
-  SlamState none = build(1.0, 2.0);
-  LandmarkArchive none_archive;
-  archiveAll(none, none_archive, 0);
+  const SlamState none = archiveAll(1.0, 2.0, 0);
   EXPECT_EQ(none.count(VariableKey::Kind::kHeldLandmark), 1);
   EXPECT_TRUE(isHeld(none, 204));
 }

@@ -20,9 +20,6 @@ CcTeamFilter::CcTeamFilter(const CcTeamFilterOptions& options)
     o_.slam.slam.pixel_sigma = o_.image_pixel_sigma;
   }
   impl_->map_manager = KNearestMapManager(o_.slam.map);
-  impl_->held_landmarks = o_.slam.slam.held_landmarks;
-  impl_->anchor_landmarks = o_.slam.slam.anchor_landmarks;
-  impl_->held_eviction = o_.slam.slam.held_eviction;
   // The joint map's re-entry bookkeeping (cc_team_filter_map.cpp) has no path for landmarks
   // taken back out: the ground station always intersects, with ω by the configured objective.
   ReactivationOptions reactivation = o_.slam.slam.intersection;
@@ -141,7 +138,7 @@ Status CcTeamFilter::removeVehicle(int agent_id) {
   impl_->vehicles.erase(it);
   // Its landmarks stay in the joint map: archived unless another UAV keeps them active.
   for (int64_t id : active) {
-    if (!impl_->activeForAnother(id, agent_id)) impl_->archiveEverywhere(id, t_us);
+    if (!impl_->activeForAnother(id, agent_id)) impl_->archiveEverywhere(id, t_us, o_.slam.slam);
   }
   ++map_version_;
   return Status::Ok();

@@ -69,10 +69,6 @@ struct CcTeamFilter::Impl {
   SlamState state;
   LandmarkArchive archive;
   KNearestMapManager map_manager;
-  SlamOptions::HeldEviction held_eviction =
-      SlamOptions::HeldEviction::kOldest;  ///< of the joint map
-  int held_landmarks = 0;                  ///< SlamOptions::held_landmarks of the joint map
-  int anchor_landmarks = 0;                ///< SlamOptions::anchor_landmarks of the joint map
   /// Loop landmarks re-enter by covariance intersection with the whole joint state when
   /// SlamOptions::reactivation says so (as VisualInertialSlam); bounds set by the constructor.
   ReactivationIntersection reactivation{ReactivationOptions{}};
@@ -138,8 +134,9 @@ struct CcTeamFilter::Impl {
   /// The book record of `id` in any vehicle's book (first by agent id), else null.
   const LandmarkBookEntry* recordOf(int64_t id) const;
   /// Archives `id`: removes it from every book, merges the records (latest last-seen); held
-  /// in the state as a Schmidt variable up to held_landmarks (landmark_lifecycle.h).
-  void archiveEverywhere(int64_t id, int64_t t_us);
+  /// in the state as a Schmidt variable as the joint map's `slam` options say (held_landmarks,
+  /// held_eviction, anchor_landmarks; landmark_lifecycle.h).
+  void archiveEverywhere(int64_t id, int64_t t_us, const SlamOptions& slam);
   void noteObserver(int64_t id, int agent_id, const StereoObservation& obs);
 };
 

@@ -48,7 +48,7 @@ const LandmarkBookEntry* CcTeamFilter::Impl::recordOf(int64_t id) const {
   return nullptr;
 }
 
-void CcTeamFilter::Impl::archiveEverywhere(int64_t id, int64_t t_us) {
+void CcTeamFilter::Impl::archiveEverywhere(int64_t id, int64_t t_us, const SlamOptions& slam) {
   std::optional<LandmarkBookEntry> merged;
   for (auto& [agent, v] : vehicles) {
     std::optional<LandmarkBookEntry> r = v->book.remove(id);
@@ -60,12 +60,12 @@ void CcTeamFilter::Impl::archiveEverywhere(int64_t id, int64_t t_us) {
     }
   }
   std::vector<Eigen::Vector3d> keep_near;
-  if (held_eviction == SlamOptions::HeldEviction::kNearest) {
+  if (slam.held_eviction == SlamOptions::HeldEviction::kNearest) {
     for (const auto& [agent, v] : vehicles)
       if (v->m_star) keep_near.push_back(*v->m_star);
   }
-  archiveLandmark(state, archive, id, std::move(merged), t_us, held_landmarks, keep_near,
-                  anchor_landmarks);
+  archiveLandmark(state, archive, id, std::move(merged), t_us, slam.held_landmarks, keep_near,
+                  slam.anchor_landmarks);
 }
 
 double CcTeamFilter::Impl::positionSigma(const CcVehicle& v) const {
@@ -314,7 +314,7 @@ Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptio
   for (const MapCandidate& cand : candidates) {
     if (contains(keep, cand.landmark_id) || !state.has(landmarkKey(cand.landmark_id))) continue;
     if (activeForAnother(cand.landmark_id, v.agent_id)) continue;
-    archiveEverywhere(cand.landmark_id, t_us);
+    archiveEverywhere(cand.landmark_id, t_us, slam);
     ++r->archived;
   }
   // Re-entry as in single mode (SlamOptions::Reentry): a held landmark exactly; remap: mapped
