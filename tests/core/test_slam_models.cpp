@@ -367,6 +367,68 @@ TEST(CiUpdater, ChoosesTheWeightOfEachMethod) {
   EXPECT_FALSE(ci.choose(s, peer, {CiMethod::kFast, 0.05}).ok());
 }
 
+TEST(CiUpdater, TheIntersectionBoundsHeldLandmarksToo) {
+  // A vehicle, an active landmark 4 and a held (Schmidt) landmark 5, both correlated with the
+  // vehicle. The peer's estimate of landmark 4 shares the error of landmark 5 (it was built from
+  // this agent's map): e_y = e_5 + n. CI must bound the fused joint error of [4; 5] whatever that
+  // correlation, which it does only when the held landmark's prior is scaled by 1/ω1 too.
+  SlamState s;
+  ASSERT_TRUE(CovarianceHelper::addVariable(s, VariableKey::vehicle(3), Eigen::VectorXd::Zero(9),
+                                            Eigen::MatrixXd::Identity(9, 9) * 0.2)
+                  .ok());
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3, 9);
+  J.leftCols<3>().setIdentity();
+  for (uint64_t id : {4u, 5u})
+    ASSERT_TRUE(CovarianceHelper::augment(
+                    s, VariableKey::landmark(id), Eigen::Vector3d(1, 2, 3), VariableKey::vehicle(3),
+                    J, Eigen::MatrixXd::Identity(3, 4), Eigen::Matrix4d::Identity() * 0.02)
+                    .ok());
+  ASSERT_TRUE(
+      CovarianceHelper::rekey(s, VariableKey::landmark(5), VariableKey::heldLandmark(5)).ok());
+  LandmarkBook book;
+  book.add(4, {4, 0, 0, {}, Eigen::Vector3d(1, 2, 3), Eigen::Vector3d::Zero(), false});
+  const Eigen::MatrixXd P = s.covariance();  // [vehicle 9; landmark 4; held 5]
+  const Eigen::Index l4 = 9, h5 = 12;
+  const Eigen::Matrix3d N = Eigen::Matrix3d::Identity() * 0.01;
+  const Eigen::Matrix3d R = P.block<3, 3>(h5, h5) + N;  // the peer's true (and reported) covariance
+  const double omega1 = 0.5;
+  const CiUpdater ci(VariableKey::vehicle(3));
+  // The gain of the landmarks' rows, column by column (the update is linear in the residual).
+  const auto fused = [&](const Eigen::Vector3d& residual, SlamState* out) {
+    *out = s;
+    LandmarkBook b = book;
+    ASSERT_TRUE(ci.apply(*out, b, {4}, Eigen::Vector3d(1, 2, 3) + residual, R, omega1).ok());
+  };
+  SlamState after;
+  Eigen::Matrix<double, 6, 3> K;
+  for (int c = 0; c < 3; ++c) {
+    fused(Eigen::Vector3d::Unit(c), &after);
+    K.block<3, 1>(0, c) = after.mean().segment<3>(l4) - Eigen::Vector3d(1, 2, 3);
+    K.block<3, 1>(3, c) = after.mean().segment<3>(h5) - Eigen::Vector3d(1, 2, 3);
+  }
+  EXPECT_NEAR(K.bottomRows<3>().norm(), 0.0, 1e-12) << "a held landmark has no gain";
+  // True error of [4; 5] after the update: e⁺ = e + K (e_y − e_4), Cov(e, e_y) = P(:, 5).
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Identity();
+  A.block<6, 3>(0, 0) -= K;  // e⁺ = A e + K e_y
+  Eigen::Matrix<double, 6, 6> P45;
+  P45 << P.block<3, 3>(l4, l4), P.block<3, 3>(l4, h5), P.block<3, 3>(h5, l4), P.block<3, 3>(h5, h5);
+  Eigen::Matrix<double, 6, 3> C;  // Cov([e_4; e_5], e_y)
+  C << P.block<3, 3>(l4, h5), P.block<3, 3>(h5, h5);
+  const Eigen::Matrix<double, 6, 6> truth = A * P45 * A.transpose() + K * R * K.transpose() +
+                                            A * C * K.transpose() +
+                                            K * C.transpose() * A.transpose();
+  fused(Eigen::Vector3d::Zero(), &after);
+  const Eigen::MatrixXd Pa = after.covariance();
+  Eigen::Matrix<double, 6, 6> claimed;
+  claimed << Pa.block<3, 3>(l4, l4), Pa.block<3, 3>(l4, h5), Pa.block<3, 3>(h5, l4),
+      Pa.block<3, 3>(h5, h5);
+  const Eigen::Matrix<double, 6, 6> excess = claimed - truth;
+  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(excess).eigenvalues().minCoeff(), -1e-12)
+      << "the fused covariance of [landmark 4; held 5] does not bound its error";
+  EXPECT_TRUE((Pa.block<3, 3>(h5, h5).isApprox(P.block<3, 3>(h5, h5) / omega1, 1e-12)))
+      << "the held landmark carries the CI discount 1/ω1";
+}
+
 TEST(VehicleModel, PoseJacobianAndCorrectionOfTheVehicleBlock) {
   // The stereo Jacobian w.r.t. the whole vehicle block (bias columns zero) placed by the
   // vehicle model matches finite differences of h(pose(x_v)).

@@ -113,10 +113,16 @@ Status CiUpdater::update(SlamState& state, LandmarkBook& book, const std::vector
   for (Eigen::Index i = 0; i < m; ++i)
     r.segment<3>(3 * i) = y.segment<3>(3 * i) - state.value(*vars[static_cast<size_t>(i)]);
   if (prior_scale != 1.0) {
-    if (Status s = CovarianceHelper::scaleCovariance(state, book.variablesIn(state, vehicle_),
-                                                     prior_scale);
-        !s.ok())
-      return s;
+    // CI bounds the joint covariance of everything whose correlation with the peer is unknown:
+    // the vehicle, its landmarks AND its held (Schmidt) landmarks. Scaling only the active part
+    // (rows by 1/ω1, the held–active cross-covariance by 1/√ω1, the held block not at all) is no
+    // bound once the held landmarks correlate with the peer's estimates: for a direction
+    // [0; t·u; w] the bound's excess over the truth is linear in t and turns negative. The held
+    // landmarks of a per-agent state are all this vehicle's.
+    std::vector<VariableKey> scaled = book.variablesIn(state, vehicle_);
+    for (const StateVariable& v : state.variables())
+      if (v.key.kind == VariableKey::Kind::kHeldLandmark) scaled.push_back(v.key);
+    if (Status s = CovarianceHelper::scaleCovariance(state, scaled, prior_scale); !s.ok()) return s;
   }
   MeasurementBatch batch;
   batch.reset(state.size(), static_cast<int>(3 * m));

@@ -4,10 +4,12 @@
 // the weight ω1 of the own estimate (filter/covariance_intersection.h).
 //
 // The update: P⁻¹ ← ω1 P⁻¹ + ω2 Hᵀ R⁻¹ H (ω1 = ω2 = 1 for independent estimates), i.e. the prior of
-// the vehicle's map (its block and its landmarks, landmark_book.h) is scaled by 1/ω1 and the peer's
-// stacked estimates y enter as a measurement with covariance R/ω2, ω2 = 1 − ω1, so the vehicle and
-// its other landmarks are corrected through their correlations. In a state holding several vehicles
-// only that vehicle's map is scaled (CovarianceHelper::scaleCovariance over its variables).
+// the vehicle's map (its block, its landmarks and its held landmarks, landmark_book.h) is scaled by
+// 1/ω1 and the peer's stacked estimates y enter as a measurement with covariance R/ω2, ω2 = 1 − ω1,
+// so the vehicle and its other landmarks are corrected through their correlations. In a state
+// holding several vehicles only that vehicle's map and the held landmarks are scaled
+// (CovarianceHelper::scaleCovariance over those variables); held landmarks are a per-agent
+// state's own.
 //
 // The weight: adaptive (eq. 6.5 with per-landmark mean traces and both vehicles' position
 // covariance traces), fast (eq. 6.4), optimal_trace / optimal_determinant (of the fused
