@@ -115,6 +115,9 @@ TEST(AgentCalibration, EurocFolderGivesTheRectifiedCameraAndImuNoise) {
   // A sensor.yaml is a datasheet: its random walks keep the datasheet factor.
   EXPECT_DOUBLE_EQ(c->options.ins.datasheet_random_walk_scale,
                    InsPropagatorOptions().datasheet_random_walk_scale);
+  // A recording's turn-on accelerometer bias is unknown: the recorded IMU's prior σ.
+  EXPECT_DOUBLE_EQ(c->options.slam.initial_accel_bias_sigma,
+                   SlamOptions().recorded_accel_bias_sigma);
 
   // An IMU mounted x-up with a lever arm (as the EuRoC VI-sensor's): the body frame is the
   // IMU frame, the cameras are re-expressed relative to it.
@@ -266,6 +269,22 @@ TEST(SensorEventOrderer, ReleasesInTimeOrderOnceTheImuPassed) {
   EXPECT_TRUE(o.pop(2.0, true, &out, nullptr));
   EXPECT_EQ(o.releasedUpTo(), 30);
   EXPECT_EQ(o.size(), 0u);
+}
+
+TEST(AgentSetup, TheRecordedImuBiasPriorIsReadAndChecked) {
+  const auto load = [](const char* yaml, SlamOptions* o) {
+    auto node = ConfigNode::fromString(yaml, "slam.yaml");
+    EXPECT_TRUE(node.ok());
+    return o->load(*node);
+  };
+  SlamOptions o;
+  ASSERT_TRUE(load("recorded_accel_bias_sigma: 0.2\n", &o).ok());
+  EXPECT_DOUBLE_EQ(o.recorded_accel_bias_sigma, 0.2);
+  EXPECT_DOUBLE_EQ(o.initial_accel_bias_sigma, SlamOptions().initial_accel_bias_sigma);
+  SlamOptions bad;
+  const Status s = load("recorded_accel_bias_sigma: 0\n", &bad);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("recorded_accel_bias_sigma"), std::string::npos) << s.message();
 }
 
 }  // namespace

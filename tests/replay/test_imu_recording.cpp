@@ -137,6 +137,13 @@ TEST(ImuRecording, KnownPoseStartMeasuresTheTurnOnGyroBiasAtRest) {
   // The recording's filter measures its white noise in flight; the synthesised one's is true.
   EXPECT_FALSE(uav1.options.ins.noise_monitor.enabled);
   EXPECT_TRUE(uav3.options.ins.noise_monitor.enabled);
+  // Nobody drew the recording's turn-on accelerometer bias from the prior: it starts with the
+  // recorded IMU's σ, the synthesised IMU's filter with the configured one.
+  const double ba3 = std::sqrt(uav3.P0(vehicle::kAccelBias, vehicle::kAccelBias));
+  const double ba1 = std::sqrt(uav1.P0(vehicle::kAccelBias, vehicle::kAccelBias));
+  EXPECT_DOUBLE_EQ(ba3, options.slam.recorded_accel_bias_sigma);
+  EXPECT_DOUBLE_EQ(ba1, options.slam.initial_accel_bias_sigma);
+  EXPECT_GT(options.slam.recorded_accel_bias_sigma, options.slam.initial_accel_bias_sigma);
 }
 
 TEST(ImuRecording, TheRealImuInFlightIsTensOfTimesNoisierThanItsDatasheet) {

@@ -24,6 +24,9 @@ AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
       agent_options.ins.noise_monitor.enabled = false;
     }
   }
+  // Nor did anyone draw a recording's turn-on accelerometer bias from the prior (slam_options.h).
+  if (!imu.recording.empty())
+    agent_options.slam.initial_accel_bias_sigma = agent_options.slam.recorded_accel_bias_sigma;
   const sim::InitialEstimate& init = agent.initialEstimate();
   AgentFilterSetup setup = initialEstimateSetup(init.state.t_us, init.state.p_BinN, init.state.v_B,
                                                 init.state.euler, init.sigma, agent_options);

@@ -60,6 +60,8 @@ Expected<AgentCalibration> calibrationFromEuroc(const std::string& dir,
   c.options.ins.accel_noise_density = imu->accelerometer_noise_density;
   c.options.ins.gyro_random_walk = imu->gyroscope_random_walk;
   c.options.ins.accel_random_walk = imu->accelerometer_random_walk;
+  // A recording's turn-on accelerometer bias is unknown (slam_options.h).
+  c.options.slam.initial_accel_bias_sigma = options.slam.recorded_accel_bias_sigma;
 
   StereoCameraOptions cam;
   const EurocCameraCalibration& left = stereo->left;

@@ -81,6 +81,7 @@ Status SlamOptions::load(const ConfigNode& node) {
   node.check(loop_closure_gate_probability >= 0.0 && loop_closure_gate_probability < 1.0,
              "loop_closure_gate_probability", "must be in [0, 1)");
   node.get("initial_accel_bias_sigma", initial_accel_bias_sigma);
+  node.get("recorded_accel_bias_sigma", recorded_accel_bias_sigma);
   node.get("initial_gyro_bias_sigma", initial_gyro_bias_sigma);
   node.get("initial_accel_bias", initial_accel_bias);
   node.get("initial_gyro_bias", initial_gyro_bias);
@@ -88,6 +89,7 @@ Status SlamOptions::load(const ConfigNode& node) {
              "initial biases must be finite");
   node.check(initial_accel_bias_sigma > 0.0 && initial_gyro_bias_sigma > 0.0,
              "initial_accel_bias_sigma", "initial bias sigmas must be > 0");
+  node.check(recorded_accel_bias_sigma > 0.0, "recorded_accel_bias_sigma", "must be > 0");
   node.check(pixel_sigma > 0.0, "pixel_sigma", "must be > 0");
   node.check(observation_passes >= 1, "observation_passes", "must be ≥ 1");
   node.check(max_new_landmarks_per_frame >= 0, "max_new_landmarks_per_frame", "must be ≥ 0");
