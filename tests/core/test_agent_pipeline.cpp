@@ -271,21 +271,5 @@ TEST(SensorEventOrderer, ReleasesInTimeOrderOnceTheImuPassed) {
   EXPECT_EQ(o.size(), 0u);
 }
 
-TEST(AgentSetup, TheRecordedImuBiasPriorIsReadAndChecked) {
-  const auto load = [](const char* yaml, SlamOptions* o) {
-    auto node = ConfigNode::fromString(yaml, "slam.yaml");
-    EXPECT_TRUE(node.ok());
-    return o->load(*node);
-  };
-  SlamOptions o;
-  ASSERT_TRUE(load("recorded_accel_bias_sigma: 0.2\n", &o).ok());
-  EXPECT_DOUBLE_EQ(o.recorded_accel_bias_sigma, 0.2);
-  EXPECT_DOUBLE_EQ(o.initial_accel_bias_sigma, SlamOptions().initial_accel_bias_sigma);
-  SlamOptions bad;
-  const Status s = load("recorded_accel_bias_sigma: 0\n", &bad);
-  ASSERT_FALSE(s.ok());
-  EXPECT_NE(s.message().find("recorded_accel_bias_sigma"), std::string::npos) << s.message();
-}
-
 }  // namespace
 }  // namespace cvslam

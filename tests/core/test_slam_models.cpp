@@ -372,6 +372,7 @@ TEST(CiUpdater, TheIntersectionBoundsHeldLandmarksToo) {
   // vehicle. The peer's estimate of landmark 4 shares the error of landmark 5 (it was built from
   // this agent's map): e_y = e_5 + n. CI must bound the fused joint error of [4; 5] whatever that
   // correlation, which it does only when the held landmark's prior is scaled by 1/ω1 too.
+  const Eigen::Vector3d p(1, 2, 3);  // both landmarks' estimate
   SlamState s;
   ASSERT_TRUE(CovarianceHelper::addVariable(s, VariableKey::vehicle(3), Eigen::VectorXd::Zero(9),
                                             Eigen::MatrixXd::Identity(9, 9) * 0.2)
@@ -379,14 +380,14 @@ TEST(CiUpdater, TheIntersectionBoundsHeldLandmarksToo) {
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3, 9);
   J.leftCols<3>().setIdentity();
   for (uint64_t id : {4u, 5u})
-    ASSERT_TRUE(CovarianceHelper::augment(
-                    s, VariableKey::landmark(id), Eigen::Vector3d(1, 2, 3), VariableKey::vehicle(3),
-                    J, Eigen::MatrixXd::Identity(3, 4), Eigen::Matrix4d::Identity() * 0.02)
+    ASSERT_TRUE(CovarianceHelper::augment(s, VariableKey::landmark(id), p, VariableKey::vehicle(3),
+                                          J, Eigen::MatrixXd::Identity(3, 4),
+                                          Eigen::Matrix4d::Identity() * 0.02)
                     .ok());
   ASSERT_TRUE(
       CovarianceHelper::rekey(s, VariableKey::landmark(5), VariableKey::heldLandmark(5)).ok());
   LandmarkBook book;
-  book.add(4, {4, 0, 0, {}, Eigen::Vector3d(1, 2, 3), Eigen::Vector3d::Zero(), false});
+  book.add(4, {4, 0, 0, {}, p, Eigen::Vector3d::Zero(), false});
   const Eigen::MatrixXd P = s.covariance();  // [vehicle 9; landmark 4; held 5]
   const Eigen::Index l4 = 9, h5 = 12;
   const Eigen::Matrix3d N = Eigen::Matrix3d::Identity() * 0.01;
@@ -397,14 +398,14 @@ TEST(CiUpdater, TheIntersectionBoundsHeldLandmarksToo) {
   const auto fused = [&](const Eigen::Vector3d& residual, SlamState* out) {
     *out = s;
     LandmarkBook b = book;
-    ASSERT_TRUE(ci.apply(*out, b, {4}, Eigen::Vector3d(1, 2, 3) + residual, R, omega1).ok());
+    ASSERT_TRUE(ci.apply(*out, b, {4}, p + residual, R, omega1).ok());
   };
   SlamState after;
   Eigen::Matrix<double, 6, 3> K;
   for (int c = 0; c < 3; ++c) {
     fused(Eigen::Vector3d::Unit(c), &after);
-    K.block<3, 1>(0, c) = after.mean().segment<3>(l4) - Eigen::Vector3d(1, 2, 3);
-    K.block<3, 1>(3, c) = after.mean().segment<3>(h5) - Eigen::Vector3d(1, 2, 3);
+    K.block<3, 1>(0, c) = after.mean().segment<3>(l4) - p;
+    K.block<3, 1>(3, c) = after.mean().segment<3>(h5) - p;
   }
   EXPECT_NEAR(K.bottomRows<3>().norm(), 0.0, 1e-12) << "a held landmark has no gain";
   // True error of [4; 5] after the update: e⁺ = e + K (e_y − e_4), Cov(e, e_y) = P(:, 5).

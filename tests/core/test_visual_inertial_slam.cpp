@@ -353,6 +353,16 @@ TEST(VisualInertialSlam, OptionsLoadAndValidate) {
   EXPECT_EQ(o.slam.observation_passes, 10);
   auto bad = ConfigNode::fromString("slam: {pixel_sigma: -1}", "a.yaml");
   EXPECT_FALSE(VisualInertialSlamOptions().load(*bad).ok());
+  // A recorded IMU's accelerometer-bias prior is its own key, checked like the others.
+  auto recorded = ConfigNode::fromString("slam: {recorded_accel_bias_sigma: 0.2}", "a.yaml");
+  VisualInertialSlamOptions r;
+  ASSERT_TRUE(r.load(*recorded).ok());
+  EXPECT_DOUBLE_EQ(r.slam.recorded_accel_bias_sigma, 0.2);
+  EXPECT_DOUBLE_EQ(r.slam.initial_accel_bias_sigma, SlamOptions().initial_accel_bias_sigma);
+  auto zero = ConfigNode::fromString("slam: {recorded_accel_bias_sigma: 0}", "a.yaml");
+  const Status s = VisualInertialSlamOptions().load(*zero);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("recorded_accel_bias_sigma"), std::string::npos) << s.message();
   // The shipped configuration loads with no unknown keys (with the image front end's
   // section, visual_slam_pipeline.h, and cooperation's, coop/dc_cooperation.h).
   auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
