@@ -137,11 +137,13 @@ TEST(AgentConfig, TheSecondOrderTermIsOnForFeaturesAndOffForImages) {
   auto c = AgentConfig::load({}, shippedConfig(), skipAgent);
   ASSERT_TRUE(c.ok()) << c.status().message();
   EXPECT_TRUE(c->slam.slam.second_order_noise);
+  EXPECT_TRUE(c->slam.slam.second_order_mean);  // its mean term, for features and images
   ASSERT_TRUE(c->frontend.second_order_noise.has_value());
   EXPECT_FALSE(*c->frontend.second_order_noise);
   coop::CcTeamFilterOptions gs;
   gs.useAgentOptions(c->slam);
   EXPECT_TRUE(gs.slam.slam.second_order_noise);
+  EXPECT_TRUE(gs.slam.slam.second_order_mean);
   AgentConfigArgs args;
   args.set = {"frontend.second_order_noise=true"};
   auto d = AgentConfig::load(args, shippedConfig(), skipAgent);

@@ -1,7 +1,8 @@
 // The second-order term of the stereo prediction (slam/stereo_second_order_noise.h): its
 // Hessians agree with second differences of the projection itself, it is positive
 // semi-definite, and it is the covariance of what the linear model leaves out of h(x) over
-// samples of x when the landmark's depth is uncertain (a landmark just triangulated).
+// samples of x when the landmark's depth is uncertain (a landmark just triangulated); the
+// mean term is the mean of what it leaves out.
 
 #include <gtest/gtest.h>
 
@@ -10,6 +11,7 @@
 #include <random>
 
 #include "cvslam/geometry/euler.h"
+#include "cvslam/geometry/so3.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/slam/stereo_second_order_noise.h"
 
@@ -19,14 +21,19 @@ namespace {
 using Vector12d = Eigen::Matrix<double, 12, 1>;
 using Matrix12d = Eigen::Matrix<double, 12, 12>;
 
-/// h at the pose and landmark moved by d (Euler attitude: the angles move).
+/// h at the pose and landmark moved by d (Euler attitude: the angles move; error state:
+/// R̂ Exp(δθ)).
 Eigen::Vector4d projectMoved(const StereoCamera& camera, const EstimatedPose& pose,
                              const Eigen::Vector3d& p, const Vector12d& d) {
   EstimatedPose moved = pose;
   moved.p_BinN += d.segment<3>(vehicle::kPosition);
   moved.v_B += d.segment<3>(vehicle::kVelocity);
-  moved.euler += d.segment<3>(vehicle::kAttitude);
-  moved.R_BtoN = rotationBodyToNav(moved.euler);
+  if (pose.attitude == vehicle::Attitude::kEuler) {
+    moved.euler += d.segment<3>(vehicle::kAttitude);
+    moved.R_BtoN = rotationBodyToNav(moved.euler);
+  } else {
+    moved.R_BtoN = pose.R_BtoN * so3::exp(Eigen::Vector3d(d.segment<3>(vehicle::kAttitude)));
+  }
   return camera.project(moved, p + d.tail<3>());
 }
 
@@ -79,15 +86,17 @@ TEST_F(StereoSecondOrderNoiseTest, HessiansAgreeWithSecondDifferencesOfTheProjec
   EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(delta).eigenvalues().minCoeff(), -1e-12);
 }
 
-TEST_F(StereoSecondOrderNoiseTest, IsTheCovarianceOfTheLinearisationErrorOverSamples) {
-  // r = h(x) − h(x̂) − H (x − x̂) for x ~ N(x̂, P): what the EKF's linear model leaves out. Its
-  // covariance is ΔR to second order (the odd moments of a Gaussian vanish).
+/// r = h(x) − h(x̂) − H (x − x̂) for x ~ N(x̂, P): what the EKF's linear model leaves out. Its
+/// covariance is ΔR to second order (the odd moments of a Gaussian vanish), its mean the mean
+/// term.
+void expectTermsMatchSamples(const StereoCamera& camera, const EstimatedPose& pose,
+                             const Eigen::Vector3d& p, const Matrix12d& P) {
   std::mt19937 rng(7);
   std::normal_distribution<double> n01;
-  const Matrix12d L = Eigen::LLT<Matrix12d>(P_).matrixL();
+  const Matrix12d L = Eigen::LLT<Matrix12d>(P).matrixL();
   StereoCamera::Matrix4x9d dz_dxv;
   StereoCamera::Matrix4x3d dz_dpL;
-  const Eigen::Vector4d z0 = camera_.project(pose_, p_, &dz_dxv, &dz_dpL);
+  const Eigen::Vector4d z0 = camera.project(pose, p, &dz_dxv, &dz_dpL);
   Eigen::Matrix<double, 4, 12> H;
   H << dz_dxv, dz_dpL;
   constexpr int kSamples = 100000;
@@ -97,17 +106,43 @@ TEST_F(StereoSecondOrderNoiseTest, IsTheCovarianceOfTheLinearisationErrorOverSam
     Vector12d w;
     for (int k = 0; k < 12; ++k) w(k) = n01(rng);
     const Vector12d dx = L * w;
-    const Eigen::Vector4d r = projectMoved(camera_, pose_, p_, dx) - z0 - H * dx;
+    const Eigen::Vector4d r = projectMoved(camera, pose, p, dx) - z0 - H * dx;
     sum += r;
     sum2 += r * r.transpose();
   }
   const Eigen::Vector4d mean = sum / kSamples;
   const Eigen::Matrix4d sampled = sum2 / kSamples - mean * mean.transpose();
-  const Eigen::Matrix4d delta = stereoSecondOrderNoise(camera_, pose_, p_, P_);
+  const StereoSecondOrderTerms terms = stereoSecondOrderTerms(camera, pose, p, P);
+  const Eigen::Matrix4d& delta = terms.noise;
   std::cout << "sampled cov(r) =\n" << sampled << "\nΔR =\n" << delta << "\n";
   // Sampling error ≈ √(2/N) ≈ 0.5 %; the rest (≈ 6 % here) is of higher order in the depth's
   // relative σ (the series of 1/Z), which is 6 % for this landmark.
   EXPECT_LT((delta - sampled).norm(), 0.1 * sampled.norm());
+  EXPECT_EQ(delta, stereoSecondOrderNoise(camera, pose, p, P));
+  // E[r] is the mean term ½ tr(∇²h_i P): h(x̂) under-predicts the disparity (1/Z is convex).
+  // Sampling error of the mean: √(ΔR_ii / N) ≈ 0.002 px.
+  std::cout << "sampled E[r] = " << mean.transpose() << "\nmean term = " << terms.mean.transpose()
+            << "\n";
+  const double disparity_bias = terms.mean(0) - terms.mean(2);
+  EXPECT_GT(disparity_bias, 0.03) << "the term should matter here";
+  EXPECT_NEAR(mean(0) - mean(2), disparity_bias, 0.1 * disparity_bias);
+  EXPECT_LT((terms.mean - mean).norm(), 0.1 * terms.mean.norm());
+}
+
+TEST_F(StereoSecondOrderNoiseTest, IsTheCovarianceOfTheLinearisationErrorOverSamples) {
+  expectTermsMatchSamples(camera_, pose_, p_, P_);
+}
+
+TEST_F(StereoSecondOrderNoiseTest, MatchesTheSamplesWithTheRotationErrorStateToo) {
+  // The agents' attitude (R̂ Exp(δθ)): the Hessian of the Jacobian carries an antisymmetric part
+  // there, which the quadratic forms must not see. Tilted 20° as in a turn.
+  EstimatedPose tilted;
+  tilted.p_BinN = pose_.p_BinN;
+  tilted.v_B = pose_.v_B;
+  tilted.R_BtoN = rotationBodyToNav(Eigen::Vector3d(0.35, -0.1, 0.8));
+  Matrix12d P = P_;
+  P.block<3, 3>(vehicle::kAttitude, vehicle::kAttitude) *= 4.0;  // 1.6° tilt σ, 4° heading σ
+  expectTermsMatchSamples(camera_, tilted, p_, P);
 }
 
 }  // namespace

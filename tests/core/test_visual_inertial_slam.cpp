@@ -351,6 +351,11 @@ TEST(VisualInertialSlam, OptionsLoadAndValidate) {
   EXPECT_EQ(o.filter.type, FilterType::kNhinf);
   EXPECT_EQ(o.map.k, 10);
   EXPECT_EQ(o.slam.observation_passes, 10);
+  EXPECT_FALSE(o.slam.second_order_mean);
+  auto mean = ConfigNode::fromString("slam: {second_order_mean: true}", "a.yaml");
+  VisualInertialSlamOptions m;
+  ASSERT_TRUE(m.load(*mean).ok());
+  EXPECT_TRUE(m.slam.second_order_mean);
   auto bad = ConfigNode::fromString("slam: {pixel_sigma: -1}", "a.yaml");
   EXPECT_FALSE(VisualInertialSlamOptions().load(*bad).ok());
   // A recorded IMU's accelerometer-bias prior is its own key, checked like the others.

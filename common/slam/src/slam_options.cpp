@@ -24,6 +24,7 @@ Status SlamOptions::checkChart() const {
 Status SlamOptions::load(const ConfigNode& node) {
   node.get("pixel_sigma", pixel_sigma);
   node.get("second_order_noise", second_order_noise);
+  node.get("second_order_mean", second_order_mean);
   node.get("observation_passes", observation_passes);
   node.get("scale_noise_per_pass", scale_noise_per_pass);
   node.get("max_new_landmarks_per_frame", max_new_landmarks_per_frame);

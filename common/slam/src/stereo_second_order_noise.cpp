@@ -36,8 +36,8 @@ Matrix4x12d jacobianAt(const StereoCamera& camera, const EstimatedPose& pose,
 
 }  // namespace
 
-Eigen::Matrix4d stereoSecondOrderNoise(const StereoCamera& camera, const EstimatedPose& pose,
-                                       const Eigen::Vector3d& p_LinN, const Matrix12d& P) {
+StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const EstimatedPose& pose,
+                                              const Eigen::Vector3d& p_LinN, const Matrix12d& P) {
   // Central differences of the Jacobian: column k of ∇²h_i is ∂(row i of J)/∂x_k. The step
   // is small against every state's scale (metres, radians) and large against rounding.
   constexpr double kStep = 1e-5;
@@ -50,12 +50,16 @@ Eigen::Matrix4d stereoSecondOrderNoise(const StereoCamera& camera, const Estimat
         (2.0 * kStep);
     for (int i = 0; i < 4; ++i) hessian[static_cast<std::size_t>(i)].col(k) = dJ.row(i).transpose();
   }
+  // Symmetrised: the error-state attitude's Hessian of the Jacobian carries an antisymmetric
+  // part (Exp(d + δ) ≠ Exp(d) Exp(δ)) that a quadratic form does not see.
+  StereoSecondOrderTerms terms;
   std::array<Matrix12d, 4> HP;
   for (std::size_t i = 0; i < 4; ++i) {
     const Matrix12d symmetric = 0.5 * (hessian[i] + hessian[i].transpose());
     HP[i] = symmetric * P;
+    terms.mean(static_cast<int>(i)) = 0.5 * HP[i].trace();
   }
-  Eigen::Matrix4d delta;
+  Eigen::Matrix4d& delta = terms.noise;
   for (int i = 0; i < 4; ++i) {
     for (int j = i; j < 4; ++j) {
       // tr(A B) without forming A B.
@@ -65,7 +69,7 @@ Eigen::Matrix4d stereoSecondOrderNoise(const StereoCamera& camera, const Estimat
       delta(i, j) = delta(j, i) = 0.5 * t;
     }
   }
-  return delta;
+  return terms;
 }
 
 }  // namespace cvslam

@@ -95,14 +95,16 @@ Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book
                               o_.oc_tilt ? &tilt : nullptr);
     }
     Eigen::Matrix4d R_obs = R;
-    if (filter_jacobians && o_.second_order_noise) {
+    if (filter_jacobians && (o_.second_order_noise || o_.second_order_mean)) {
       const Eigen::MatrixXd& P = state.covariance();
       Eigen::Matrix<double, 12, 12> P_xl;
       P_xl.topLeftCorner<9, 9>() = P.block<9, 9>(veh->index, veh->index);
       P_xl.topRightCorner<9, 3>() = P.block<9, 3>(veh->index, lm->index);
       P_xl.bottomLeftCorner<3, 9>() = P.block<3, 9>(lm->index, veh->index);
       P_xl.bottomRightCorner<3, 3>() = P.block<3, 3>(lm->index, lm->index);
-      R_obs += noise_scale * stereoSecondOrderNoise(camera_, x, p_LinN, P_xl);
+      const StereoSecondOrderTerms terms = stereoSecondOrderTerms(camera_, x, p_LinN, P_xl);
+      if (o_.second_order_noise) R_obs += noise_scale * terms.noise;
+      if (o_.second_order_mean) z_hat += terms.mean;
     }
     const int g = batch->addObservation(obs.z - z_hat, R_obs);
     if (g < 0) break;

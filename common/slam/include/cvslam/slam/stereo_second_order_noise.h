@@ -8,6 +8,10 @@
 // the pixel noise itself: the EKF's first updates of every new landmark count information the
 // observation does not carry (docs/results/ideal_ekf.md). Adding ΔR to R is the filter's
 // honest account of its own linearisation error; it vanishes as the landmark converges.
+// The same Hessians give the prediction's mean, E[h(x)] ≈ h(x̂) + ½ tr(∇²h_i P) (the filter's
+// second-order mean; slam.second_order_mean): the EKF's h(x̂) is biased by the curvature of
+// 1/Z, and that bias, always of one sign, shortens every landmark's depth a little and with it
+// the distance the vehicle is found to have flown (docs/filter.md "The second-order mean").
 // The Hessians are central differences of the analytic Jacobian (StereoCamera::project).
 
 #include <Eigen/Core>
@@ -17,10 +21,23 @@
 
 namespace cvslam {
 
-/// ΔR (4×4, positive semi-definite) of observing p_LinN from `pose` when the joint covariance
-/// of (pose [p, v, attitude in the pose's coordinates], landmark) is P (12×12).
-Eigen::Matrix4d stereoSecondOrderNoise(const StereoCamera& camera, const EstimatedPose& pose,
-                                       const Eigen::Vector3d& p_LinN,
-                                       const Eigen::Matrix<double, 12, 12>& P);
+/// The two second-order terms of one stereo prediction.
+struct StereoSecondOrderTerms {
+  Eigen::Vector4d mean;   ///< ½ tr(∇²h_i P): E[h(x)] − h(x̂) to second order [px]
+  Eigen::Matrix4d noise;  ///< ΔR (positive semi-definite) [px²]
+};
+
+/// The terms of observing p_LinN from `pose` when the joint covariance of (pose [p, v,
+/// attitude in the pose's coordinates], landmark) is P (12×12).
+StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const EstimatedPose& pose,
+                                              const Eigen::Vector3d& p_LinN,
+                                              const Eigen::Matrix<double, 12, 12>& P);
+
+/// ΔR alone (stereoSecondOrderTerms(…).noise).
+inline Eigen::Matrix4d stereoSecondOrderNoise(const StereoCamera& camera, const EstimatedPose& pose,
+                                              const Eigen::Vector3d& p_LinN,
+                                              const Eigen::Matrix<double, 12, 12>& P) {
+  return stereoSecondOrderTerms(camera, pose, p_LinN, P).noise;
+}
 
 }  // namespace cvslam
