@@ -137,9 +137,11 @@ TEST(AgentConfig, TheSecondOrderTermIsOnForFeaturesAndOffForImages) {
   auto c = AgentConfig::load({}, shippedConfig(), skipAgent);
   ASSERT_TRUE(c.ok()) << c.status().message();
   EXPECT_TRUE(c->slam.slam.second_order_noise);
-  EXPECT_TRUE(c->slam.slam.second_order_mean);  // its mean term, for features and images
+  EXPECT_TRUE(c->slam.slam.second_order_mean);  // and its mean
   ASSERT_TRUE(c->frontend.second_order_noise.has_value());
   EXPECT_FALSE(*c->frontend.second_order_noise);
+  ASSERT_TRUE(c->frontend.second_order_mean.has_value());
+  EXPECT_FALSE(*c->frontend.second_order_mean);
   coop::CcTeamFilterOptions gs;
   gs.useAgentOptions(c->slam);
   EXPECT_TRUE(gs.slam.slam.second_order_noise);

@@ -475,6 +475,12 @@ TEST(CcTeamFilterOptions, GroundStationYamlLoadsAndBadValuesFail) {
   EXPECT_FALSE(coop::CcTeamFilter(images).options().slam.slam.second_order_noise);
   images.image_second_order_noise = true;
   EXPECT_TRUE(coop::CcTeamFilter(images).options().slam.slam.second_order_noise);
+  // Its mean likewise.
+  EXPECT_TRUE(o->slam.slam.second_order_mean);
+  EXPECT_TRUE(coop::CcTeamFilter(*o).options().slam.slam.second_order_mean);
+  EXPECT_FALSE(coop::CcTeamFilter(images).options().slam.slam.second_order_mean);
+  images.image_second_order_mean = true;
+  EXPECT_TRUE(coop::CcTeamFilter(images).options().slam.slam.second_order_mean);
   // … and the pixel σ of detected keypoints with local ids, the simulator's with true ids.
   EXPECT_EQ(coop::CcTeamFilter(*o).options().slam.slam.pixel_sigma, o->slam.slam.pixel_sigma);
   EXPECT_LT(o->image_pixel_sigma, o->slam.slam.pixel_sigma);

@@ -17,6 +17,7 @@ CcTeamFilter::CcTeamFilter(const CcTeamFilterOptions& options)
     : o_(options), impl_(std::make_unique<Impl>()) {
   if (o_.association == CcAssociation::kLocalIds) {
     o_.slam.slam.second_order_noise = o_.image_second_order_noise;
+    o_.slam.slam.second_order_mean = o_.image_second_order_mean;
     o_.slam.slam.pixel_sigma = o_.image_pixel_sigma;
   }
   impl_->map_manager = KNearestMapManager(o_.slam.map);

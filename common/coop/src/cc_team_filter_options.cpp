@@ -19,6 +19,7 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.getEnum("association", association,
              {{"true_ids", CcAssociation::kTrueIds}, {"local_ids", CcAssociation::kLocalIds}});
   cc.get("image_second_order_noise", image_second_order_noise);
+  cc.get("image_second_order_mean", image_second_order_mean);
   cc.get("image_pixel_sigma", image_pixel_sigma);
   cc.get("max_descriptor_distance", max_descriptor_distance);
   cc.get("association_gate_chi2", association_gate_chi2);

@@ -90,6 +90,12 @@ void VisualInertialSlam::setSecondOrderNoise(bool on) {
   configureModels();
 }
 
+void VisualInertialSlam::setSecondOrderMean(bool on) {
+  if (o_.slam.second_order_mean == on) return;
+  o_.slam.second_order_mean = on;
+  configureModels();
+}
+
 void VisualInertialSlam::setPixelSigma(double sigma_px) {
   if (o_.slam.pixel_sigma == sigma_px) return;
   o_.slam.pixel_sigma = sigma_px;

@@ -121,6 +121,7 @@ Status VisualFrontEndOptions::load(const ConfigNode& node) {
   override("first_estimate_jacobians", &first_estimate_jacobians);
   override("observability_constrained", &observability_constrained);
   override("second_order_noise", &second_order_noise);
+  override("second_order_mean", &second_order_mean);
   override("pixel_sigma", &pixel_sigma);
   if (pixel_sigma) node.check(*pixel_sigma > 0.0, "pixel_sigma", "must be > 0");
   node.check(confirm_gate_px > 0.0, "confirm_gate_px", "must be > 0");
@@ -181,6 +182,7 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
     slam.setObservabilityConstrained(*o_.observability_constrained);
   }
   if (o_.second_order_noise) slam.setSecondOrderNoise(*o_.second_order_noise);
+  if (o_.second_order_mean) slam.setSecondOrderMean(*o_.second_order_mean);
   if (o_.pixel_sigma) slam.setPixelSigma(*o_.pixel_sigma);
   r.frame.t_us = t_us;
   if (left.empty() || right.empty()) return Status::Error("pipeline: empty image");

@@ -98,6 +98,8 @@ struct CcTeamFilterOptions {
   /// frontend.second_order_noise (real keypoints are closer than the assumed pixel σ, and the
   /// term cost the recordings; docs/filter.md "The first second").
   bool image_second_order_noise = false;
+  /// local_ids: slam.second_order_mean is this instead, as the agents' frontend.second_order_mean.
+  bool image_second_order_mean = false;
   /// local_ids: slam.pixel_sigma is this instead, as the agents' frontend.pixel_sigma (detected
   /// keypoints are localised tighter than the feature-level simulator's noise).
   double image_pixel_sigma = 0.3;

@@ -179,6 +179,8 @@ class VisualInertialSlam {
   void setObservabilityConstrained(bool on);
   /// slam.second_order_noise, as setFirstEstimateJacobians (the image front end's override).
   void setSecondOrderNoise(bool on);
+  /// slam.second_order_mean, likewise.
+  void setSecondOrderMean(bool on);
   /// slam.pixel_sigma (> 0), likewise (the image front end's override).
   void setPixelSigma(double sigma_px);
   /// Takes the Jacobians of propagation, stereo update and initialisation at the truth the
