@@ -2,7 +2,8 @@
 // Hessians agree with second differences of the projection itself, it is positive
 // semi-definite, and it is the covariance of what the linear model leaves out of h(x) over
 // samples of x when the landmark's depth is uncertain (a landmark just triangulated); the
-// mean term is the mean of what it leaves out.
+// mean term is the mean of what it leaves out — in the right-invariant chart over the
+// invariant error, where a turn of vehicle and landmark together is no uncertainty of h.
 
 #include <gtest/gtest.h>
 
@@ -10,6 +11,7 @@
 #include <array>
 #include <random>
 
+#include "cvslam/filter/vehicle_model.h"
 #include "cvslam/geometry/euler.h"
 #include "cvslam/geometry/so3.h"
 #include "cvslam/ins/vehicle_state_layout.h"
@@ -143,6 +145,64 @@ TEST_F(StereoSecondOrderNoiseTest, MatchesTheSamplesWithTheRotationErrorStateToo
   Matrix12d P = P_;
   P.block<3, 3>(vehicle::kAttitude, vehicle::kAttitude) *= 4.0;  // 1.6° tilt σ, 4° heading σ
   expectTermsMatchSamples(camera_, tilted, p_, P);
+}
+
+TEST_F(StereoSecondOrderNoiseTest, InTheInvariantChartTheMeanIsOverTheInvariantError) {
+  // A vehicle 150 m from the origin whose heading is known to 2°, the landmark mapped from it:
+  // the filter's Gaussian is over ξ = (ξθ, ·, δp + p̂ × ξθ, δl + l̂ × ξθ) (slam_state.h), with
+  // x = Exp(ξ) x̂: R = Exp(ξθ) R̂, p = Exp(ξθ) p̂ + J_l(ξθ) ξp, l likewise. Its covariance in the
+  // additive errors δ, which the filter stores, is A⁻¹ P_ξ A⁻ᵀ.
+  EstimatedPose far;
+  far.p_BinN = Eigen::Vector3d(150.0, 20.0, -10.0);
+  far.R_BtoN = rotationBodyToNav(Eigen::Vector3d(0.05, -0.03, 0.8));
+  const Eigen::Vector3d l = far.p_BinN + Eigen::Vector3d(2.5, -1.5, 10.0);
+  const Eigen::Matrix3d M = vehicle_model::navRotationPerAttitude(far);
+  Matrix12d A = Matrix12d::Identity();  // δ → ξ
+  A.block<3, 3>(vehicle::kAttitude, vehicle::kAttitude) = M;
+  A.block<3, 3>(vehicle::kPosition, vehicle::kAttitude) = so3::skew<double>(far.p_BinN) * M;
+  A.block<3, 3>(9, vehicle::kAttitude) = so3::skew<double>(l) * M;
+  Matrix12d L_xi = Eigen::LLT<Matrix12d>(P_).matrixL();
+  L_xi(vehicle::kAttitude + 2, vehicle::kAttitude + 2) = 2.0 * M_PI / 180.0;  // heading σ 2°
+  const Matrix12d P_xi = L_xi * L_xi.transpose();
+  const Matrix12d A_inv = A.inverse();
+  const Matrix12d P_delta = A_inv * P_xi * A_inv.transpose();
+
+  StereoCamera::Matrix4x9d dz_dxv;
+  StereoCamera::Matrix4x3d dz_dpL;
+  const Eigen::Vector4d z0 = camera_.project(far, l, &dz_dxv, &dz_dpL);
+  Eigen::Matrix<double, 4, 12> H;
+  H << dz_dxv, dz_dpL;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n01;
+  constexpr int kSamples = 100000;
+  Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+  for (int s = 0; s < kSamples; ++s) {
+    Vector12d w;
+    for (int k = 0; k < 12; ++k) w(k) = n01(rng);
+    const Vector12d xi = L_xi * w;
+    const Eigen::Vector3d th = xi.segment<3>(vehicle::kAttitude);
+    const Eigen::Matrix3d turn = so3::exp(th);
+    const Eigen::Matrix3d J_l = so3::rightJacobian(Eigen::Vector3d(-th));
+    EstimatedPose x = far;
+    x.R_BtoN = turn * far.R_BtoN;
+    x.p_BinN = turn * far.p_BinN + J_l * xi.segment<3>(vehicle::kPosition);
+    const Eigen::Vector3d l_s = turn * l + J_l * xi.tail<3>();
+    // Minus the linear model in δ = A⁻¹ ξ (zero mean): only the sampling noise of the rest.
+    sum += camera_.project(x, l_s) - z0 - H * (A_inv * xi);
+  }
+  const Eigen::Vector4d sampled = sum / kSamples;
+  const Eigen::Vector4d invariant =
+      stereoSecondOrderTerms(camera_, far, l, P_delta, ErrorChart::kRightInvariant).mean;
+  const Eigen::Vector4d additive = stereoSecondOrderTerms(camera_, far, l, P_delta).mean;
+  std::cout << "sampled E[r] = " << sampled.transpose()
+            << "\ninvariant mean term = " << invariant.transpose()
+            << "\nadditive mean term = " << additive.transpose() << "\n";
+  EXPECT_LT((invariant - sampled).norm(), 0.1 * sampled.norm() + 0.005);
+  // The additive chart reads the heading's straight-line variance as curvature: far off.
+  EXPECT_GT((additive - sampled).norm(), 5.0 * (invariant - sampled).norm());
+  // The disparity's mean is the depth's curvature in both.
+  EXPECT_NEAR(invariant(0) - invariant(2), sampled(0) - sampled(2),
+              0.1 * (sampled(0) - sampled(2)) + 0.002);
 }
 
 }  // namespace

@@ -5,8 +5,9 @@
 # every seed (−0.87 m on average at 209 s, seeds 201-220, where the run-to-run spread is
 # 0.35 m): h(x̂) under-predicts the disparity of a landmark whose depth is uncertain. The same
 # seeds with and without the term (paired: the same noise): with it, the along-track error
-# from the start is less negative on every seed here, by at least 2 cm (4-19 cm on 201-220),
-# and by at least 5 cm on average. Seeds 71-74 chose nothing.
+# from the start is less negative on every seed by at least 15 cm, and by 20 cm on average
+# (32 cm on seeds 71-74). The term taken in additive coordinates instead of the filter's
+# invariant chart gained 13-15 cm on these seeds and fails. Seeds 71-74 chose nothing.
 #   tests/tools/second_order_mean_test.sh SOURCE_DIR BUILD_DIR OUT_DIR
 set -uo pipefail
 ROOT="$1" BUILD="$2" OUT="$3"
@@ -46,8 +47,8 @@ for seed in (71, 72, 73, 74):
     wo = along_track_error(f'{out}/without_{seed}')
     gains.append(w - wo)
     print(f'seed {seed}: along-track error {wo:+.3f} m without the mean term, {w:+.3f} m with it')
-    ok = ok and w - wo >= 0.02
+    ok = ok and w - wo >= 0.15
 mean = sum(gains) / len(gains)
-print(f'mean gain {mean:.3f} m (required: ≥ 0.02 m on every seed, ≥ 0.05 m on average)')
-sys.exit(0 if ok and mean >= 0.05 else 1)
+print(f'mean gain {mean:.3f} m (required: ≥ 0.15 m on every seed, ≥ 0.20 m on average)')
+sys.exit(0 if ok and mean >= 0.20 else 1)
 PYEOF

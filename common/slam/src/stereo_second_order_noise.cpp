@@ -2,6 +2,7 @@
 
 #include <array>
 
+#include "cvslam/filter/vehicle_model.h"
 #include "cvslam/geometry/euler.h"
 #include "cvslam/geometry/so3.h"
 #include "cvslam/ins/vehicle_state_layout.h"
@@ -34,10 +35,46 @@ Matrix4x12d jacobianAt(const StereoCamera& camera, const EstimatedPose& pose,
   return J;
 }
 
+/// The mean term over the right-invariant error (slam_state.h). With R = Exp(ξθ) R̂,
+/// p = Exp(ξθ) p̂ + J_l(ξθ) ξp and l = Exp(ξθ) l̂ + J_l(ξθ) ξl, the landmark in the body frame is
+/// R̂ᵀ(l̂ − p̂) + R̂ᵀ J_r(ξθ) Δ with Δ = ξl − ξp: ξθ alone (a turn of the whole, the global heading
+/// included) does not move it. To second order, with J_r ≈ I − ½[ξθ]× and ∇²_l h the Hessian in
+/// the landmark's position (h depends on l − p only),
+///   E[h] − h(x̂) = ½ tr(∇²_l h C_ΔΔ) − ½ ∂h/∂l E[ξθ × Δ].
+/// In additive coordinates the same heading uncertainty lies along straight lines
+/// p̂ + α e3 × p̂, whose curvature in h reads as a mean that grows with the heading's σ².
+Eigen::Vector4d invariantMean(const StereoCamera& camera, const EstimatedPose& pose,
+                              const Eigen::Vector3d& p_LinN, const Matrix12d& P,
+                              const std::array<Matrix12d, 4>& hessian) {
+  // ξθ = M δa, Δ = δl − δp + (l̂ − p̂) × ξθ (slam_state.h's ξ in the additive errors δ).
+  const Eigen::Matrix3d M = vehicle_model::navRotationPerAttitude(pose);
+  Eigen::Matrix<double, 3, 12> T_delta = Eigen::Matrix<double, 3, 12>::Zero();
+  T_delta.block<3, 3>(0, vehicle::kPosition) = -Eigen::Matrix3d::Identity();
+  T_delta.block<3, 3>(0, vehicle::kAttitude) = so3::skew<double>(p_LinN - pose.p_BinN) * M;
+  T_delta.block<3, 3>(0, 9).setIdentity();
+  Eigen::Matrix<double, 3, 12> T_theta = Eigen::Matrix<double, 3, 12>::Zero();
+  T_theta.block<3, 3>(0, vehicle::kAttitude) = M;
+  const Eigen::Matrix3d C_dd = T_delta * P * T_delta.transpose();
+  const Eigen::Matrix3d C_td = T_theta * P * T_delta.transpose();
+  // E[ξθ × Δ]_i = ε_ijk C_θΔ(j, k).
+  const Eigen::Vector3d e_cross(C_td(1, 2) - C_td(2, 1), C_td(2, 0) - C_td(0, 2),
+                                C_td(0, 1) - C_td(1, 0));
+  StereoCamera::Matrix4x9d dz_dxv;
+  StereoCamera::Matrix4x3d dz_dpL;
+  camera.project(pose, p_LinN, &dz_dxv, &dz_dpL);
+  Eigen::Vector4d mean;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Matrix3d H_ll = hessian[static_cast<std::size_t>(i)].bottomRightCorner<3, 3>();
+    mean(i) = 0.5 * H_ll.cwiseProduct(C_dd).sum() - 0.5 * dz_dpL.row(i).dot(e_cross);
+  }
+  return mean;
+}
+
 }  // namespace
 
 StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const EstimatedPose& pose,
-                                              const Eigen::Vector3d& p_LinN, const Matrix12d& P) {
+                                              const Eigen::Vector3d& p_LinN, const Matrix12d& P,
+                                              ErrorChart chart) {
   // Central differences of the Jacobian: column k of ∇²h_i is ∂(row i of J)/∂x_k. The step
   // is small against every state's scale (metres, radians) and large against rounding.
   constexpr double kStep = 1e-5;
@@ -55,9 +92,12 @@ StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const 
   StereoSecondOrderTerms terms;
   std::array<Matrix12d, 4> HP;
   for (std::size_t i = 0; i < 4; ++i) {
-    const Matrix12d symmetric = 0.5 * (hessian[i] + hessian[i].transpose());
-    HP[i] = symmetric * P;
+    hessian[i] = 0.5 * (hessian[i] + hessian[i].transpose());
+    HP[i] = hessian[i] * P;
     terms.mean(static_cast<int>(i)) = 0.5 * HP[i].trace();
+  }
+  if (chart == ErrorChart::kRightInvariant) {
+    terms.mean = invariantMean(camera, pose, p_LinN, P, hessian);
   }
   Eigen::Matrix4d& delta = terms.noise;
   for (int i = 0; i < 4; ++i) {

@@ -102,7 +102,8 @@ Status StereoUpdater::linearise(const SlamState& state, const LandmarkBook& book
       P_xl.topRightCorner<9, 3>() = P.block<9, 3>(veh->index, lm->index);
       P_xl.bottomLeftCorner<3, 9>() = P.block<3, 9>(lm->index, veh->index);
       P_xl.bottomRightCorner<3, 3>() = P.block<3, 3>(lm->index, lm->index);
-      const StereoSecondOrderTerms terms = stereoSecondOrderTerms(camera_, x, p_LinN, P_xl);
+      const StereoSecondOrderTerms terms =
+          stereoSecondOrderTerms(camera_, x, p_LinN, P_xl, state.errorChart());
       if (o_.second_order_noise) R_obs += noise_scale * terms.noise;
       if (o_.second_order_mean) z_hat += terms.mean;
     }

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "cvslam/camera/stereo_camera.h"
+#include "cvslam/filter/slam_state.h"
 #include "cvslam/ins/estimated_pose.h"
 
 namespace cvslam {
@@ -27,11 +28,15 @@ struct StereoSecondOrderTerms {
   Eigen::Matrix4d noise;  ///< ΔR (positive semi-definite) [px²]
 };
 
-/// The terms of observing p_LinN from `pose` when the joint covariance of (pose [p, v,
-/// attitude in the pose's coordinates], landmark) is P (12×12).
+/// The terms of observing p_LinN from `pose` when the joint covariance of the additive errors
+/// of (pose [p, v, attitude in the pose's coordinates], landmark) is P (12×12). `chart` is
+/// what the filter's Gaussian is over (slam_state.h): with kRightInvariant the mean term is
+/// taken over the invariant error ξ (x = Exp(ξ) x̂), where a rotation of vehicle and landmark
+/// together does not move the prediction; ΔR stays the additive one.
 StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const EstimatedPose& pose,
                                               const Eigen::Vector3d& p_LinN,
-                                              const Eigen::Matrix<double, 12, 12>& P);
+                                              const Eigen::Matrix<double, 12, 12>& P,
+                                              ErrorChart chart = ErrorChart::kAdditive);
 
 /// ΔR alone (stereoSecondOrderTerms(…).noise).
 inline Eigen::Matrix4d stereoSecondOrderNoise(const StereoCamera& camera, const EstimatedPose& pose,
