@@ -94,7 +94,7 @@ StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const 
   for (std::size_t i = 0; i < 4; ++i) {
     hessian[i] = 0.5 * (hessian[i] + hessian[i].transpose());
     HP[i] = hessian[i] * P;
-    terms.mean(static_cast<int>(i)) = 0.5 * HP[i].trace();
+    terms.mean(static_cast<int>(i)) = 0.5 * HP[i].trace();  // over the additive errors
   }
   if (chart == ErrorChart::kRightInvariant) {
     terms.mean = invariantMean(camera, pose, p_LinN, P, hessian);

@@ -26,10 +26,10 @@ struct SlamOptions {
   /// linearisation error of landmarks whose depth is still uncertain. config/agent.yaml turns
   /// it on at feature level (docs/filter.md "The second-order term at feature level").
   bool second_order_noise = false;
-  /// Predict each stereo observation at its second-order mean, h(x̂) + ½ tr(∇²h_i P), instead of
-  /// h(x̂) (the same filter's mean term; stereo_second_order_noise.h): the curvature of 1/Z
-  /// biases h(x̂) one way, and the bias shortens the flown distance (docs/filter.md "The
-  /// second-order mean").
+  /// Predict each stereo observation at its second-order mean, h(x̂) + ½ tr(∇²h_i P) over the
+  /// error chart's Gaussian, instead of h(x̂) (the same filter's mean term;
+  /// stereo_second_order_noise.h): the curvature of 1/Z biases h(x̂) one way, and the bias
+  /// shortens the flown distance (docs/filter.md "The second-order mean").
   bool second_order_mean = false;
   int max_new_landmarks_per_frame = 8;  ///< new landmarks initialised per frame, nearest to m*
   double min_init_disparity_px = 1.0;   ///< farther points (smaller disparity) are not mapped

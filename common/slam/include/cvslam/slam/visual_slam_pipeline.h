@@ -110,8 +110,8 @@ struct VisualFrontEndOptions {
   /// map on the recordings (docs/results/ideal_ekf.md "Second-order noise").
   std::optional<bool> second_order_noise;
   /// Overrides slam.second_order_mean likewise. Not measured to help with real keypoints: on
-  /// team3_aerial it left the NEES and errors where they were and halved the pairs DC fused on
-  /// seed 41 (docs/filter.md "The second-order mean").
+  /// team3_aerial its first, additive version left the NEES and errors where they were and
+  /// halved the pairs DC fused on seed 41 (docs/filter.md "The second-order mean").
   std::optional<bool> second_order_mean;
   /// Overrides slam.pixel_sigma likewise (absent: the slam setting). The slam value is the
   /// feature-level simulator's true noise; detected keypoints are localised several times
