@@ -94,10 +94,11 @@ StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const 
   for (std::size_t i = 0; i < 4; ++i) {
     hessian[i] = 0.5 * (hessian[i] + hessian[i].transpose());
     HP[i] = hessian[i] * P;
-    terms.mean(static_cast<int>(i)) = 0.5 * HP[i].trace();  // over the additive errors
   }
   if (chart == ErrorChart::kRightInvariant) {
     terms.mean = invariantMean(camera, pose, p_LinN, P, hessian);
+  } else {
+    for (int i = 0; i < 4; ++i) terms.mean(i) = 0.5 * HP[static_cast<std::size_t>(i)].trace();
   }
   Eigen::Matrix4d& delta = terms.noise;
   for (int i = 0; i < 4; ++i) {

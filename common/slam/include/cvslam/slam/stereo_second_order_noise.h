@@ -38,11 +38,4 @@ StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const 
                                               const Eigen::Matrix<double, 12, 12>& P,
                                               ErrorChart chart = ErrorChart::kAdditive);
 
-/// ΔR alone (stereoSecondOrderTerms(…).noise).
-inline Eigen::Matrix4d stereoSecondOrderNoise(const StereoCamera& camera, const EstimatedPose& pose,
-                                              const Eigen::Vector3d& p_LinN,
-                                              const Eigen::Matrix<double, 12, 12>& P) {
-  return stereoSecondOrderTerms(camera, pose, p_LinN, P).noise;
-}
-
 }  // namespace cvslam
