@@ -7,7 +7,9 @@
 #include <random>
 
 #include "cvslam/filter/covariance_helper.h"
+#include "cvslam/geometry/so3.h"
 #include "cvslam/ins/ins_propagator.h"
+#include "cvslam/slam/stereo_second_order_noise.h"
 #include "filter_fixtures.h"
 
 namespace cvslam {
@@ -155,6 +157,26 @@ void BM_FilterStep(benchmark::State& st) {
   }
 }
 BENCHMARK(BM_FilterStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+/// The second-order terms of one stereo observation (ΔR and the mean; per observation with
+/// features): the Hessians are central differences of 12 Jacobians each way. Arg 0: the mean
+/// over the additive errors, 1: over the invariant error (the agents' chart).
+void BM_StereoSecondOrderTerms(benchmark::State& st) {
+  const StereoCamera camera;
+  EstimatedPose pose;
+  pose.p_BinN = Eigen::Vector3d(150.0, 20.0, -10.0);
+  pose.R_BtoN = so3::exp(Eigen::Vector3d(0.05, -0.03, 0.8));
+  const Eigen::Vector3d l = pose.p_BinN + Eigen::Vector3d(2.5, -1.5, 10.0);
+  Eigen::Matrix<double, 12, 12> L = Eigen::Matrix<double, 12, 12>::Identity() * 0.05;
+  L(11, 2) = 0.04;
+  const Eigen::Matrix<double, 12, 12> P = L * L.transpose();
+  const ErrorChart chart = st.range(0) > 0 ? ErrorChart::kRightInvariant : ErrorChart::kAdditive;
+  for (auto _ : st) {
+    const StereoSecondOrderTerms terms = stereoSecondOrderTerms(camera, pose, l, P, chart);
+    benchmark::DoNotOptimize(terms.noise.data());
+  }
+}
+BENCHMARK(BM_StereoSecondOrderTerms)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace cvslam

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # scripts/mc_consistency.py end to end: team3_aerial, seeds 1-3, 8 s, two at a time. Checks:
 # consistency.md, consistency.csv and a NEES plot per UAV exist, the table has a finite mean
-# NEES per group (the bias groups too: the shipped filter has bias states) and a final-map
+# NEES per group (the bias groups too: the shipped filter has bias states), a share of time in
+# the one-run band no smaller than in the band of the 3 runs, and a final-map
 # landmark NEES for each of the 3 UAVs, a second call resumes (runs nothing), and a bad seed
 # range or a missing binary exits non-zero with a one-line error.
 #   tests/tools/mc_consistency_test.sh SOURCE_DIR BUILD_DIR OUT_DIR
@@ -29,6 +30,12 @@ for a, body in sorted(agents.items()):
                          r'([^ |]+) \|', body, re.M)}
     if len(means) != 7 or not all(math.isfinite(v) for v in means.values()):
         print(f'UAV{a}: no finite mean NEES per group: {means}'); ok = False
+    # The band of one run contains the band of N: never less of the time inside it.
+    shares = [(float(m.group(1)), float(m.group(2))) for m in
+              re.finditer(r'^\| [a-z ]+ \| \d \| [^|]+ \| \[[^]]+\] \| ([0-9.]+) \| [0-9.]+ \| '
+                          r'([0-9.]+) \|$', body, re.M)]
+    if len(shares) != 7 or any(one < n for n, one in shares):
+        print(f'UAV{a}: % in the one-run band missing or below the N-run one: {shares}'); ok = False
     if not re.search(r'^\| Rco \| [0-9.]', body, re.M):
         print(f'UAV{a}: no Rco row'); ok = False
     m = re.search(r'^Final map, landmark NEES .*: mean ([0-9.]+) over 3 runs', body, re.M)
