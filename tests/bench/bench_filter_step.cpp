@@ -159,7 +159,7 @@ void BM_FilterStep(benchmark::State& st) {
 BENCHMARK(BM_FilterStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 /// The second-order terms of one stereo observation (ΔR and the mean; per observation with
-/// features): the Hessians are central differences of 12 Jacobians each way. Arg 0: the mean
+/// features): the Hessians in (attitude, l − p) from 12 Jacobian evaluations. Arg 0: the mean
 /// over the additive errors, 1: over the invariant error (the agents' chart).
 void BM_StereoSecondOrderTerms(benchmark::State& st) {
   const StereoCamera camera;

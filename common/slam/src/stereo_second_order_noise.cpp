@@ -12,6 +12,7 @@ namespace {
 
 using Matrix4x12d = Eigen::Matrix<double, 4, 12>;
 using Matrix12d = Eigen::Matrix<double, 12, 12>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 /// [∂z/∂pose ∂z/∂p_L] at the pose moved by d (its first 9 entries, in the pose's coordinates)
 /// and the landmark moved by the last 3.
@@ -45,7 +46,7 @@ Matrix4x12d jacobianAt(const StereoCamera& camera, const EstimatedPose& pose,
 /// p̂ + α e3 × p̂, whose curvature in h reads as a mean that grows with the heading's σ².
 Eigen::Vector4d invariantMean(const StereoCamera& camera, const EstimatedPose& pose,
                               const Eigen::Vector3d& p_LinN, const Matrix12d& P,
-                              const std::array<Matrix12d, 4>& hessian) {
+                              const std::array<Matrix6d, 4>& hessian) {
   // ξθ = M δa, Δ = δl − δp + (l̂ − p̂) × ξθ (slam_state.h's ξ in the additive errors δ).
   const Eigen::Matrix3d M = vehicle_model::navRotationPerAttitude(pose);
   Eigen::Matrix<double, 3, 12> T_delta = Eigen::Matrix<double, 3, 12>::Zero();
@@ -64,6 +65,7 @@ Eigen::Vector4d invariantMean(const StereoCamera& camera, const EstimatedPose& p
   camera.project(pose, p_LinN, &dz_dxv, &dz_dpL);
   Eigen::Vector4d mean;
   for (int i = 0; i < 4; ++i) {
+    // ∇²_l h is the Δ block (h depends on l − p only).
     const Eigen::Matrix3d H_ll = hessian[static_cast<std::size_t>(i)].bottomRightCorner<3, 3>();
     mean(i) = 0.5 * H_ll.cwiseProduct(C_dd).sum() - 0.5 * dz_dpL.row(i).dot(e_cross);
   }
@@ -75,37 +77,51 @@ Eigen::Vector4d invariantMean(const StereoCamera& camera, const EstimatedPose& p
 StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const EstimatedPose& pose,
                                               const Eigen::Vector3d& p_LinN, const Matrix12d& P,
                                               ErrorChart chart) {
-  // Central differences of the Jacobian: column k of ∇²h_i is ∂(row i of J)/∂x_k. The step
-  // is small against every state's scale (metres, radians) and large against rounding.
+  // h depends on the attitude and on Δ = l − p only (not on the velocity): with y = T δ =
+  // (δa, δl − δp), ∇²h_i = Tᵀ G_i T for the 6×6 Hessian G_i in y, so ½ tr(∇²h_i P) = ½ tr(G_i C)
+  // and ½ tr(∇²h_i P ∇²h_j P) = ½ tr(G_i C G_j C) with C = T P Tᵀ. G_i's columns are central
+  // differences of the Jacobian's (attitude, landmark) columns along the attitude and the
+  // landmark; the step is small against every state's scale (metres, radians) and large
+  // against rounding.
   constexpr double kStep = 1e-5;
-  std::array<Matrix12d, 4> hessian;
-  for (int k = 0; k < 12; ++k) {
+  constexpr int kLandmark = 9;
+  std::array<Matrix6d, 4> hessian;
+  for (int k = 0; k < 6; ++k) {
     Eigen::Matrix<double, 12, 1> d = Eigen::Matrix<double, 12, 1>::Zero();
-    d(k) = kStep;
+    d(k < 3 ? vehicle::kAttitude + k : kLandmark + k - 3) = kStep;
     const Matrix4x12d dJ =
         (jacobianAt(camera, pose, p_LinN, d) - jacobianAt(camera, pose, p_LinN, -d)) /
         (2.0 * kStep);
-    for (int i = 0; i < 4; ++i) hessian[static_cast<std::size_t>(i)].col(k) = dJ.row(i).transpose();
+    for (std::size_t i = 0; i < 4; ++i) {
+      const int row = static_cast<int>(i);
+      hessian[i].col(k) << dJ.block<1, 3>(row, vehicle::kAttitude).transpose(),
+          dJ.block<1, 3>(row, kLandmark).transpose();
+    }
   }
+  Eigen::Matrix<double, 6, 12> T = Eigen::Matrix<double, 6, 12>::Zero();
+  T.block<3, 3>(0, vehicle::kAttitude).setIdentity();
+  T.block<3, 3>(3, vehicle::kPosition) = -Eigen::Matrix3d::Identity();
+  T.block<3, 3>(3, kLandmark).setIdentity();
+  const Matrix6d C = T * P * T.transpose();
   // Symmetrised: the error-state attitude's Hessian of the Jacobian carries an antisymmetric
   // part (Exp(d + δ) ≠ Exp(d) Exp(δ)) that a quadratic form does not see.
   StereoSecondOrderTerms terms;
-  std::array<Matrix12d, 4> HP;
+  std::array<Matrix6d, 4> GC;
   for (std::size_t i = 0; i < 4; ++i) {
-    hessian[i] = 0.5 * (hessian[i] + hessian[i].transpose());
-    HP[i] = hessian[i] * P;
+    hessian[i] = 0.5 * (hessian[i] + hessian[i].transpose()).eval();
+    GC[i] = hessian[i] * C;
   }
   if (chart == ErrorChart::kRightInvariant) {
     terms.mean = invariantMean(camera, pose, p_LinN, P, hessian);
   } else {
-    for (int i = 0; i < 4; ++i) terms.mean(i) = 0.5 * HP[static_cast<std::size_t>(i)].trace();
+    for (int i = 0; i < 4; ++i) terms.mean(i) = 0.5 * GC[static_cast<std::size_t>(i)].trace();
   }
   Eigen::Matrix4d& delta = terms.noise;
   for (int i = 0; i < 4; ++i) {
     for (int j = i; j < 4; ++j) {
       // tr(A B) without forming A B.
-      const double t = (HP[static_cast<std::size_t>(i)].array() *
-                        HP[static_cast<std::size_t>(j)].transpose().array())
+      const double t = (GC[static_cast<std::size_t>(i)].array() *
+                        GC[static_cast<std::size_t>(j)].transpose().array())
                            .sum();
       delta(i, j) = delta(j, i) = 0.5 * t;
     }

@@ -12,7 +12,9 @@
 // second-order mean; slam.second_order_mean): the EKF's h(x̂) is biased by the curvature of
 // 1/Z, and that bias, always of one sign, shortens every landmark's depth a little and with it
 // the distance the vehicle is found to have flown (docs/filter.md "The second-order mean").
-// The Hessians are central differences of the analytic Jacobian (StereoCamera::project).
+// The Hessians are central differences of the analytic Jacobian (StereoCamera::project), taken
+// in the 6 coordinates h depends on (the attitude and l − p; not the velocity): 12 Jacobian
+// evaluations and 6×6 products per observation.
 
 #include <Eigen/Core>
 
