@@ -45,18 +45,17 @@ Matrix4x12d jacobianAt(const StereoCamera& camera, const EstimatedPose& pose,
 /// In additive coordinates the same heading uncertainty lies along straight lines
 /// p̂ + α e3 × p̂, whose curvature in h reads as a mean that grows with the heading's σ².
 Eigen::Vector4d invariantMean(const StereoCamera& camera, const EstimatedPose& pose,
-                              const Eigen::Vector3d& p_LinN, const Matrix12d& P,
+                              const Eigen::Vector3d& p_LinN, const Matrix6d& C,
                               const std::array<Matrix6d, 4>& hessian) {
+  // C is the covariance of the additive (δa, δl − δp); the invariant (ξθ, Δ) is B times them:
   // ξθ = M δa, Δ = δl − δp + (l̂ − p̂) × ξθ (slam_state.h's ξ in the additive errors δ).
   const Eigen::Matrix3d M = vehicle_model::navRotationPerAttitude(pose);
-  Eigen::Matrix<double, 3, 12> T_delta = Eigen::Matrix<double, 3, 12>::Zero();
-  T_delta.block<3, 3>(0, vehicle::kPosition) = -Eigen::Matrix3d::Identity();
-  T_delta.block<3, 3>(0, vehicle::kAttitude) = so3::skew<double>(p_LinN - pose.p_BinN) * M;
-  T_delta.block<3, 3>(0, 9).setIdentity();
-  Eigen::Matrix<double, 3, 12> T_theta = Eigen::Matrix<double, 3, 12>::Zero();
-  T_theta.block<3, 3>(0, vehicle::kAttitude) = M;
-  const Eigen::Matrix3d C_dd = T_delta * P * T_delta.transpose();
-  const Eigen::Matrix3d C_td = T_theta * P * T_delta.transpose();
+  Matrix6d B = Matrix6d::Identity();
+  B.topLeftCorner<3, 3>() = M;
+  B.bottomLeftCorner<3, 3>() = so3::skew<double>(p_LinN - pose.p_BinN) * M;
+  const Matrix6d C_xi = B * C * B.transpose();
+  const Eigen::Matrix3d C_dd = C_xi.bottomRightCorner<3, 3>();
+  const Eigen::Matrix3d C_td = C_xi.topRightCorner<3, 3>();
   // E[ξθ × Δ]_i = ε_ijk C_θΔ(j, k).
   const Eigen::Vector3d e_cross(C_td(1, 2) - C_td(2, 1), C_td(2, 0) - C_td(0, 2),
                                 C_td(0, 1) - C_td(1, 0));
@@ -112,7 +111,7 @@ StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const 
     GC[i] = hessian[i] * C;
   }
   if (chart == ErrorChart::kRightInvariant) {
-    terms.mean = invariantMean(camera, pose, p_LinN, P, hessian);
+    terms.mean = invariantMean(camera, pose, p_LinN, C, hessian);
   } else {
     for (int i = 0; i < 4; ++i) terms.mean(i) = 0.5 * GC[static_cast<std::size_t>(i)].trace();
   }
