@@ -23,6 +23,7 @@ Status CcTeamLink::open(const std::string& run_dir, const RunInfo& info,
     // as the ground-station process adds it when that POSE arrives (same state layout).
     starts_[id] = {slam.time(), slam.vehicleState(), slam.vehicleCovariance(), &setup.options.ins,
                    &slam.camera()};
+    ins_[id] = &setup.options.ins;
     builders_.emplace(id, coop::CcBatchBuilder(id));
     filter_.setLinearisationOracle(id, run.truthOracle(i));  // null unless --linearise-at-truth
   }
@@ -55,7 +56,8 @@ Status CcTeamLink::afterFrame(int id, const AgentPipeline& agent, const Vector9d
   Expected<coop::CcObservationBatch> received =
       back.ok() ? transport::fromMessage(*back) : Expected<coop::CcObservationBatch>(back.status());
   if (!received.ok()) {
-    recorder_.addDropped("decode");
+    recorder_.addDropped("decode", id, n);
+    ++dropped_[id];
     return recorder->addFrame(agent, truth, std::numeric_limits<double>::quiet_NaN(), nullptr);
   }
   const coop::CcObservationBatch& batch = *received;
@@ -71,6 +73,14 @@ Status CcTeamLink::afterFrame(int id, const AgentPipeline& agent, const Vector9d
   for (const coop::CcCrossAssociation& c : filter_.takeCrossAssociations()) cross_.push_back(c);
   if (Status s = recorder_.addStep(filter_, report, truth); !s.ok()) return s;
   if (!step.ok()) {
+    // A vehicle whose IMU cannot reach the frame starts again from the agent's own estimate
+    // at its next batch, as the ground-station process restarts it from the agent's POSE.
+    if (report.refusal == coop::CcRefusal::kPropagation) {
+      const VisualInertialSlam& slam = agent.slam();
+      starts_[id] = {slam.time(), slam.vehicleState(), slam.vehicleCovariance(), ins_.at(id),
+                     &slam.camera()};
+      ++restarts_;
+    }
     return recorder->addFrame(agent, truth, std::numeric_limits<double>::quiet_NaN(), nullptr);
   }
   Expected<VehicleEstimate> adopted = filter_.estimate(id);
@@ -86,16 +96,18 @@ void CcTeamLink::printSummary(std::FILE* out, double duration_s) const {
   const coop::CcTeamStatistics& st = filter_.statistics();
   const TimeSummary steps = summariseTimes(st.step_ms);
   std::fprintf(out,
-               "  ground station: %ld batches (%ld rejected), step median %.2f ms, p95 %.2f ms, "
-               "max %.2f ms, state size max %d, joint map %zu landmarks\n",
-               st.batches, st.rejected(), steps.median_ms, steps.p95_ms, steps.max_ms,
-               st.max_state_size, filter_.map().size());
+               "  ground station: %ld batches (%ld refused: %s; %ld vehicle restarts), step median "
+               "%.2f ms, p95 %.2f ms, max %.2f ms, state size max %d, joint map %zu landmarks\n",
+               st.batches, st.rejected(), st.refusalSummary().c_str(), restarts_,
+               steps.median_ms, steps.p95_ms, steps.max_ms, st.max_state_size,
+               filter_.map().size());
   for (const auto& [id, c] : st.agents) {
     const auto sent = bytes_sent_.count(id) > 0 ? bytes_sent_.at(id) : 0;
     std::fprintf(out,
-                 "    UAV%d: %ld batches, observations type 1/2/3 %ld/%ld/%ld, %ld loop "
-                 "closures, %.1f KB/s to the ground station\n",
-                 id, c.batches, c.type1, c.type2, c.type3, c.loop_closures,
+                 "    UAV%d: %ld batches accepted of %ld, %ld IMU gaps bridged, observations type "
+                 "1/2/3 %ld/%ld/%ld, %ld loop closures, %.1f KB/s to the ground station\n",
+                 id, c.batches, c.batches + c.rejected + dropped(id), c.imu_gaps_bridged, c.type1,
+                 c.type2, c.type3, c.loop_closures,
                  duration_s > 0 ? static_cast<double>(sent) / duration_s / 1000.0 : 0.0);
   }
 }

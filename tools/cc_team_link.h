@@ -58,7 +58,11 @@ class CcTeamLink {
     const StereoCamera* camera;
   };
   std::map<int, Start> starts_;
+  std::map<int, const InsPropagatorOptions*> ins_;  // each UAV's IMU noise, for restarts
   std::map<int, int64_t> bytes_sent_;
+  std::map<int, long> dropped_;  // batches that did not survive the wire, per UAV
+  long restarts_ = 0;            // vehicles started again after a propagation refusal
+  long dropped(int id) const { return dropped_.count(id) > 0 ? dropped_.at(id) : 0; }
   std::vector<coop::CcCrossAssociation> cross_;
 };
 

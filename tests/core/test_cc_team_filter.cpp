@@ -350,12 +350,67 @@ TEST(CcTeamFilter, BadBatchesAreCountedAndChangeNothing) {
   EXPECT_EQ(st.rejected_stale, 2);
   EXPECT_EQ(st.batches, 1);
   EXPECT_EQ(st.agents.at(1).rejected, 7);
+  // Each refusal under its own reason, per UAV.
+  const std::map<std::string, long> expected = {
+      {"invalid_pixels", 2}, {"invalid_imu_not_finite", 1}, {"invalid_imu_after_frame", 1},
+      {"invalid_frame_time", 1}, {"stale", 2}};
+  EXPECT_EQ(st.agents.at(1).refused, expected);
+  EXPECT_NE(st.refusalSummary().find("UAV1 "), std::string::npos);
+  EXPECT_EQ(coop::refusalsOf("gs: batches 1, refused 7: " + st.refusalSummary(), 1),
+            "invalid_frame_time 1, invalid_imu_after_frame 1, invalid_imu_not_finite 1, "
+            "invalid_pixels 2, stale 2");
+  EXPECT_EQ(coop::refusalsOf("gs: refused 7: " + st.refusalSummary(), 2), "");
   const VehicleEstimate after = *gs.estimate(1);
   EXPECT_EQ(after.x_v, before.x_v);
   EXPECT_EQ(after.P_v, before.P_v);
   EXPECT_EQ(gs.mapVersion(), version);
   // The filter goes on with the next good batch.
   EXPECT_TRUE(gs.processBatch(restBatch(1, 200000)).ok());
+}
+
+TEST(CcTeamFilter, ANoisyNegativeDisparityIsAMeasurementNotAnInvalidBatch) {
+  // A distant landmark's pair with the simulator's pixel noise: the agent's filter updates
+  // with it, so the ground station must take the batch (it refused every such batch).
+  coop::CcTeamFilter gs = oneRestingVehicle();
+  ASSERT_TRUE(gs.processBatch(restBatch(1, 100000)).ok());
+  coop::CcObservationBatch far = restBatch(1, 150000);
+  StereoObservation obs = far.frame.observations[0];
+  obs.z = Eigen::Vector4d(500, 300, 500.4, 300);  // disparity −0.4 px
+  obs.landmark_id = obs.index = 8;
+  far.frame.observations.push_back(obs);
+  coop::CcStepReport report;
+  EXPECT_TRUE(gs.processBatch(far, &report).ok()) << report.reason;
+  EXPECT_EQ(gs.statistics().rejected(), 0);
+}
+
+TEST(CcTeamFilter, ABatchLostOnTheWayIsBridgedALongGapRefusesOnlyItsOwnBatch) {
+  coop::CcTeamFilter gs = oneRestingVehicle();
+  ASSERT_TRUE(gs.processBatch(restBatch(1, 100000)).ok());
+  // The batches at 150 and 200 ms never arrive: their IMU samples are missing, a 110 ms gap
+  // longer than ins.max_dt (the ground station then refused every later batch of that UAV).
+  const coop::CcTeamFilterOptions defaults;
+  ASSERT_LT(defaults.slam.ins.max_dt, 0.11);
+  coop::CcStepReport report;
+  ASSERT_TRUE(gs.processBatch(restBatch(1, 260000), &report).ok()) << report.reason;
+  EXPECT_NEAR(report.imu_gap_bridged_s, 0.11, 1e-9);
+  ASSERT_TRUE(gs.processBatch(restBatch(1, 310000), &report).ok()) << report.reason;
+  EXPECT_EQ(report.imu_gap_bridged_s, 0.0);
+  EXPECT_EQ(gs.statistics().agents.at(1).imu_gaps_bridged, 1);
+  EXPECT_EQ(gs.statistics().rejected(), 0);
+  // At rest, the samples bridged between two resting ones keep it at rest.
+  EXPECT_LT(gs.estimate(1)->x_v.segment<3>(3).norm(), 1e-6);  // velocity [m/s]
+
+  // A gap beyond cc.max_imu_gap_s: that batch is refused for the propagation, and nothing
+  // changed, so a restart (addVehicle) from the agent's estimate takes the next one.
+  const VehicleEstimate before = *gs.estimate(1);
+  const int64_t later = 310000 + std::llround((defaults.max_imu_gap_s + 0.2) * 1e6);
+  EXPECT_FALSE(gs.processBatch(restBatch(1, later), &report).ok());
+  EXPECT_EQ(report.refusal, coop::CcRefusal::kPropagation);
+  EXPECT_EQ(gs.statistics().agents.at(1).refused.at("propagation"), 1);
+  EXPECT_EQ(gs.estimate(1)->x_v, before.x_v);
+  ASSERT_TRUE(gs.addVehicle(1, StereoCamera(StereoCameraOptions{}), later, before.x_v, before.P_v)
+                  .ok());
+  EXPECT_TRUE(gs.processBatch(restBatch(1, later + 50000), &report).ok()) << report.reason;
 }
 
 TEST(CcTeamFilter, VehiclesComeAndGoTheMapStays) {

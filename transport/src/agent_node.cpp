@@ -366,7 +366,8 @@ Status AgentNode::publishStatus() {
   // without a frame for this agent, or the end of the data).
   const bool unfinished = frame_may_follow_ && now() - lastArrival() < o_.status_period_s;
   m.processed_utime = unfinished ? processed_us_ - 1 : processed_us_;
-  m.health = errors_ > 0 ? cvslam::status_t::HEALTH_DEGRADED : cvslam::status_t::HEALTH_OK;
+  m.health = errors_ > 0 || (coop_ && coop_->degraded()) ? cvslam::status_t::HEALTH_DEGRADED
+                                                         : cvslam::status_t::HEALTH_OK;
   m.message = coop_ ? coop_->statusText() : std::string();
   if (!last_error_.empty()) m.message += (m.message.empty() ? "" : "; ") + last_error_;
   return bus_->publish(channels::status(o_.id), m);

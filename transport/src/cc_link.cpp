@@ -55,6 +55,7 @@ Status CcLink::subscribe(LcmBus& bus) {
                                            if (m.header.agent_id != kGroundStationId) return;
                                            std::lock_guard<std::mutex> lock(mutex_);
                                            gs_heard_s_ = now();
+                                           refused_ = coop::refusalsOf(m.message, id_);
                                          });
 }
 
@@ -118,15 +119,26 @@ Status CcLink::afterFrame(AgentPipeline& agent, LcmBus& bus,
   return log(t);
 }
 
+std::string CcLink::refused() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return refused_;
+}
+
 std::string CcLink::statusText() const {
+  const std::string r = refused();
   return std::string("gs: ") + name(gs_) + ", adopted " + std::to_string(frames_adopted_) +
-         ", own " + std::to_string(frames_own_);
+         ", own " + std::to_string(frames_own_) + (r.empty() ? "" : "; gs refused my batches: " + r);
+}
+
+bool CcLink::degraded() const {
+  return !refused().empty();
 }
 
 std::string CcLink::report() const {
   return "centralised: frames adopted " + std::to_string(frames_adopted_) + ", own " +
          std::to_string(frames_own_) + ", ground station took over " + std::to_string(takeovers_) +
-         " time(s) after a gap, last gs " + name(gs_);
+         " time(s) after a gap, last gs " + name(gs_) +
+         (refused().empty() ? "" : ", gs refused batches: " + refused());
 }
 
 }  // namespace cvslam::transport

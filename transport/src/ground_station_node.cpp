@@ -97,9 +97,10 @@ void GroundStationNode::push(Inbound in) {
   inbox_cv_.notify_one();
 }
 
-void GroundStationNode::countDropped(const std::string& reason) {
+void GroundStationNode::countDropped(const std::string& reason, int agent_id, int64_t bytes) {
   std::lock_guard<std::mutex> lock(inbox_mutex_);
   ++dropped_[reason];
+  if (recording_) drops_unrecorded_.push_back({reason, agent_id, bytes});
 }
 
 Status GroundStationNode::subscribe() {
@@ -111,7 +112,9 @@ Status GroundStationNode::subscribe() {
       allAgentsPattern(Stream::kObs), [this, count](const cvslam::observation_batch_t& m) {
         count(Stream::kObs, m.getEncodedSize());
         auto batch = fromMessage(m);
-        if (!batch.ok()) return countDropped("invalid");
+        if (!batch.ok())
+          return countDropped("invalid", m.header.agent_id,
+                              static_cast<int64_t>(m.getEncodedSize()));
         Inbound in;
         in.kind = Inbound::Kind::kBatch;
         in.agent_id = m.header.agent_id;
@@ -245,15 +248,15 @@ Status GroundStationNode::step(coop::CcEvent& e) {
   if (e.kind == coop::CcEvent::Kind::kStart) return startVehicle(e);
   coop::CcStepReport report;
   // A rejected batch is counted by the filter (statistics()) and changes nothing.
-  const long stale_before = filter_.statistics().rejected_stale;
   (void)filter_.processBatch(e.batch, &report);
   if (recording_)
     if (Status s = recorder_.addStep(filter_, report, truthAt(e.agent_id, e.t_us)); !s.ok())
       return s;
   if (!report.accepted) {
-    // Not stale, so the vehicle cannot take its batches any more (e.g. the IMU gap of a batch
-    // lost on the way): it restarts from the agent's next POSE, as after a timeout.
-    if (filter_.statistics().rejected_stale == stale_before && filter_.hasVehicle(e.agent_id)) {
+    // The vehicle's IMU cannot reach the frame (a gap longer than cc.max_imu_gap_s): it
+    // restarts from the agent's next POSE, as after a timeout. Other refusals leave a vehicle
+    // that takes the next batch.
+    if (report.refusal == coop::CcRefusal::kPropagation && filter_.hasVehicle(e.agent_id)) {
       ++resets_;
       (void)filter_.removeVehicle(e.agent_id);
       if (o_.verbose)
@@ -309,26 +312,29 @@ Status GroundStationNode::publishStatus(bool final) {
   m.processed_utime = orderer_.processedUpTo(t);
   m.header.utime = std::max<int64_t>(m.processed_utime, 0);
   m.header.agent_id = kGroundStationId;
-  m.health = cvslam::status_t::HEALTH_OK;
   std::string vehicles;
   for (int id : filter_.vehicles()) vehicles += (vehicles.empty() ? "" : ",") + std::to_string(id);
   const coop::CcTeamStatistics& st = filter_.statistics();
+  // Refused batches make the ground station degraded, and the message names each UAV's
+  // reasons (coop::refusedCount reads them back: the agents report them, the view shows them).
+  m.health = st.rejected() > 0 ? cvslam::status_t::HEALTH_DEGRADED : cvslam::status_t::HEALTH_OK;
   m.message = "gs: vehicles " + (vehicles.empty() ? std::string("none") : vehicles) + "; batches " +
-              std::to_string(st.batches) + ", rejected " + std::to_string(st.rejected());
+              std::to_string(st.batches) + ", refused " + std::to_string(st.rejected()) + ": " +
+              st.refusalSummary();
   return bus_->publish(channels::status(kGroundStationId), m);
 }
 
 Status GroundStationNode::flushRecord(bool final) {
   if (!recording_) return Status::Ok();
-  std::map<std::string, int64_t> bytes, dropped;
+  std::map<std::string, int64_t> bytes;
+  std::vector<Drop> drops;
   {
     std::lock_guard<std::mutex> lock(inbox_mutex_);
     bytes.swap(bytes_received_);
-    dropped = dropped_;
+    drops.swap(drops_unrecorded_);
   }
   for (const auto& [stream, n] : bytes) recorder_.addBytesReceived(stream, n);
-  for (const auto& [reason, n] : dropped)
-    for (int64_t& done = dropped_recorded_[reason]; done < n; ++done) recorder_.addDropped(reason);
+  for (const Drop& d : drops) recorder_.addDropped(d.reason, d.agent_id, d.bytes);
   if (!final) return recorder_.flush(filter_);
   coop::GroundStationRecorder::LandmarkTruth truth;
   if (filter_.options().association == coop::CcAssociation::kTrueIds) {
@@ -393,15 +399,15 @@ std::string GroundStationNode::report() const {
   std::lock_guard<std::mutex> lock(inbox_mutex_);
   for (const auto& [reason, n] : dropped_)
     dropped += (dropped.empty() ? "" : ", ") + reason + " " + std::to_string(n);
-  char buf[512];
+  char buf[2048];
   std::snprintf(buf, sizeof(buf),
-                "ground station: batches %ld, rejected %ld (invalid %ld, stale %ld, unknown "
-                "agent %ld); dropped before the filter: %s; vehicle starts %lld, agent restarts "
+                "ground station: batches %ld, refused %ld (%s); dropped before the filter: %s; "
+                "vehicle starts %lld, agent restarts "
                 "%lld, timeouts %lld, vehicle resets %lld; GS_STATE sent %lld; step median %.2f "
                 "ms, p95 %.2f ms, max "
                 "%.2f ms; max state size %d",
-                st.batches, st.rejected(), st.rejected_invalid, st.rejected_stale,
-                st.rejected_unknown_agent, dropped.empty() ? "none" : dropped.c_str(),
+                st.batches, st.rejected(), st.refusalSummary().c_str(),
+                dropped.empty() ? "none" : dropped.c_str(),
                 static_cast<long long>(starts_), static_cast<long long>(restarts_),
                 static_cast<long long>(timeouts_), static_cast<long long>(resets_),
                 static_cast<long long>(published_states_), steps.median_ms, steps.p95_ms,

@@ -1,5 +1,6 @@
 #include "cvslam/coop/cc_observation_batch.h"
 
+#include <cctype>
 #include <cmath>
 #include <string>
 
@@ -7,33 +8,51 @@
 
 namespace cvslam::coop {
 
-Status validateBatch(const CcObservationBatch& batch, double max_pixel) {
+Status validateBatch(const CcObservationBatch& batch, double max_pixel, std::string* defect) {
+  auto fail = [defect](const char* kind, const std::string& why) {
+    if (defect != nullptr) *defect = kind;
+    return Status::Error(why);
+  };
   if (batch.frame.t_us != batch.t_us) {
-    return Status::Error("frame time " + std::to_string(batch.frame.t_us) +
-                         " µs differs from the batch time");
+    return fail("frame_time", "frame time " + std::to_string(batch.frame.t_us) +
+                                  " µs differs from the batch time");
   }
   for (std::size_t i = 0; i < batch.imu.size(); ++i) {
     const ImuSample& s = batch.imu[i];
     if (!s.gyro_B.allFinite() || !s.accel_B.allFinite()) {
-      return Status::Error("IMU sample " + std::to_string(i) + " is not finite");
+      return fail("imu_not_finite", "IMU sample " + std::to_string(i) + " is not finite");
     }
-    if (s.t_us > batch.t_us) return Status::Error("IMU sample after the frame time");
+    if (s.t_us > batch.t_us) return fail("imu_after_frame", "IMU sample after the frame time");
     if (i > 0 && s.t_us <= batch.imu[i - 1].t_us) {
-      return Status::Error("IMU samples not strictly ascending");
+      return fail("imu_order", "IMU samples not strictly ascending");
     }
   }
   const std::size_t descriptor_bytes =
       batch.frame.observations.empty() ? 0 : batch.frame.observations.front().descriptor.size();
   for (const StereoObservation& obs : batch.frame.observations) {
+    // A negative disparity is no defect: the pixel noise of a distant landmark's pair (σ√2 on
+    // the disparity) makes some, and the agent's own filter updates with them as it does with
+    // any other observation (only initialisation needs a disparity, min_init_disparity_px).
     if (!obs.z.allFinite() || obs.z.cwiseAbs().maxCoeff() > max_pixel) {
-      return Status::Error("observation with non-finite or absurd pixels");
+      return fail("pixels", "observation with non-finite or absurd pixels");
     }
-    if (obs.z(0) - obs.z(2) < 0.0) return Status::Error("observation with negative disparity");
     if (obs.descriptor.size() != descriptor_bytes) {
-      return Status::Error("descriptors of different lengths");
+      return fail("descriptors", "descriptors of different lengths");
     }
   }
   return Status::Ok();
+}
+
+std::string refusalsOf(const std::string& text, int agent_id) {
+  const std::string key = "UAV" + std::to_string(agent_id) + " ";
+  for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
+    // A whole name: "UAV1 " must not match inside "UAV11 ".
+    if (at > 0 && std::isalnum(static_cast<unsigned char>(text[at - 1])) != 0) continue;
+    const std::size_t from = at + key.size();
+    const std::size_t end = text.find(';', from);
+    return text.substr(from, end == std::string::npos ? std::string::npos : end - from);
+  }
+  return {};
 }
 
 int64_t batchPayloadBytes(const CcObservationBatch& batch) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iterator>
 
 #include "cc_team_filter_impl.h"
@@ -178,16 +179,90 @@ std::vector<MapLandmark> CcTeamFilter::map() const {
   return out;
 }
 
+std::string refusalKey(CcRefusal refusal, const std::string& defect) {
+  switch (refusal) {
+    case CcRefusal::kNone:
+      return "none";
+    case CcRefusal::kUnknownAgent:
+      return "unknown_agent";
+    case CcRefusal::kStale:
+      return "stale";
+    case CcRefusal::kInvalid:
+      return "invalid_" + (defect.empty() ? std::string("batch") : defect);
+    case CcRefusal::kPropagation:
+      return "propagation";
+    case CcRefusal::kUpdate:
+      return "update";
+  }
+  return "unknown";
+}
+
+std::string CcTeamStatistics::refusalSummary() const {
+  std::string out;
+  for (const auto& [id, c] : agents) {
+    if (c.refused.empty()) continue;
+    out += (out.empty() ? "UAV" : "; UAV") + std::to_string(id);
+    bool first = true;
+    for (const auto& [key, n] : c.refused) {
+      out += (first ? " " : ", ") + key + " " + std::to_string(n);
+      first = false;
+    }
+  }
+  return out.empty() ? "none" : out;
+}
+
 namespace {
 
-/// Counts a rejected batch and says why.
-Status reject(CcTeamStatistics* stats, long* counter, CcStepReport* r, const std::string& why) {
-  ++*counter;
-  if (stats->agents.count(r->agent_id) > 0) ++stats->agents[r->agent_id].rejected;
+/// Counts a refused batch by its reason and says why.
+Status refuse(CcTeamStatistics* stats, CcStepReport* r, CcRefusal refusal, const std::string& why,
+              const std::string& defect = "") {
+  switch (refusal) {
+    case CcRefusal::kUnknownAgent:
+      ++stats->rejected_unknown_agent;
+      break;
+    case CcRefusal::kStale:
+      ++stats->rejected_stale;
+      break;
+    case CcRefusal::kInvalid:
+      ++stats->rejected_invalid;
+      break;
+    case CcRefusal::kPropagation:
+      ++stats->rejected_propagation;
+      break;
+    case CcRefusal::kUpdate:
+      ++stats->rejected_update;
+      break;
+    case CcRefusal::kNone:
+      break;
+  }
+  if (auto it = stats->agents.find(r->agent_id); it != stats->agents.end()) {
+    ++it->second.rejected;
+    ++it->second.refused[refusalKey(refusal, defect)];
+  }
   r->accepted = false;
+  r->refusal = refusal;
+  r->defect = defect;
   r->reason = why;
   return Status::Error("batch of agent " + std::to_string(r->agent_id) +
-                       " at t=" + std::to_string(r->t_us) + " µs rejected: " + why);
+                       " at t=" + std::to_string(r->t_us) + " µs refused: " + why);
+}
+
+/// Samples linearly interpolated strictly between `a` and `b`, spaced at most `period_us`.
+std::vector<ImuSample> bridge(const ImuSample& a, const ImuSample& b, int64_t period_us) {
+  std::vector<ImuSample> out;
+  const int64_t gap = b.t_us - a.t_us;
+  const int64_t steps = (gap + period_us - 1) / period_us;
+  for (int64_t k = 1; k < steps; ++k) out.push_back(interpolateImu(a, b, a.t_us + gap * k / steps));
+  return out;
+}
+
+/// The batch's own sample period (median spacing), else `fallback_us`.
+int64_t samplePeriod(const std::vector<ImuSample>& imu, int64_t fallback_us) {
+  std::vector<int64_t> d;
+  for (std::size_t i = 1; i < imu.size(); ++i) d.push_back(imu[i].t_us - imu[i - 1].t_us);
+  if (d.empty()) return fallback_us;
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+  return std::max<int64_t>(1, std::min(d[d.size() / 2], fallback_us));
 }
 
 }  // namespace
@@ -201,21 +276,43 @@ Status CcTeamFilter::processBatch(const CcObservationBatch& batch, CcStepReport*
   r.t_us = batch.t_us;
   auto it = impl_->vehicles.find(batch.agent_id);
   if (it == impl_->vehicles.end()) {
-    return reject(&stats_, &stats_.rejected_unknown_agent, &r, "unknown agent");
+    return refuse(&stats_, &r, CcRefusal::kUnknownAgent, "unknown agent");
   }
   CcVehicle& v = *it->second;
-  if (Status s = validateBatch(batch); !s.ok()) {
-    return reject(&stats_, &stats_.rejected_invalid, &r, s.message());
+  std::string defect;
+  if (Status s = validateBatch(batch, 1e5, &defect); !s.ok()) {
+    return refuse(&stats_, &r, CcRefusal::kInvalid, s.message(), defect);
   }
   if (batch.t_us < v.propagation.time() || (v.has_batch && batch.t_us <= v.last_batch_us)) {
-    return reject(&stats_, &stats_.rejected_stale, &r, "not after the vehicle's last batch");
+    return refuse(&stats_, &r, CcRefusal::kStale, "not after the vehicle's last batch");
   }
   // 1. Propagate (samples the vehicle's buffer already covers are older than its state:
-  // the first batch after a (re-)initialisation may repeat them).
-  for (const ImuSample& s : batch.imu) {
-    if (s.t_us <= v.propagation.lastSampleTime()) continue;
+  // the first batch after a (re-)initialisation may repeat them). A gap before the batch's
+  // first new sample is what a batch lost on the way leaves: bridged when short, checked
+  // before anything changes.
+  std::vector<ImuSample> samples;
+  samples.reserve(batch.imu.size());
+  for (const ImuSample& s : batch.imu)
+    if (s.t_us > v.propagation.lastSampleTime()) samples.push_back(s);
+  const int64_t last_us = v.propagation.lastSampleTime();
+  const int64_t first_us = samples.empty() ? batch.t_us : samples.front().t_us;
+  const double gap_s = 1e-6 * static_cast<double>(first_us - last_us);
+  const double max_dt = v.propagator.options().max_dt;
+  const bool has_last = v.propagation.hasSamples();
+  if (has_last && gap_s > max_dt) {
+    if (gap_s > o_.max_imu_gap_s || samples.empty()) {
+      return refuse(&stats_, &r, CcRefusal::kPropagation,
+                    "IMU gap of " + std::to_string(gap_s) + " s before the batch exceeds " +
+                        "cc.max_imu_gap_s " + std::to_string(o_.max_imu_gap_s) + " s");
+    }
+    const int64_t period = samplePeriod(samples, std::llround(0.5 * max_dt * 1e6));
+    std::vector<ImuSample> filled = bridge(v.propagation.lastSample(), samples.front(), period);
+    samples.insert(samples.begin(), filled.begin(), filled.end());
+    r.imu_gap_bridged_s = gap_s;
+  }
+  for (const ImuSample& s : samples) {
     if (Status st = v.propagation.addImu(s); !st.ok()) {
-      return reject(&stats_, &stats_.rejected_invalid, &r, st.message());
+      return refuse(&stats_, &r, CcRefusal::kPropagation, st.message());
     }
     v.noise_monitor.add(s);
   }
@@ -223,15 +320,21 @@ Status CcTeamFilter::processBatch(const CcObservationBatch& batch, CcStepReport*
     v.propagator.setMeasuredNoiseDensities(v.noise_monitor.gyroDensity(),
                                            v.noise_monitor.accelDensity());
   }
-  v.has_batch = true;
-  v.last_batch_us = batch.t_us;
   if (Status s = v.propagation.propagateTo(batch.t_us, v.propagator, impl_->policy, v.key,
                                            impl_->state, v.book);
       !s.ok()) {
-    return reject(&stats_, &stats_.rejected_invalid, &r, s.message());
+    return refuse(&stats_, &r, CcRefusal::kPropagation, s.message());
+  }
+  v.has_batch = true;
+  v.last_batch_us = batch.t_us;
+  if (r.imu_gap_bridged_s > 0.0) {
+    CcAgentCounts& c = stats_.agents[batch.agent_id];
+    ++c.imu_gaps_bridged;
+    c.imu_gap_bridged_s += r.imu_gap_bridged_s;
   }
   if (Status s = runRecipe(v, batch, &r); !s.ok()) {
-    return reject(&stats_, &stats_.rejected_invalid, &r, s.message());
+    ++map_version_;  // the vehicle moved
+    return refuse(&stats_, &r, CcRefusal::kUpdate, s.message());
   }
   r.accepted = true;
   r.state_size = impl_->state.size();

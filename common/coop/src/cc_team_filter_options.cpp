@@ -25,6 +25,7 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.get("association_gate_chi2", association_gate_chi2);
   cc.get("max_association_distance_m", max_association_distance_m);
   cc.get("max_vehicles", max_vehicles);
+  cc.get("max_imu_gap_s", max_imu_gap_s);
   cc.get("rendezvous_min_sigma_m", rendezvous_min_sigma_m);
   cc.get("reactivation_inflation", reactivation_inflation);
   cc.get("rendezvous_sigma_ratio", rendezvous_sigma_ratio);
@@ -36,6 +37,7 @@ Status CcTeamFilterOptions::load(const ConfigNode& root) {
   cc.check(association_gate_chi2 > 0.0, "association_gate_chi2", "must be > 0");
   cc.check(max_association_distance_m > 0.0, "max_association_distance_m", "must be > 0");
   cc.check(max_vehicles >= 1, "max_vehicles", "must be ≥ 1");
+  cc.check(max_imu_gap_s >= 0.0, "max_imu_gap_s", "must be ≥ 0");
   if (auto p = slam.filter.policy(); !p.ok()) root.check(false, "filter", p.status().message());
   return root.status();
 }

@@ -56,6 +56,17 @@ void GroundStationRecorder::addBytesReceived(const std::string& stream, int64_t 
   bytes_received_[stream] += bytes;
 }
 
+void GroundStationRecorder::addDropped(const std::string& reason, int agent_id, int64_t bytes) {
+  ++dropped_[reason];
+  if (agent_id > 0) ++dropped_per_agent_[agent_id][reason];
+  if (bytes < 0) return;
+  auto [it, fresh] = dropped_bytes_.try_emplace(reason, bytes, bytes);
+  if (!fresh) {
+    it->second.first = std::min(it->second.first, bytes);
+    it->second.second = std::max(it->second.second, bytes);
+  }
+}
+
 Status GroundStationRecorder::writeStats(const CcTeamFilter& filter) const {
   const CcTeamStatistics& st = filter.statistics();
   const TimeSummary steps = summariseTimes(st.step_ms);
@@ -66,9 +77,19 @@ Status GroundStationRecorder::writeStats(const CcTeamFilter& filter) const {
   root["rejected_invalid"] = st.rejected_invalid;
   root["rejected_stale"] = st.rejected_stale;
   root["rejected_unknown_agent"] = st.rejected_unknown_agent;
+  root["rejected_propagation"] = st.rejected_propagation;
+  root["rejected_update"] = st.rejected_update;
   Json dropped = Json::object();
   for (const auto& [reason, n] : dropped_) dropped[reason] = n;
   root["dropped_per_reason"] = dropped;
+  Json failed_bytes = Json::object();
+  for (const auto& [reason, bytes] : dropped_bytes_) {
+    Json b = Json::object();
+    b["min"] = bytes.first;
+    b["max"] = bytes.second;
+    failed_bytes[reason] = b;
+  }
+  root["dropped_bytes_per_reason"] = failed_bytes;
   root["step_ms_median"] = steps.median_ms;
   root["step_ms_p95"] = steps.p95_ms;
   root["step_ms_max"] = steps.max_ms;
@@ -85,6 +106,15 @@ Status GroundStationRecorder::writeStats(const CcTeamFilter& filter) const {
     Json a = Json::object();
     a["batches"] = c.batches;
     a["rejected"] = c.rejected;
+    Json refused = Json::object();
+    for (const auto& [key, n] : c.refused) refused[key] = n;
+    a["refused_per_reason"] = refused;
+    Json dropped_agent = Json::object();
+    if (auto d = dropped_per_agent_.find(id); d != dropped_per_agent_.end())
+      for (const auto& [reason, n] : d->second) dropped_agent[reason] = n;
+    a["dropped_per_reason"] = dropped_agent;
+    a["imu_gaps_bridged"] = c.imu_gaps_bridged;
+    a["imu_gap_bridged_s"] = c.imu_gap_bridged_s;
     a["observations"] = c.observations;
     a["type1"] = c.type1;
     a["type2"] = c.type2;

@@ -98,6 +98,8 @@ class CooperationLink {
   virtual const VehicleEstimate* adopted() const { return nullptr; }
   /// For STATUS' message; empty: nothing to say.
   virtual std::string statusText() const { return {}; }
+  /// The link's peer reports a problem with this agent's messages (STATUS health DEGRADED).
+  virtual bool degraded() const { return false; }
   /// True when the link publishes TEAM/SUMMARY itself; else the node does, periodically.
   virtual bool sendsSummary() const { return true; }
   /// Subscribes the cooperation channels (before the bus starts).

@@ -6,7 +6,7 @@
 // toMessage() finalizes the count fields; received messages come through decodeMessage()
 // (codec.h, wire structure, counts and finite numbers) before fromMessage(), which adds the
 // semantic checks of coop::validateBatch (IMU ascending and not after the frame, pixels
-// within bounds, a non-negative disparity). Indices are uint32 in the core and travel as the
+// within bounds). Indices are uint32 in the core and travel as the
 // same bit pattern in int32. cvslam_agent, cvslam_ground_station and cvslam_run --mode cc
 // (in-process, through the encoding) use these and no other conversion.
 

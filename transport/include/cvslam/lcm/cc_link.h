@@ -38,6 +38,7 @@ class CcLink final : public CooperationLink {
                     const std::function<void(cvslam::agent_summary_t&)>& fill_counters) override;
   const VehicleEstimate* adopted() const override { return adopted_ ? &*adopted_ : nullptr; }
   std::string statusText() const override;
+  bool degraded() const override;
   bool sendsSummary() const override { return false; }
   std::string report() const override;
 
@@ -46,15 +47,17 @@ class CcLink final : public CooperationLink {
   static const char* name(Gs gs);
   double now() const;
   Status log(int64_t t_us);
+  std::string refused() const;  // refused_, under the lock
 
   int id_;
   AgentNodeOptions::Cc o_;
   std::string out_dir_;
   coop::CcBatchBuilder builder_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable arrived_;
   std::optional<VehicleEstimate> latest_;   // latest GS_STATE (mutex_)
   double gs_heard_s_;                       // wall time the ground station was last heard (mutex_)
+  std::string refused_;  // the ground station's refusals of this UAV's batches (mutex_)
   std::optional<VehicleEstimate> adopted_;  // the last frame's, when adopted
   Gs gs_ = Gs::kAbsent;
   bool logged_ = false;

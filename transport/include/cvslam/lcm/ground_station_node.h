@@ -91,7 +91,9 @@ class GroundStationNode {
                     std::map<int, GroundStationAgent> agents);
   Status subscribe();
   void push(Inbound in);
-  void countDropped(const std::string& reason);
+  /// A message dropped before the filter: its sender (0 unknown) and size (−1 unknown) go to
+  /// the record's per-UAV counts and dropped_bytes_per_reason.
+  void countDropped(const std::string& reason, int agent_id = 0, int64_t bytes = -1);
   void take(Inbound& in);
   Status work(bool flush);
   Status step(coop::CcEvent& event);
@@ -114,7 +116,12 @@ class GroundStationNode {
   std::condition_variable inbox_cv_;
   std::vector<Inbound> inbox_;
   std::map<std::string, int64_t> dropped_;           // before the filter, per reason (inbox_mutex_)
-  std::map<std::string, int64_t> dropped_recorded_;  // of those, given to the recorder
+  struct Drop {
+    std::string reason;
+    int agent_id;
+    int64_t bytes;
+  };
+  std::vector<Drop> drops_unrecorded_;               // not yet given to the recorder (inbox_mutex_)
   std::map<std::string, int64_t> bytes_received_;    // per stream (inbox_mutex_)
   double last_agent_message_s_ = 0.0;                // inbox_mutex_
 

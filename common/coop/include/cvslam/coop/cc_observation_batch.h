@@ -33,10 +33,18 @@ struct CcObservationBatch {
 };
 
 /// Checks what can be checked without the filter: frame.t_us == t_us, IMU samples finite,
-/// strictly ascending and not after t_us, observation pixels finite with a non-negative
-/// disparity below `max_pixel` in magnitude, descriptors of one length. The first problem as
-/// one line; Ok when the batch is well formed.
-Status validateBatch(const CcObservationBatch& batch, double max_pixel = 1e5);
+/// strictly ascending and not after t_us, observation pixels finite and below `max_pixel` in
+/// magnitude (a negative disparity is a noisy measurement, not a defect), descriptors of one
+/// length. The first problem as one line; Ok when the batch is well formed. `defect` (may be
+/// null) names the problem's kind: frame_time, imu_not_finite, imu_after_frame, imu_order,
+/// pixels or descriptors (the per-reason counts of CcTeamStatistics).
+Status validateBatch(const CcObservationBatch& batch, double max_pixel = 1e5,
+                     std::string* defect = nullptr);
+
+/// UAV `agent_id`'s part of a text that ends in CcTeamStatistics::refusalSummary() (the
+/// ground station's STATUS message, "… UAV3 propagation 1, invalid_pixels 2; UAV4 …"): here
+/// "propagation 1, invalid_pixels 2", or empty when it names no refusal of that UAV.
+std::string refusalsOf(const std::string& text, int agent_id);
 
 /// Bytes of the batch on the wire (lcmtypes/observation_batch_t.lcm's payload without the
 /// LCM envelope): for the traffic figures of runs that do not encode it.

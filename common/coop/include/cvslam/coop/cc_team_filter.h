@@ -115,6 +115,11 @@ struct CcTeamFilterOptions {
   /// triangulated from the observation at the vehicle's estimate lies at most this far from it [m].
   double max_association_distance_m = 3.0;
   int max_vehicles = 16;  ///< addVehicle beyond this fails (bounded state)
+  /// A vehicle's IMU gap longer than slam.ins.max_dt and at most this (the samples of batches
+  /// lost on the way: one 20 Hz batch is 50 ms) is bridged by samples interpolated linearly
+  /// between its two ends at the rate of the batch's own samples; a longer gap refuses the
+  /// batch (kPropagation) [s].
+  double max_imu_gap_s = 0.25;
   /// A landmark re-activated independently (slam.reactivation / recent_reentry: independent)
   /// re-enters with its archived covariance plus this times the re-activating UAV's position
   /// covariance (the landmark is correlated with the whole team, which an independent re-entry
@@ -146,16 +151,37 @@ struct CcTeamFilterOptions {
   void setJointEstimator();
 };
 
+/// Why processBatch refused a batch. Each names something true of the batch or of the filter
+/// at it, never one for another: a filter that fails on a well-formed batch is kPropagation or
+/// kUpdate, not invalid input.
+enum class CcRefusal {
+  kNone,          ///< accepted
+  kUnknownAgent,  ///< no vehicle with that agent id (not started, or removed)
+  kStale,         ///< not after the vehicle's last batch or its start time
+  kInvalid,       ///< validateBatch failed (CcStepReport::defect names the kind)
+  kPropagation,   ///< the vehicle's IMU cannot take it to the frame time (a gap longer than
+                  ///< cc.max_imu_gap_s, or a non-finite INS step); the vehicle needs a restart
+  kUpdate,        ///< the recipe after the propagation failed (association, map management,
+                  ///< loop closing, the update or initialisation): the vehicle stays propagated
+};
+
+/// The reason's key in the counts, the report line and stats.json: unknown_agent, stale,
+/// invalid_<defect> (validateBatch), propagation, update.
+std::string refusalKey(CcRefusal refusal, const std::string& defect);
+
 /// What one processBatch did.
 struct CcStepReport {
   int agent_id = 0;
   int64_t t_us = 0;
-  bool accepted = false;  ///< false: rejected (reason), nothing changed
-  std::string reason;     ///< why rejected
+  bool accepted = false;  ///< false: refused (refusal, reason)
+  CcRefusal refusal = CcRefusal::kNone;
+  std::string defect;     ///< kInvalid: the kind validateBatch named
+  std::string reason;     ///< why refused, one line
   FrameReport frame;      ///< the recipe's report (as VisualInertialSlam::processFrame)
   int type1 = 0;          ///< observations of landmarks in this UAV's map (§6.3.1)
   int type2 = 0;          ///< of landmarks in the joint map from other UAVs only
   int type3 = 0;          ///< of landmarks new to the joint map
+  double imu_gap_bridged_s = 0.0;  ///< IMU bridged before this batch (a batch lost on the way)
   double step_ms = 0.0;   ///< wall time of the step
   int state_size = 0;     ///< joint state size after the step
   int vehicles = 0;       ///< vehicles in the state after the step
@@ -164,7 +190,10 @@ struct CcStepReport {
 /// Per-UAV counts.
 struct CcAgentCounts {
   long batches = 0;   ///< accepted
-  long rejected = 0;  ///< stale or invalid batches of this (known) agent
+  long rejected = 0;  ///< refused batches of this (known) agent, every reason
+  std::map<std::string, long> refused;  ///< per reason (refusalKey)
+  long imu_gaps_bridged = 0;            ///< IMU gaps bridged (batches lost on the way)
+  double imu_gap_bridged_s = 0.0;       ///< their total length [s]
   long observations = 0;
   long type1 = 0, type2 = 0, type3 = 0;
   long loop_closures = 0;
@@ -174,15 +203,22 @@ struct CcAgentCounts {
 /// Running statistics of the joint filter.
 struct CcTeamStatistics {
   long batches = 0;                 ///< accepted
-  long rejected_invalid = 0;        ///< validateBatch failed or the update failed numerically
+  long rejected_invalid = 0;        ///< validateBatch failed
   long rejected_stale = 0;          ///< not after the vehicle's last batch / start time
   long rejected_unknown_agent = 0;  ///< no vehicle with that agent id
+  long rejected_propagation = 0;    ///< the vehicle's IMU could not reach the frame
+  long rejected_update = 0;         ///< the recipe failed after the propagation
   std::vector<double> step_ms;      ///< wall time per accepted step [ms]
   int max_state_size = 0;
   std::map<int, CcAgentCounts> agents;
   FilterStatistics filter;  ///< over every update of the joint state
 
-  long rejected() const { return rejected_invalid + rejected_stale + rejected_unknown_agent; }
+  long rejected() const {
+    return rejected_invalid + rejected_stale + rejected_unknown_agent + rejected_propagation +
+           rejected_update;
+  }
+  /// "UAV3 propagation 1, invalid_pixels 2; UAV4 …" over the UAVs with refusals; "none".
+  std::string refusalSummary() const;
 };
 
 /// local_ids: a landmark new to one UAV that the ground station took for another UAV's (its
@@ -217,8 +253,14 @@ class CcTeamFilter {
   /// Agent ids of the vehicles, ascending.
   std::vector<int> vehicles() const;
 
-  /// One batch (see the recipe above). A rejected batch returns an error Status, is counted
-  /// in statistics() and leaves the filter unchanged; `report` (may be null) says why.
+  /// One batch (see the recipe above). A refused batch returns an error Status and is counted
+  /// in statistics() per reason; `report` (may be null) says why. Refused as unknown agent,
+  /// stale, invalid or for the propagation, it leaves the filter unchanged; refused for the
+  /// update, the vehicle stays propagated to the batch time (a consistent state, without this
+  /// frame's observations). An IMU gap from the vehicle's last sample to the batch's first
+  /// longer than ins.max_dt (a batch lost on the way) is bridged by samples interpolated
+  /// between the two, when it is at most cc.max_imu_gap_s; after a kPropagation refusal the
+  /// vehicle must be started again (addVehicle) from the agent's own estimate.
   Status processBatch(const CcObservationBatch& batch, CcStepReport* report = nullptr);
 
   /// The vehicle's estimate at the time of its last batch (or its start).

@@ -47,8 +47,9 @@ class GroundStationRecorder {
   /// Bytes received per stream ("OBS", ...), for stats.json's traffic figures.
   void addBytesReceived(const std::string& stream, int64_t bytes);
   /// A batch dropped before the filter saw it ("decode", "reordered", "no_vehicle", ...):
-  /// stats.json's dropped_per_reason.
-  void addDropped(const std::string& reason) { ++dropped_[reason]; }
+  /// stats.json's dropped_per_reason; with the sender's id (> 0) also that agent's
+  /// dropped_per_reason, and with the message's size (≥ 0) dropped_bytes_per_reason (min, max).
+  void addDropped(const std::string& reason, int agent_id = 0, int64_t bytes = -1);
 
   /// Flushes the files and writes stats.json as of now (a periodic write of a live process).
   Status flush(const CcTeamFilter& filter);
@@ -64,6 +65,8 @@ class GroundStationRecorder {
   std::map<int, std::unique_ptr<AgentRunWriter>> agents_;
   std::map<std::string, int64_t> bytes_received_;
   std::map<std::string, int64_t> dropped_;
+  std::map<int, std::map<std::string, int64_t>> dropped_per_agent_;
+  std::map<std::string, std::pair<int64_t, int64_t>> dropped_bytes_;  // min, max
   double t_first_ = 0.0, t_last_ = 0.0;
   bool have_time_ = false;
 };

@@ -34,6 +34,10 @@ class VehiclePropagation {
                      const VariableKey& vehicle, SlamState& state, LandmarkBook& book);
   /// Time of the last buffered sample (time() − 1 µs when none): addImu takes later ones only.
   int64_t lastSampleTime() const { return buffer_.empty() ? t_us_ - 1 : buffer_.back().t_us; }
+  /// Whether a sample is buffered (lastSample() is valid).
+  bool hasSamples() const { return !buffer_.empty(); }
+  /// The last buffered sample (hasSamples()).
+  const ImuSample& lastSample() const { return buffer_.back(); }
   /// The vehicle's state time.
   int64_t time() const { return t_us_; }
   /// Φ and Q_d at the truth (linearisation_oracle.h; simulation diagnostics); null: off.
