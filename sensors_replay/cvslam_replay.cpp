@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <condition_variable>
 #include <csignal>
@@ -81,7 +82,8 @@ cvslam::Expected<cvslam::MergedSensorSource> makeSource(const cvslam::replay::Ar
     }
   } else {
     for (const auto& d : a.datasets) {
-      auto s = cvslam::EurocSensorStream::open(d.id, d.path, a.start);
+      auto s = cvslam::EurocSensorStream::open(d.id, d.path, a.start,
+                                                std::llround(a.camera_time_offset * 1e6));
       if (!s.ok()) return s.status();
       streams.push_back(std::move(*s));
     }

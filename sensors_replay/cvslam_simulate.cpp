@@ -55,6 +55,9 @@ options:
                       IMU in the axes and images with the calibration (unrectified,
                       distorted) of the EuRoC folder MAV0 (its cam0/cam1/sensor.yaml);
                       ground truth = pose of the IMU in the z-up world
+  --camera-delay S    every UAV's frames are taken S s after its IMU ticks (a camera
+                      not triggered by the IMU; overrides the scenario's camera_delay_s;
+                      0 <= S < one camera period)
   --quiet             no progress output
   -h, --help          this text
 )";
@@ -63,6 +66,7 @@ struct Args {
   std::string scenario, out, world, as_recorded;
   long long seed = -1;
   double duration = -1.0;
+  double camera_delay = -1.0;  // < 0: the scenario's
   bool quiet = false;
 };
 
@@ -80,6 +84,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   app.add_option("--seed", a.seed)->check(cvslam::cli::kCount);
   app.add_option("--duration", a.duration)->check(cvslam::cli::kPositive);
   app.add_option("--as-recorded", a.as_recorded);
+  app.add_option("--camera-delay", a.camera_delay)->check(cvslam::cli::kNonNegative);
   app.add_flag("--quiet", a.quiet);
   return cvslam::cli::parse(app, argc, argv, kUsage);
 }
@@ -257,6 +262,14 @@ int main(int argc, char** argv) {
   if (!scenario.ok()) return fail(scenario.status().message());
   if (args.seed >= 0) scenario->seed = static_cast<uint64_t>(args.seed);
   if (args.duration > 0.0) scenario->duration = std::min(scenario->duration, args.duration);
+  if (args.camera_delay >= 0.0) {
+    for (cvslam::sim::AgentSpec& a : scenario->agents) {
+      if (args.camera_delay * a.camera_rate_hz >= 1.0)
+        return fail("--camera-delay must be shorter than UAV" + std::to_string(a.id) +
+                    "'s camera period");
+      a.camera_delay_s = args.camera_delay;
+    }
+  }
 
   auto world = cvslam::chooseRenderWorld(*scenario, args.world);
   if (!world.ok()) return fail(world.status().message());

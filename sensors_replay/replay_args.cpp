@@ -40,6 +40,9 @@ options:
                         replays on several hosts play on one clock
   --start S             skip the first S s of play time
   --duration S          play only S s (from --start)
+  --camera-time-offset S  folders: a frame stamped t was taken at IMU time t + S (a
+                        constant camera-IMU clock offset, Kalibr's timeshift_cam_imu;
+                        default 0); frames are played at the corrected time
   --compress            stereo images as PNG
   --no-gt               do not publish UAV<id>/GT
   --sensing KIND        scenario: images (default) | features (no rendering)
@@ -103,6 +106,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   app.add_option("--lcm-url", a.lcm_url);
   app.add_option("--start", a.start)->check(cli::kNonNegative);
   app.add_option("--duration", a.duration)->check(cli::kFinite);
+  app.add_option("--camera-time-offset", a.camera_time_offset)->check(cli::kFinite);
   app.add_flag("--compress", a.compress);
   app.add_flag("--no-gt", a.no_gt);
   app.add_option("--sensing", a.sensing)->check(CLI::IsMember({"images", "features"}));

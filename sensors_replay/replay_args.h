@@ -27,6 +27,9 @@ struct Args {
   std::string lcm_url = transport::kDefaultLcmUrl;
   double duration = 0.0;  ///< ≤ 0: everything
   double start = 0.0;
+  /// Folders: the camera clock's offset to the IMU's [s]: a frame stamped t was taken at
+  /// IMU time t + offset (Kalibr's timeshift_cam_imu); frames are played at that time.
+  double camera_time_offset = 0.0;
   bool compress = false;
   bool no_gt = false;
   std::string sensing = "images";  ///< scenario: images | features

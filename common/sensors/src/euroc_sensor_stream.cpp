@@ -23,11 +23,14 @@ EurocSensorStream::EurocSensorStream(int agent_id, EurocDataset dataset)
 
 Expected<std::unique_ptr<EurocSensorStream>> EurocSensorStream::open(int agent_id,
                                                                      const std::string& path,
-                                                                     double start_s) {
+                                                                     double start_s,
+                                                                     int64_t camera_offset_us) {
   auto dataset = EurocDataset::open(path);
   if (!dataset.ok()) return dataset.status();
   std::unique_ptr<EurocSensorStream> s(new EurocSensorStream(agent_id, std::move(*dataset)));
   const EurocDataset& d = s->dataset_;
+  s->camera_offset_us_ = camera_offset_us;
+  auto frameUs = [&](std::size_t i) { return nsToUs(d.frameTimeNs(i)) + camera_offset_us; };
   int64_t first = kNone, last = std::numeric_limits<int64_t>::min();
   auto extend = [&](int64_t t_us) {
     first = std::min(first, t_us);
@@ -35,7 +38,7 @@ Expected<std::unique_ptr<EurocSensorStream>> EurocSensorStream::open(int agent_i
   };
   if (!d.imu().empty()) extend(d.imu().front().t_us), extend(d.imu().back().t_us);
   if (d.frameCount() > 0)
-    extend(nsToUs(d.frameTimeNs(0))), extend(nsToUs(d.frameTimeNs(d.frameCount() - 1)));
+    extend(frameUs(0)), extend(frameUs(d.frameCount() - 1));
   if (d.hasGroundTruth())
     extend(nsToUs(d.groundTruth().front().t_ns)), extend(nsToUs(d.groundTruth().back().t_ns));
   if (first == kNone) return Status::Error(d.mav0() + ": no IMU samples, frames or ground truth");
@@ -46,7 +49,7 @@ Expected<std::unique_ptr<EurocSensorStream>> EurocSensorStream::open(int agent_i
   while (s->next_gt_ < d.groundTruth().size() &&
          nsToUs(d.groundTruth()[s->next_gt_].t_ns) < start_us)
     ++s->next_gt_;
-  while (s->next_frame_ < d.frameCount() && nsToUs(d.frameTimeNs(s->next_frame_)) < start_us)
+  while (s->next_frame_ < d.frameCount() && frameUs(s->next_frame_) < start_us)
     ++s->next_frame_;
   return s;
 }
@@ -58,7 +61,9 @@ bool EurocSensorStream::next(SensorEvent& event) {
                            ? nsToUs(dataset_.groundTruth()[next_gt_].t_ns)
                            : kNone;
   const int64_t t_frame =
-      next_frame_ < dataset_.frameCount() ? nsToUs(dataset_.frameTimeNs(next_frame_)) : kNone;
+      next_frame_ < dataset_.frameCount()
+          ? nsToUs(dataset_.frameTimeNs(next_frame_)) + camera_offset_us_
+          : kNone;
   const int64_t t = std::min({t_imu, t_gt, t_frame});
   if (t == kNone) return false;
   event = SensorEvent();

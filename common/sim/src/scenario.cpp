@@ -21,6 +21,9 @@ Status AgentSpec::load(const ConfigNode& node, const std::string& base_dir) {
   node.get("camera_rate_hz", camera_rate_hz);
   node.check(camera_rate_hz > 0.0 && camera_rate_hz <= 1000.0, "camera_rate_hz",
              "must be in (0, 1000]");
+  node.get("camera_delay_s", camera_delay_s);
+  node.check(camera_delay_s >= 0.0 && camera_delay_s * camera_rate_hz < 1.0, "camera_delay_s",
+             "must be in [0, 1 / camera_rate_hz)");
   pixel_noise.load(node.child("pixel_noise"));
   has_gps = node.has("gps");
   if (has_gps) gps.load(node.child("gps"));

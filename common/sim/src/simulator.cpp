@@ -61,7 +61,8 @@ AgentSimulator::AgentSimulator(const AgentSpec& spec, std::shared_ptr<const Traj
                 deriveSeed(scenario_seed, spec.id, RngStream::kCamera)),
       end_us_(std::llround(duration * 1e6)),
       imu_period_us_(periodUs(spec.imu.rate_hz)),
-      cam_period_us_(periodUs(spec.camera_rate_hz)) {
+      cam_period_us_(periodUs(spec.camera_rate_hz)),
+      next_cam_us_(std::llround(spec.camera_delay_s * 1e6)) {
   initial_.sigma = spec.initial;
   initial_.state = truth(0);
   if (spec.initial.perturb) {

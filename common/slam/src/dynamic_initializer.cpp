@@ -28,6 +28,7 @@ Status DynamicInitializerOptions::load(const ConfigNode& node) {
   node.get("tilt_sigma_min", tilt_sigma_min);
   node.get("velocity_sigma_min", velocity_sigma_min);
   node.get("gyro_bias_sigma_min", gyro_bias_sigma_min);
+  node.get("max_imu_hold_s", max_imu_hold_s);
   if (node.has("matching")) {
     if (Status s = matching.load(node.child("matching")); !s.ok()) return s;
   }
@@ -41,6 +42,7 @@ Status DynamicInitializerOptions::load(const ConfigNode& node) {
   node.check(tilt_sigma_min > 0.0, "tilt_sigma_min", "must be > 0");
   node.check(velocity_sigma_min > 0.0, "velocity_sigma_min", "must be > 0");
   node.check(gyro_bias_sigma_min > 0.0, "gyro_bias_sigma_min", "must be > 0");
+  node.check(max_imu_hold_s >= 0.0, "max_imu_hold_s", "must be >= 0");
   return node.status();
 }
 
@@ -191,6 +193,13 @@ std::vector<ImuSample> DynamicInitializer::samplesBetween(int64_t t0, int64_t t1
     if (s.empty()) s.push_back(a.t_us < t0 ? interpolateImu(a, b, t0) : a);
     s.push_back(b.t_us > t1 ? interpolateImu(a, b, t1) : b);
   }
+  // A frame after the last sample (solve() bounds the hold by max_imu_hold_s): held to it.
+  if (!imu_.empty() && imu_.back().t_us < t1 && imu_.back().t_us >= t0) {
+    if (s.empty()) s.push_back(imu_.back());
+    ImuSample held = imu_.back();
+    held.t_us = t1;
+    s.push_back(held);
+  }
   return s;
 }
 
@@ -259,8 +268,12 @@ Expected<DynamicInitialization> DynamicInitializer::solve() const {
   if (!ready())
     return Status::Error("dynamic initialisation: " + std::to_string(frames_.size()) +
                          " tracked frames, not yet " + std::to_string(o_.window_s) + " s");
-  if (imu_.empty() || imu_.back().t_us < frames_.back().t_us)
-    return Status::Error("dynamic initialisation: the IMU does not cover the frames");
+  const int64_t max_hold_us = std::llround(o_.max_imu_hold_s * 1e6);
+  if (imu_.empty() || imu_.back().t_us + max_hold_us < frames_.back().t_us)
+    return Status::Error(
+        "dynamic initialisation: the IMU does not cover the frames (last sample " +
+        std::to_string(imu_.empty() ? 0 : frames_.back().t_us - imu_.back().t_us) +
+        " µs before the last frame, more than max_imu_hold_s)");
   // Body poses in B_0 from the camera poses in C_0 (extrinsics R_BtoC, p_CinB).
   const Eigen::Matrix3d R_CtoB = camera_.options().R_BtoC.transpose();
   const Eigen::Vector3d& p_CinB = camera_.options().p_CinB;

@@ -17,9 +17,12 @@ namespace cvslam {
 class EurocSensorStream final : public AgentSensorStream {
  public:
   /// Opens the folder (errors from EurocDataset::open name the file). Events before
-  /// `start_s` of play time are skipped without decoding images.
+  /// `start_s` of play time are skipped without decoding images. `camera_offset_us`: a frame
+  /// stamped t was taken at IMU time t + camera_offset_us (a constant camera–IMU clock offset);
+  /// frames are handed out, ordered and stamped at the corrected time.
   static Expected<std::unique_ptr<EurocSensorStream>> open(int agent_id, const std::string& path,
-                                                           double start_s = 0.0);
+                                                           double start_s = 0.0,
+                                                           int64_t camera_offset_us = 0);
   int agentId() const override { return agent_id_; }
   bool next(SensorEvent& event) override;
   const Status& status() const override { return status_; }
@@ -32,6 +35,7 @@ class EurocSensorStream final : public AgentSensorStream {
   int agent_id_;
   EurocDataset dataset_;
   int64_t offset_us_ = 0;
+  int64_t camera_offset_us_ = 0;  // added to every frame stamp
   int64_t end_play_us_ = 0;
   std::size_t next_imu_ = 0, next_gt_ = 0, next_frame_ = 0;
   Status status_;

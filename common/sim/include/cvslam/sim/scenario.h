@@ -34,6 +34,9 @@ struct AgentSpec {
   ImuOptions imu;
   StereoCameraOptions camera;
   double camera_rate_hz = 10.0;  ///< stereo frame rate [Hz]
+  /// Frames are taken this long after the IMU's ticks (a camera that the IMU does not
+  /// trigger; 0: both on one grid, as EuRoC's rig) [s], 0 ≤ delay < 1 / camera_rate_hz.
+  double camera_delay_s = 0.0;
   PixelNoiseOptions pixel_noise;
   /// Section `gps:` (gps_simulator.h): a GPS receiver on this UAV, with outage windows for
   /// GPS-denied stretches; the filter uses its fixes when the agent's `gps.enabled` is true.

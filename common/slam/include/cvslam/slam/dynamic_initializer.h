@@ -58,6 +58,11 @@ struct DynamicInitializerOptions {
   /// independent, which chained visual rotations are not (errors of 3–4 of its σ seen on the
   /// EuRoC MH_01 flight at feature level).
   double gyro_bias_sigma_min = 0.005;
+  /// A frame at most this long after the last IMU sample is reached by holding that sample
+  /// (zero-order hold, as VehiclePropagation does): camera and IMU need not be stamped on one
+  /// grid, and in lockstep the sample after a frame arrives only once the frame is processed.
+  /// Longer, the IMU does not cover the frames [s].
+  double max_imu_hold_s = 0.02;
   vision::MatchOptions matching;  ///< descriptor matching between consecutive frames
 
   Status load(const ConfigNode& node);
