@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <map>
 
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_reader.h"
@@ -108,6 +110,8 @@ AgentEvaluation evaluateAgent(const AgentRun& run, const AgentTruth& truth,
     ev.max_state_size = std::max(ev.max_state_size.value_or(0), f.state_size);
   }
   if (!frame_ms.empty()) ev.frame_time_ms_median = median(frame_ms);
+  if (!run.trajectory.empty())
+    ev.covered_s = run.trajectory.back().t - run.trajectory.front().t;
   if (run.stats.duration_s > 0.0)
     ev.bytes_sent_per_s = static_cast<double>(run.stats.bytes_sent) / run.stats.duration_s;
   return ev;
@@ -124,6 +128,18 @@ Expected<std::vector<AgentEvaluation>> evaluateRun(const std::string& run_dir,
     if (!lm.ok()) return lm.status();
     gt_landmarks = std::move(*lm);
   }
+  // A ground station's record (stats.json with per-UAV batch counts): what each UAV sent.
+  std::map<int, long> sent;
+  if (auto gs = readJsonFile(run_dir + "/stats.json");
+      gs.ok() && gs->contains("agents") && (*gs)["agents"].is_object()) {
+    for (const auto& [key, a] : (*gs)["agents"].items()) {
+      if (!a.is_object() || !a.contains("batches") || !a.contains("rejected")) continue;
+      long n = a["batches"].get<long>() + a["rejected"].get<long>();
+      if (a.contains("dropped_per_reason") && a["dropped_per_reason"].is_object())
+        for (const auto& [reason, d] : a["dropped_per_reason"].items()) n += d.get<long>();
+      sent[std::atoi(key.c_str())] = n;
+    }
+  }
   std::vector<AgentEvaluation> out;
   for (int id : *ids) {
     auto run = readAgentRun(run_dir, id);
@@ -137,7 +153,17 @@ Expected<std::vector<AgentEvaluation>> evaluateRun(const std::string& run_dir,
     } else {
       truth.states = run->truth;
     }
-    out.push_back(evaluateAgent(*run, truth, options));
+    AgentEvaluation ev = evaluateAgent(*run, truth, options);
+    if (auto it = sent.find(id); it != sent.end() && it->second > 0) {
+      ev.coverage = static_cast<double>(ev.steps) / static_cast<double>(it->second);
+      if (*ev.coverage < 0.95)
+        ev.notes.push_back("coverage: the figures are over " + std::to_string(ev.steps) + " of " +
+                           std::to_string(it->second) + " batches the UAV sent");
+    } else if (!run->stats.frames.empty()) {
+      ev.coverage = std::min(1.0, static_cast<double>(ev.steps) /
+                                      static_cast<double>(run->stats.frames.size()));
+    }
+    out.push_back(std::move(ev));
   }
   return out;
 }
@@ -184,6 +210,8 @@ Json agentSummary(const AgentEvaluation& ev) {
     a["rco"] = nullptr;
   }
   a["steps"] = ev.steps;
+  a["coverage"] = optionalNumber(ev.coverage);
+  a["covered_s"] = optionalNumber(ev.covered_s);
   a["notes"] = ev.notes;
   return a;
 }
@@ -212,9 +240,9 @@ std::string summaryTable(const std::vector<AgentEvaluation>& agents) {
   };
   std::string out;
   char line[512];
-  std::snprintf(line, sizeof(line), "%-6s %10s %10s %10s %8s %9s %6s %14s %10s %12s %8s\n", "agent",
-                "ATE[m]", "INS ATE[m]", "RPE[m/10m]", "NEES", "min Rco", "state", "lm err rms[m]",
-                "frame[ms]", "sent[B/s]", "NIS/dof");
+  std::snprintf(line, sizeof(line), "%-6s %10s %10s %10s %8s %9s %6s %14s %10s %12s %8s %8s\n",
+                "agent", "ATE[m]", "INS ATE[m]", "RPE[m/10m]", "NEES", "min Rco", "state",
+                "lm err rms[m]", "frame[ms]", "sent[B/s]", "NIS/dof", "cover[%]");
   out += line;
   for (const AgentEvaluation& ev : agents) {
     std::optional<double> rco;
@@ -226,12 +254,16 @@ std::string summaryTable(const std::vector<AgentEvaluation>& agents) {
     if (ev.landmark_error) lm = ev.landmark_error->rms_m;
     std::optional<double> size;
     if (ev.max_state_size) size = *ev.max_state_size;
-    std::snprintf(line, sizeof(line), "%-6d %10s %10s %10s %8s %9s %6s %14s %10s %12s %8s\n", ev.id,
+    std::optional<double> cover;
+    if (ev.coverage) cover = 100.0 * *ev.coverage;
+    std::snprintf(line, sizeof(line), "%-6d %10s %10s %10s %8s %9s %6s %14s %10s %12s %8s %8s\n",
+                  ev.id,
                   cell(ev.ate_rmse_m, "%.4f").c_str(), cell(ev.ins_ate_rmse_m, "%.4f").c_str(),
                   cell(ev.rpe_m_per_10m, "%.4f").c_str(), cell(ev.nees_mean, "%.2f").c_str(),
                   cell(rco, "%.3f").c_str(), cell(size, "%.0f").c_str(), cell(lm, "%.4f").c_str(),
                   cell(ev.frame_time_ms_median, "%.2f").c_str(),
-                  cell(ev.bytes_sent_per_s, "%.0f").c_str(), cell(ev.nis_per_dof, "%.2f").c_str());
+                  cell(ev.bytes_sent_per_s, "%.0f").c_str(), cell(ev.nis_per_dof, "%.2f").c_str(),
+                  cell(cover, "%.1f").c_str());
     out += line;
   }
   return out;

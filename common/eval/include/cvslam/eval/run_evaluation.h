@@ -39,7 +39,13 @@ struct AgentEvaluation {
   std::optional<int> max_state_size;
   std::optional<double> frame_time_ms_median, bytes_sent_per_s;
   std::size_t steps = 0;
-  std::vector<std::string> notes;  ///< why a figure is missing
+  /// Over how much of the flight the figures are: for a ground station's record, the
+  /// estimates it made (accepted batches) over the batches the UAV sent (accepted, refused
+  /// and dropped on the way, its stats.json); for an agent's own record, steps over frames
+  /// (1 unless it stopped estimating). Null when the record does not say.
+  std::optional<double> coverage;
+  std::optional<double> covered_s;  ///< time from the first to the last estimate [s]
+  std::vector<std::string> notes;   ///< why a figure is missing
 };
 
 /// Truth for one agent as the evaluation gets it (from the run folder or --gt).
