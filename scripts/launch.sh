@@ -25,6 +25,7 @@
 #   --duration S, --seed N passed to the replay (and, for scenarios, to the agents)
 #   --agent-arg ARG        extra argument for every agent (repeatable), e.g. --detector orb
 #   --gs-arg ARG           extra argument for the ground station (repeatable), e.g. --config F
+#   --replay-arg ARG       extra argument for the replay (repeatable), e.g. --start 10
 #   --view                 also start cvslam_view, the team in a browser page (its URL is
 #                          printed); it stops with the run: `cvslam_view --run DIR` shows it again
 #   --view-port P          cvslam_view's HTTP port (default 8088)
@@ -35,7 +36,7 @@ BUILD="$ROOT/build"
 OUT="" SCENARIO="" MODE=single SENSING=images PACING=(--lockstep) AGENTS=""
 URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16777216'
 CONFIG="" DURATION="" SEED="" WITH_GS=false WITH_VIEW=false VIEW_PORT=8088
-DATASETS=() AGENT_EXTRA=() GS_EXTRA=()
+DATASETS=() AGENT_EXTRA=() GS_EXTRA=() REPLAY_EXTRA=()
 
 die() { echo "launch.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -57,6 +58,7 @@ while [ $# -gt 0 ]; do
     --seed) SEED="${2:?--seed needs a value}"; shift 2 ;;
     --agent-arg) AGENT_EXTRA+=("${2:?--agent-arg needs a value}"); shift 2 ;;
     --gs-arg) GS_EXTRA+=("${2:?--gs-arg needs a value}"); shift 2 ;;
+    --replay-arg) REPLAY_EXTRA+=("${2:?--replay-arg needs a value}"); shift 2 ;;
     --view) WITH_VIEW=true; shift ;;
     --view-port) VIEW_PORT="${2:?--view-port needs a value}"; shift 2 ;;
     *) die "unknown option '$1' (try --help)" ;;
@@ -151,6 +153,7 @@ else
   for d in "${DATASETS[@]}"; do replay+=(--dataset "$d"); done
 fi
 [ -n "$DURATION" ] && replay+=(--duration "$DURATION")
+replay+=("${REPLAY_EXTRA[@]}")
 echo "launch.sh: UAVs $AGENTS, mode $MODE, ${PACING[*]}, logs in $OUT/logs/"
 start replay "${replay[@]}"
 

@@ -4,7 +4,8 @@
 # (cvslam_eval), and draw the plots (scripts/plot_run.py).
 #
 #   scripts/run_dataset.sh PATH [--out DIR] [--start auto|rest|dynamic|known] [--map room|knearest]
-#                          [--duration S] [--build DIR] [--lcm-url URL] [--agent-arg ARG ...]
+#                          [--duration S] [--from S] [--camera-time-offset S] [--build DIR]
+#                          [--lcm-url URL] [--agent-arg ARG ...]
 #
 #   PATH                 EuRoC ASL folder (PATH/mav0/...) with cam0, cam1, imu0 and their sensor.yaml
 #   --out DIR            run folder (default runs/<folder name>)
@@ -21,7 +22,11 @@
 #                        replay waits for (docs/results/euroc_recorded.md "Stop 43")
 #   --map knearest       the thesis's k-nearest map of config/agent.yaml (what the team
 #                        scenarios run; up to 2.4x less accurate inside one room)
-#   --duration S         replay only the first S seconds of the folder (default: all of it)
+#   --duration S         replay only S seconds of the folder (default: all of it)
+#   --from S             begin S seconds into the folder (a vehicle that joins in flight: the
+#                        dynamic start, or auto's, takes it from its first frames in motion)
+#   --camera-time-offset S  a frame stamped t was taken at IMU time t + S (a constant
+#                        camera-IMU clock offset, as Kalibr's timeshift_cam_imu; default 0)
 #   --build DIR          where the programs are (default build/)
 #   --lcm-url URL        LCM provider (default: launch.sh's)
 #   --agent-arg ARG      extra argument for the agent (repeatable), e.g. --detector fast_sift
@@ -30,7 +35,7 @@ set -uo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BUILD="$ROOT/build"
-DATA="" OUT="" START=auto MAP=room URL="" DURATION=""
+DATA="" OUT="" START=auto MAP=room URL="" DURATION="" FROM="" CAM_OFFSET=""
 EXTRA=()
 die() { echo "run_dataset.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -40,6 +45,8 @@ while [ $# -gt 0 ]; do
     --start) START="${2:?--start needs a value}"; shift 2 ;;
     --map) MAP="${2:?--map needs a value}"; shift 2 ;;
     --duration) DURATION="${2:?--duration needs a value}"; shift 2 ;;
+    --from) FROM="${2:?--from needs a value}"; shift 2 ;;
+    --camera-time-offset) CAM_OFFSET="${2:?--camera-time-offset needs a value}"; shift 2 ;;
     --build) BUILD="${2:?--build needs a value}"; shift 2 ;;
     --lcm-url) URL="${2:?--lcm-url needs a value}"; shift 2 ;;
     --agent-arg) EXTRA+=(--agent-arg "${2:?--agent-arg needs a value}"); shift 2 ;;
@@ -62,6 +69,8 @@ launch=("$ROOT/scripts/launch.sh" --dataset "1:$DATA" --lockstep --out "$OUT" --
         --agent-arg --start --agent-arg "$START" "${MAP_ARGS[@]}" "${EXTRA[@]}")
 [ -n "$URL" ] && launch+=(--lcm-url "$URL")
 [ -n "$DURATION" ] && launch+=(--duration "$DURATION")
+[ -n "$FROM" ] && launch+=(--replay-arg --start --replay-arg "$FROM")
+[ -n "$CAM_OFFSET" ] && launch+=(--replay-arg --camera-time-offset --replay-arg "$CAM_OFFSET")
 "${launch[@]}" || { echo "run_dataset.sh: the run failed (logs in $OUT/logs/)" >&2; exit 1; }
 
 "$BUILD/tools/cvslam_eval" --run "$OUT" --align "$ALIGN" --summary-json "$OUT/summary.json" ||

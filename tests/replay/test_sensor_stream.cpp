@@ -152,6 +152,36 @@ TEST(SensorStream, EurocFoldersShareOneClock) {
   EXPECT_EQ(order.back().first, 100000);
 }
 
+TEST(SensorStream, EurocStreamCorrectsAConstantCameraClockOffset) {
+  // Frames stamped on the camera's clock, 3 ms behind the IMU's: with the offset given, each
+  // frame is handed out at its IMU time, after the IMU sample that precedes it there.
+  test::TempFolder tmp;
+  EurocWriterOptions wo;
+  auto w = EurocDatasetWriter::create(tmp / "d", wo);
+  ASSERT_TRUE(w.ok());
+  cv::Mat img(wo.camera.height, wo.camera.width, CV_8UC1, cv::Scalar(1));
+  for (int i = 0; i <= 20; ++i) {
+    ImuSample s;
+    s.t_us = 1000000 + i * 5000;
+    ASSERT_TRUE(w->addImu(s).ok());
+    if (i % 10 == 0) ASSERT_TRUE(w->addStereoFrame(s.t_us * 1000, img, img).ok());
+  }
+  ASSERT_TRUE(w->close().ok());
+  auto s = EurocSensorStream::open(1, tmp / "d", 0.0, 3000);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  SensorEvent e;
+  std::vector<int64_t> frames;
+  int64_t last_imu = -1;
+  while ((*s)->next(e)) {
+    if (e.type == SensorEventType::kImu) last_imu = e.t_us;
+    if (e.type != SensorEventType::kStereoImage) continue;
+    frames.push_back(e.t_us);
+    EXPECT_EQ(last_imu, e.t_us - 3000);  // the tick before it, not the one it was stamped on
+  }
+  ASSERT_TRUE((*s)->status().ok()) << (*s)->status().message();
+  EXPECT_EQ(frames, (std::vector<int64_t>{1003000, 1053000, 1103000}));
+}
+
 TEST(SensorStream, EurocStreamReportsBrokenImages) {
   test::TempFolder tmp;
   EurocWriterOptions wo;
