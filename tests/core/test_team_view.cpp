@@ -61,6 +61,24 @@ TEST(TeamView, ClientsGetEachSampleOnceAndANewClientGetsEverything) {
   EXPECT_EQ(view.delta(b, 0)["agents"]["1"]["samples"].size(), 6u);
 }
 
+TEST(TeamView, StatusOfAgentsAndOfTheGroundStationReachesTheClient) {
+  TeamView view;
+  view.addEstimate(estimate(3, 1.0, Eigen::Vector3d::Zero()), 0.0);
+  ViewCursor c;
+  Json d = view.delta(c, 0.0);
+  EXPECT_EQ(d["agents"]["3"]["health"], 0);
+  EXPECT_FALSE(d.contains("gs_status"));
+  // The ground station refused UAV3's batches; the agent repeats it in its own STATUS.
+  view.setStatus(0, 1, "gs: vehicles 3; batches 10, refused 2: UAV3 propagation 2");
+  view.setStatus(3, 1, "gs: fresh, adopted 10, own 2; gs refused my batches: propagation 2");
+  d = view.delta(c, 0.0);
+  EXPECT_EQ(d["gs_status"]["health"], 1);
+  EXPECT_EQ(d["gs_status"]["message"], "gs: vehicles 3; batches 10, refused 2: UAV3 propagation 2");
+  EXPECT_EQ(d["agents"]["3"]["health"], 1);
+  EXPECT_NE(d["agents"]["3"]["status"].get<std::string>().find("refused my batches"),
+            std::string::npos);
+}
+
 TEST(TeamView, LatencyAndBytesPerSecondComeFromArrivals) {
   TeamViewOptions o;
   o.rate_window_s = 2.0;

@@ -99,6 +99,13 @@ Status ViewNode::subscribe() {
           locked([&] { view_.setMap(m.header.agent_id, seconds(m.header.utime), std::move(map)); });
         });
   if (s.ok())
+    s = bus.subscribe<cvslam::status_t>(
+        allAgentsPattern(Stream::kStatus), [this](const cvslam::status_t& m) {
+          // The replay (−1) reports lockstep progress only.
+          if (m.header.agent_id < 0) return;
+          locked([&] { view_.setStatus(m.header.agent_id, m.health, m.message); });
+        });
+  if (s.ok())
     s = bus.subscribe<cvslam::map_t>(channels::gsMap(), [this](const cvslam::map_t& m) {
       std::vector<view::ViewLandmark> map = landmarksOf(m);
       locked([&] { view_.setJointMap(seconds(m.header.utime), std::move(map)); });

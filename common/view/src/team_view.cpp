@@ -222,6 +222,17 @@ void TeamView::setLandmarkCounts(int agent_id, int active, int archived) {
   a->landmarks_archived = archived;
 }
 
+void TeamView::setStatus(int process_id, int health, const std::string& message) {
+  if (process_id == 0) {
+    gs_status_ = std::make_pair(health, message);
+    return;
+  }
+  Agent* a = agent(process_id);
+  if (a == nullptr) return;
+  a->health = health;
+  a->status = message;
+}
+
 void TeamView::countMalformed(const std::string& channel) {
   ++malformed_[channel];
   ++malformed_total_;
@@ -236,7 +247,9 @@ Json TeamView::delta(ViewCursor& c, double wall_s) const {
               {"landmarks_active", a.landmarks_active},
               {"landmarks_archived", a.landmarks_archived},
               {"bytes_total", a.bytes_total},
-              {"bytes_per_s", optional(bytesPerSecond(a, wall_s))}};
+              {"bytes_per_s", optional(bytesPerSecond(a, wall_s))},
+              {"health", a.health},
+              {"status", a.status}};
     // Samples (and truth) from where this client stopped; from 0 after old ones were thinned.
     const bool restart = reset || c.samples_epoch[id] != a.samples_epoch;
     c.samples_epoch[id] = a.samples_epoch;
@@ -302,6 +315,7 @@ Json TeamView::delta(ViewCursor& c, double wall_s) const {
               {"ignored_agents", ignored_agents_},
               {"agents", std::move(agents)},
               {"links", std::move(links)}};
+  if (gs_status_) out["gs_status"] = {{"health", gs_status_->first}, {"message", gs_status_->second}};
   if (reset || c.joint_map_version != joint_map_version_) {
     if (joint_map_version_ > 0) out["joint_map"] = landmarksJson(joint_map_t_, joint_map_);
     c.joint_map_version = joint_map_version_;

@@ -93,6 +93,9 @@ class TeamView {
   void setAgentInfo(int agent_id, const std::string& mode, int64_t boot_id);
   void setLandmarkCounts(int agent_id, int active, int archived);
   /// A message that failed to decode or validate (or came from an id beyond max_agents).
+  /// A process's STATUS (status_t health and one-line message): an agent's own (id > 0) or
+  /// the ground station's (id 0, e.g. the batches it refused per UAV).
+  void setStatus(int process_id, int health, const std::string& message);
   void countMalformed(const std::string& channel);
   void countMessage() { ++messages_; }
 
@@ -131,6 +134,8 @@ class TeamView {
     std::deque<std::pair<double, double>> frame_arrivals;  ///< (t, wall)
     std::deque<std::pair<double, std::size_t>> traffic;    ///< (wall, bytes)
     int64_t bytes_total = 0;
+    int health = 0;      ///< status_t HEALTH_* of its last STATUS
+    std::string status;  ///< its message
   };
   struct Link {
     int from, to;
@@ -153,6 +158,7 @@ class TeamView {
   double latest_t_ = 0.0;
   std::map<std::string, int64_t> malformed_;
   int64_t malformed_total_ = 0, messages_ = 0, ignored_agents_ = 0;
+  std::optional<std::pair<int, std::string>> gs_status_;  ///< the ground station's health, message
 };
 
 }  // namespace cvslam::view
