@@ -69,6 +69,29 @@ TEST_F(RunEvaluation, KnownFiguresOfTheFakeRun) {
   EXPECT_TRUE(a.notes.empty());
 }
 
+// A ground station's record names the batches each UAV sent: the figures of a UAV it followed
+// for a fraction of them say so (coverage, a note), those of a UAV it followed throughout not.
+TEST_F(RunEvaluation, AGroundStationRecordSaysOverHowMuchOfEachFlightItsFiguresAre) {
+  std::ofstream(dir_ + "/run/stats.json")
+      << R"({"batches": 410, "agents": {"1": {"batches": 400, "rejected": 0},
+            "2": {"batches": 400, "rejected": 7500, "dropped_per_reason": {"decode": 100}}}})";
+  auto agents = evaluateRun(dir_ + "/run", "");
+  ASSERT_TRUE(agents.ok()) << agents.status().message();
+  ASSERT_EQ(agents->size(), 2u);
+  ASSERT_TRUE((*agents)[0].coverage);
+  EXPECT_DOUBLE_EQ(*(*agents)[0].coverage, 1.0);
+  EXPECT_TRUE((*agents)[0].notes.empty());
+  ASSERT_TRUE((*agents)[1].coverage);
+  EXPECT_DOUBLE_EQ(*(*agents)[1].coverage, 400.0 / 8000.0);
+  ASSERT_EQ((*agents)[1].notes.size(), 1u);
+  EXPECT_NE((*agents)[1].notes[0].find("400 of 8000"), std::string::npos);
+  ASSERT_TRUE((*agents)[1].covered_s);
+  EXPECT_NEAR(*(*agents)[1].covered_s, 39.9, 1e-6);
+  const Json summary = summaryJson(RunInfo{}, *agents, {});
+  EXPECT_DOUBLE_EQ(summary["agents"]["2"]["coverage"].get<double>(), 0.05);
+  EXPECT_NE(summaryTable(*agents).find("cover[%]"), std::string::npos);
+}
+
 // Time columns keep every microsecond at any epoch: a run stamped in EuRoC time (≈ 1.4e9 s,
 // 0.1 s steps) reads back with every row in order and gives the same figures.
 TEST_F(RunEvaluation, EurocEpochTimestampsKeepTheirResolution) {
