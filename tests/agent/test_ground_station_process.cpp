@@ -88,7 +88,7 @@ TEST(GroundStationProcess, LockstepReproducesCvslamRunCc) {
   }
   EXPECT_TRUE(slurp(tmp / "lcm/ground_station/landmarks.csv") ==
               slurp(tmp / "inproc/ground_station/landmarks.csv"));
-  EXPECT_NE(gs.out().find("rejected 0"), std::string::npos) << gs.out();
+  EXPECT_NE(gs.out().find("refused 0 (none)"), std::string::npos) << gs.out();
 }
 
 TEST(GroundStationProcess, AgentsGoOnWithoutTheGroundStationWhichTakesOverAfterItsRestart) {
