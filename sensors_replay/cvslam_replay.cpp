@@ -9,8 +9,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <csignal>
 #include <cstdio>
@@ -83,7 +83,7 @@ cvslam::Expected<cvslam::MergedSensorSource> makeSource(const cvslam::replay::Ar
   } else {
     for (const auto& d : a.datasets) {
       auto s = cvslam::EurocSensorStream::open(d.id, d.path, a.start,
-                                                std::llround(a.camera_time_offset * 1e6));
+                                               std::llround(a.camera_time_offset * 1e6));
       if (!s.ok()) return s.status();
       streams.push_back(std::move(*s));
     }

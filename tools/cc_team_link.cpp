@@ -98,9 +98,8 @@ void CcTeamLink::printSummary(std::FILE* out, double duration_s) const {
   std::fprintf(out,
                "  ground station: %ld batches (%ld refused: %s; %ld vehicle restarts), step median "
                "%.2f ms, p95 %.2f ms, max %.2f ms, state size max %d, joint map %zu landmarks\n",
-               st.batches, st.rejected(), st.refusalSummary().c_str(), restarts_,
-               steps.median_ms, steps.p95_ms, steps.max_ms, st.max_state_size,
-               filter_.map().size());
+               st.batches, st.rejected(), st.refusalSummary().c_str(), restarts_, steps.median_ms,
+               steps.p95_ms, steps.max_ms, st.max_state_size, filter_.map().size());
   for (const auto& [id, c] : st.agents) {
     const auto sent = bytes_sent_.count(id) > 0 ? bytes_sent_.at(id) : 0;
     std::fprintf(out,

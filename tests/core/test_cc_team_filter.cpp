@@ -351,9 +351,11 @@ TEST(CcTeamFilter, BadBatchesAreCountedAndChangeNothing) {
   EXPECT_EQ(st.batches, 1);
   EXPECT_EQ(st.agents.at(1).rejected, 7);
   // Each refusal under its own reason, per UAV.
-  const std::map<std::string, long> expected = {
-      {"invalid_pixels", 2}, {"invalid_imu_not_finite", 1}, {"invalid_imu_after_frame", 1},
-      {"invalid_frame_time", 1}, {"stale", 2}};
+  const std::map<std::string, long> expected = {{"invalid_pixels", 2},
+                                                {"invalid_imu_not_finite", 1},
+                                                {"invalid_imu_after_frame", 1},
+                                                {"invalid_frame_time", 1},
+                                                {"stale", 2}};
   EXPECT_EQ(st.agents.at(1).refused, expected);
   EXPECT_NE(st.refusalSummary().find("UAV1 "), std::string::npos);
   EXPECT_EQ(coop::refusalsOf("gs: batches 1, refused 7: " + st.refusalSummary(), 1),
@@ -408,8 +410,8 @@ TEST(CcTeamFilter, ABatchLostOnTheWayIsBridgedALongGapRefusesOnlyItsOwnBatch) {
   EXPECT_EQ(report.refusal, coop::CcRefusal::kPropagation);
   EXPECT_EQ(gs.statistics().agents.at(1).refused.at("propagation"), 1);
   EXPECT_EQ(gs.estimate(1)->x_v, before.x_v);
-  ASSERT_TRUE(gs.addVehicle(1, StereoCamera(StereoCameraOptions{}), later, before.x_v, before.P_v)
-                  .ok());
+  ASSERT_TRUE(
+      gs.addVehicle(1, StereoCamera(StereoCameraOptions{}), later, before.x_v, before.P_v).ok());
   EXPECT_TRUE(gs.processBatch(restBatch(1, later + 50000), &report).ok()) << report.reason;
 }
 

@@ -127,7 +127,8 @@ std::string CcLink::refused() const {
 std::string CcLink::statusText() const {
   const std::string r = refused();
   return std::string("gs: ") + name(gs_) + ", adopted " + std::to_string(frames_adopted_) +
-         ", own " + std::to_string(frames_own_) + (r.empty() ? "" : "; gs refused my batches: " + r);
+         ", own " + std::to_string(frames_own_) +
+         (r.empty() ? "" : "; gs refused my batches: " + r);
 }
 
 bool CcLink::degraded() const {

@@ -407,11 +407,10 @@ std::string GroundStationNode::report() const {
                 "ms, p95 %.2f ms, max "
                 "%.2f ms; max state size %d",
                 st.batches, st.rejected(), st.refusalSummary().c_str(),
-                dropped.empty() ? "none" : dropped.c_str(),
-                static_cast<long long>(starts_), static_cast<long long>(restarts_),
-                static_cast<long long>(timeouts_), static_cast<long long>(resets_),
-                static_cast<long long>(published_states_), steps.median_ms, steps.p95_ms,
-                steps.max_ms, st.max_state_size);
+                dropped.empty() ? "none" : dropped.c_str(), static_cast<long long>(starts_),
+                static_cast<long long>(restarts_), static_cast<long long>(timeouts_),
+                static_cast<long long>(resets_), static_cast<long long>(published_states_),
+                steps.median_ms, steps.p95_ms, steps.max_ms, st.max_state_size);
   return buf;
 }
 

@@ -110,8 +110,7 @@ AgentEvaluation evaluateAgent(const AgentRun& run, const AgentTruth& truth,
     ev.max_state_size = std::max(ev.max_state_size.value_or(0), f.state_size);
   }
   if (!frame_ms.empty()) ev.frame_time_ms_median = median(frame_ms);
-  if (!run.trajectory.empty())
-    ev.covered_s = run.trajectory.back().t - run.trajectory.front().t;
+  if (!run.trajectory.empty()) ev.covered_s = run.trajectory.back().t - run.trajectory.front().t;
   if (run.stats.duration_s > 0.0)
     ev.bytes_sent_per_s = static_cast<double>(run.stats.bytes_sent) / run.stats.duration_s;
   return ev;
@@ -160,8 +159,8 @@ Expected<std::vector<AgentEvaluation>> evaluateRun(const std::string& run_dir,
         ev.notes.push_back("coverage: the figures are over " + std::to_string(ev.steps) + " of " +
                            std::to_string(it->second) + " batches the UAV sent");
     } else if (!run->stats.frames.empty()) {
-      ev.coverage = std::min(1.0, static_cast<double>(ev.steps) /
-                                      static_cast<double>(run->stats.frames.size()));
+      ev.coverage = std::min(
+          1.0, static_cast<double>(ev.steps) / static_cast<double>(run->stats.frames.size()));
     }
     out.push_back(std::move(ev));
   }
@@ -256,14 +255,13 @@ std::string summaryTable(const std::vector<AgentEvaluation>& agents) {
     if (ev.max_state_size) size = *ev.max_state_size;
     std::optional<double> cover;
     if (ev.coverage) cover = 100.0 * *ev.coverage;
-    std::snprintf(line, sizeof(line), "%-6d %10s %10s %10s %8s %9s %6s %14s %10s %12s %8s %8s\n",
-                  ev.id,
-                  cell(ev.ate_rmse_m, "%.4f").c_str(), cell(ev.ins_ate_rmse_m, "%.4f").c_str(),
-                  cell(ev.rpe_m_per_10m, "%.4f").c_str(), cell(ev.nees_mean, "%.2f").c_str(),
-                  cell(rco, "%.3f").c_str(), cell(size, "%.0f").c_str(), cell(lm, "%.4f").c_str(),
-                  cell(ev.frame_time_ms_median, "%.2f").c_str(),
-                  cell(ev.bytes_sent_per_s, "%.0f").c_str(), cell(ev.nis_per_dof, "%.2f").c_str(),
-                  cell(cover, "%.1f").c_str());
+    std::snprintf(
+        line, sizeof(line), "%-6d %10s %10s %10s %8s %9s %6s %14s %10s %12s %8s %8s\n", ev.id,
+        cell(ev.ate_rmse_m, "%.4f").c_str(), cell(ev.ins_ate_rmse_m, "%.4f").c_str(),
+        cell(ev.rpe_m_per_10m, "%.4f").c_str(), cell(ev.nees_mean, "%.2f").c_str(),
+        cell(rco, "%.3f").c_str(), cell(size, "%.0f").c_str(), cell(lm, "%.4f").c_str(),
+        cell(ev.frame_time_ms_median, "%.2f").c_str(), cell(ev.bytes_sent_per_s, "%.0f").c_str(),
+        cell(ev.nis_per_dof, "%.2f").c_str(), cell(cover, "%.1f").c_str());
     out += line;
   }
   return out;

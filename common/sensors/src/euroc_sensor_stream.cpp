@@ -37,8 +37,7 @@ Expected<std::unique_ptr<EurocSensorStream>> EurocSensorStream::open(int agent_i
     last = std::max(last, t_us);
   };
   if (!d.imu().empty()) extend(d.imu().front().t_us), extend(d.imu().back().t_us);
-  if (d.frameCount() > 0)
-    extend(frameUs(0)), extend(frameUs(d.frameCount() - 1));
+  if (d.frameCount() > 0) extend(frameUs(0)), extend(frameUs(d.frameCount() - 1));
   if (d.hasGroundTruth())
     extend(nsToUs(d.groundTruth().front().t_ns)), extend(nsToUs(d.groundTruth().back().t_ns));
   if (first == kNone) return Status::Error(d.mav0() + ": no IMU samples, frames or ground truth");
@@ -49,8 +48,7 @@ Expected<std::unique_ptr<EurocSensorStream>> EurocSensorStream::open(int agent_i
   while (s->next_gt_ < d.groundTruth().size() &&
          nsToUs(d.groundTruth()[s->next_gt_].t_ns) < start_us)
     ++s->next_gt_;
-  while (s->next_frame_ < d.frameCount() && frameUs(s->next_frame_) < start_us)
-    ++s->next_frame_;
+  while (s->next_frame_ < d.frameCount() && frameUs(s->next_frame_) < start_us) ++s->next_frame_;
   return s;
 }
 
@@ -60,10 +58,9 @@ bool EurocSensorStream::next(SensorEvent& event) {
   const int64_t t_gt = next_gt_ < dataset_.groundTruth().size()
                            ? nsToUs(dataset_.groundTruth()[next_gt_].t_ns)
                            : kNone;
-  const int64_t t_frame =
-      next_frame_ < dataset_.frameCount()
-          ? nsToUs(dataset_.frameTimeNs(next_frame_)) + camera_offset_us_
-          : kNone;
+  const int64_t t_frame = next_frame_ < dataset_.frameCount()
+                              ? nsToUs(dataset_.frameTimeNs(next_frame_)) + camera_offset_us_
+                              : kNone;
   const int64_t t = std::min({t_imu, t_gt, t_frame});
   if (t == kNone) return false;
   event = SensorEvent();

@@ -270,10 +270,9 @@ Expected<DynamicInitialization> DynamicInitializer::solve() const {
                          " tracked frames, not yet " + std::to_string(o_.window_s) + " s");
   const int64_t max_hold_us = std::llround(o_.max_imu_hold_s * 1e6);
   if (imu_.empty() || imu_.back().t_us + max_hold_us < frames_.back().t_us)
-    return Status::Error(
-        "dynamic initialisation: the IMU does not cover the frames (last sample " +
-        std::to_string(imu_.empty() ? 0 : frames_.back().t_us - imu_.back().t_us) +
-        " µs before the last frame, more than max_imu_hold_s)");
+    return Status::Error("dynamic initialisation: the IMU does not cover the frames (last sample " +
+                         std::to_string(imu_.empty() ? 0 : frames_.back().t_us - imu_.back().t_us) +
+                         " µs before the last frame, more than max_imu_hold_s)");
   // Body poses in B_0 from the camera poses in C_0 (extrinsics R_BtoC, p_CinB).
   const Eigen::Matrix3d R_CtoB = camera_.options().R_BtoC.transpose();
   const Eigen::Vector3d& p_CinB = camera_.options().p_CinB;

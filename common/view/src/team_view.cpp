@@ -315,7 +315,8 @@ Json TeamView::delta(ViewCursor& c, double wall_s) const {
               {"ignored_agents", ignored_agents_},
               {"agents", std::move(agents)},
               {"links", std::move(links)}};
-  if (gs_status_) out["gs_status"] = {{"health", gs_status_->first}, {"message", gs_status_->second}};
+  if (gs_status_)
+    out["gs_status"] = {{"health", gs_status_->first}, {"message", gs_status_->second}};
   if (reset || c.joint_map_version != joint_map_version_) {
     if (joint_map_version_ > 0) out["joint_map"] = landmarksJson(joint_map_t_, joint_map_);
     c.joint_map_version = joint_map_version_;

@@ -55,8 +55,8 @@ class CcLink final : public CooperationLink {
   coop::CcBatchBuilder builder_;
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
-  std::optional<VehicleEstimate> latest_;   // latest GS_STATE (mutex_)
-  double gs_heard_s_;                       // wall time the ground station was last heard (mutex_)
+  std::optional<VehicleEstimate> latest_;  // latest GS_STATE (mutex_)
+  double gs_heard_s_;                      // wall time the ground station was last heard (mutex_)
   std::string refused_;  // the ground station's refusals of this UAV's batches (mutex_)
   std::optional<VehicleEstimate> adopted_;  // the last frame's, when adopted
   Gs gs_ = Gs::kAbsent;

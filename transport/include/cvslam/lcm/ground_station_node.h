@@ -115,15 +115,15 @@ class GroundStationNode {
   mutable std::mutex inbox_mutex_;
   std::condition_variable inbox_cv_;
   std::vector<Inbound> inbox_;
-  std::map<std::string, int64_t> dropped_;           // before the filter, per reason (inbox_mutex_)
+  std::map<std::string, int64_t> dropped_;  // before the filter, per reason (inbox_mutex_)
   struct Drop {
     std::string reason;
     int agent_id;
     int64_t bytes;
   };
-  std::vector<Drop> drops_unrecorded_;               // not yet given to the recorder (inbox_mutex_)
-  std::map<std::string, int64_t> bytes_received_;    // per stream (inbox_mutex_)
-  double last_agent_message_s_ = 0.0;                // inbox_mutex_
+  std::vector<Drop> drops_unrecorded_;             // not yet given to the recorder (inbox_mutex_)
+  std::map<std::string, int64_t> bytes_received_;  // per stream (inbox_mutex_)
+  double last_agent_message_s_ = 0.0;              // inbox_mutex_
 
   std::map<int, int64_t> last_seq_obs_, last_seq_pose_;  // restart detection
   std::map<int, std::deque<std::pair<int64_t, Vector9d>>> truth_;

@@ -175,22 +175,22 @@ struct CcStepReport {
   int64_t t_us = 0;
   bool accepted = false;  ///< false: refused (refusal, reason)
   CcRefusal refusal = CcRefusal::kNone;
-  std::string defect;     ///< kInvalid: the kind validateBatch named
-  std::string reason;     ///< why refused, one line
-  FrameReport frame;      ///< the recipe's report (as VisualInertialSlam::processFrame)
-  int type1 = 0;          ///< observations of landmarks in this UAV's map (§6.3.1)
-  int type2 = 0;          ///< of landmarks in the joint map from other UAVs only
-  int type3 = 0;          ///< of landmarks new to the joint map
+  std::string defect;              ///< kInvalid: the kind validateBatch named
+  std::string reason;              ///< why refused, one line
+  FrameReport frame;               ///< the recipe's report (as VisualInertialSlam::processFrame)
+  int type1 = 0;                   ///< observations of landmarks in this UAV's map (§6.3.1)
+  int type2 = 0;                   ///< of landmarks in the joint map from other UAVs only
+  int type3 = 0;                   ///< of landmarks new to the joint map
   double imu_gap_bridged_s = 0.0;  ///< IMU bridged before this batch (a batch lost on the way)
-  double step_ms = 0.0;   ///< wall time of the step
-  int state_size = 0;     ///< joint state size after the step
-  int vehicles = 0;       ///< vehicles in the state after the step
+  double step_ms = 0.0;            ///< wall time of the step
+  int state_size = 0;              ///< joint state size after the step
+  int vehicles = 0;                ///< vehicles in the state after the step
 };
 
 /// Per-UAV counts.
 struct CcAgentCounts {
-  long batches = 0;   ///< accepted
-  long rejected = 0;  ///< refused batches of this (known) agent, every reason
+  long batches = 0;                     ///< accepted
+  long rejected = 0;                    ///< refused batches of this (known) agent, every reason
   std::map<std::string, long> refused;  ///< per reason (refusalKey)
   long imu_gaps_bridged = 0;            ///< IMU gaps bridged (batches lost on the way)
   double imu_gap_bridged_s = 0.0;       ///< their total length [s]
