@@ -2,7 +2,7 @@
 # Rebuilds the ORB feature-index vocabulary shipped in config/ (docs/conventions.md; thesis §6.6.3)
 # from training images that no evaluation uses: 30 s of the team3_aerial flights rendered over
 # a different aerial world (seed 77; scenarios render seed 1 by default), every 5th left image
-# of the three UAVs, plus the 95 real EuRoC frames of ../shared/data/euroc_micro.
+# of the three UAVs, plus the 95 real EuRoC frames of data/euroc_micro.
 #
 #   scripts/build_vocabularies.sh [BUILD_DIR]      (default: build)
 #
@@ -27,7 +27,7 @@ for uav in "$WORK"/sim/uav*; do
     ln -s "$uav/mav0/cam0/data/$f" "$WORK/images/${n}_$f"
   done
 done
-for f in ../shared/data/euroc_micro/mav0/cam0/data/*.png; do
+for f in data/euroc_micro/mav0/cam0/data/*.png; do
   [ -e "$f" ] && ln -s "$(realpath "$f")" "$WORK/images/euroc_$(basename "$f")"
 done
 "$BUILD/tools/cvslam_build_vocabulary" --images "$WORK/images" --detector orb \

@@ -153,7 +153,7 @@ TEST(ImuRecording, TheRealImuInFlightIsTensOfTimesNoisierThanItsDatasheet) {
   Eigen::Matrix3d R_StoB;
   R_StoB << 0, 0, 1, 0, 1, 0, -1, 0, 0;
   auto recording = ImuRecording::load(
-      test::sourceDir() + "/../shared/data/euroc/imu/MH_03_medium_imu0.csv", R_StoB);
+      test::sharedDataDir() + "/euroc/imu/MH_03_medium_imu0.csv", R_StoB);
   ASSERT_TRUE(recording.ok()) << recording.status().message();
   const auto measure = [&](double from_s, double to_s) {
     ImuNoiseMonitor monitor;

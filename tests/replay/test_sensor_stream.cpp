@@ -164,7 +164,9 @@ TEST(SensorStream, EurocStreamCorrectsAConstantCameraClockOffset) {
     ImuSample s;
     s.t_us = 1000000 + i * 5000;
     ASSERT_TRUE(w->addImu(s).ok());
-    if (i % 10 == 0) ASSERT_TRUE(w->addStereoFrame(s.t_us * 1000, img, img).ok());
+    if (i % 10 == 0) {
+      ASSERT_TRUE(w->addStereoFrame(s.t_us * 1000, img, img).ok());
+    }
   }
   ASSERT_TRUE(w->close().ok());
   auto s = EurocSensorStream::open(1, tmp / "d", 0.0, 3000);

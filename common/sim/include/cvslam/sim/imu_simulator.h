@@ -6,7 +6,7 @@
 // Biases random-walk between samples: b(t + Δt) = b(t) + σ_rw √Δt N(0, I), from the
 // configured initial biases (the thesis's "constant offset", §2.2). White noise may be
 // centred non-Gaussian (thesis §5.9), see noise_model.h. Defaults: EuRoC's ADIS16448
-// (../shared/data/euroc_micro/mav0/imu0/sensor.yaml).
+// (data/euroc_micro/mav0/imu0/sensor.yaml).
 
 #include <Eigen/Core>
 #include <limits>

@@ -1,7 +1,7 @@
 #pragma once
 // Trajectory read from a TUM file (`t x y z qx qy qz qw`, seconds; the pose of the body in the
 // file's world frame, q rotating body vectors into the world), e.g. the EuRoC ground truth in
-// ../shared/data/euroc/*.tum (body = IMU, world z up).
+// data/euroc/*.tum (body = IMU, world z up).
 //
 // Smooth, differentiable interpolation so that a synthesised IMU is sensible: the samples are
 // averaged over windows of `knot_interval` seconds and interpolated by natural cubic splines —
