@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Single vs DC vs CC comparison runs (issue #12; thesis §6.6.7): runs cvslam_run in each mode on
+"""Single vs DC vs CC comparison runs (thesis §6.6.7): runs cvslam_run in each mode on
 scenarios x seeds x sensing, evaluates every run with cvslam_eval (the agents' records; in cc
 mode they hold the ground station's estimates) and writes, in OUT:
   results.csv   one row per run and UAV: ATE, RPE, NEES, bytes/s per UAV and of the ground

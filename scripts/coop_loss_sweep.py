@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""DC cooperation under message loss, Monte-Carlo (docs/cooperation.md "Loss"; issue #16).
+"""DC cooperation under message loss, Monte-Carlo (docs/cooperation.md "Loss").
 
     scripts/coop_loss_sweep.py --out DIR [--scenarios A,B] [--seeds 41,42] [--loss-levels 0,20,40]
                                [--loss-seeds 1,2,3] [--config FILE] [--jobs 2] [--build DIR]

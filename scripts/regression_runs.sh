@@ -7,7 +7,7 @@
 #   scripts/regression_runs.sh [--build-dir build] [--attitude euler] --out DIR
 #   scripts/compare_runs.py BEFORE_DIR AFTER_DIR
 # --attitude: passed to every run (cvslam_run --attitude), e.g. euler to compare the thesis's
-# model with a build from before the rotation error state (issue #13).
+# model with a build from before the rotation error state.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -19,7 +19,7 @@
 #   --map room           (default) one vehicle's recording keeps its map whole: the full
 #                        stochastic map, bounded at 500 landmarks (the least recently observed
 #                        leave first); 30-90 ms per frame on a 2-core machine, which the lockstep
-#                        replay waits for (docs/results/euroc_recorded.md "Stop 43")
+#                        replay waits for (docs/results/euroc_recorded.md)
 #   --map knearest       the thesis's k-nearest map of config/agent.yaml (what the team
 #                        scenarios run; up to 2.4x less accurate inside one room)
 #   --duration S         replay only S seconds of the folder (default: all of it)

@@ -153,7 +153,7 @@ TEST(GroundStationProcess, AgentsGoOnWithoutTheGroundStationWhichTakesOverAfterI
   }
   // Valid outputs. The ATE against single mode is reported, not asserted: the restarted
   // joint filter's accuracy depends on the instant it restarts (0.11–0.25 m for UAV1 against
-  // 0.10 m alone, docs/results/cc_vs_dc.md) — issue #12's open consistency problem, not the
+  // 0.10 m alone, docs/results/cc_vs_dc.md) — the joint filter's open consistency problem, not the
   // fault behaviour this test is about.
   const auto single = test::ateOf(tmp / "single", tmp / "eval_single");
   const auto cc = test::ateOf(tmp / "lcm", tmp / "eval_cc");

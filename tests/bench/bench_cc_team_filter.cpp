@@ -1,4 +1,4 @@
-// One step of the ground station's joint filter (coop/cc_team_filter.h; issue #12 target:
+// One step of the ground station's joint filter (coop/cc_team_filter.h; target:
 // median ≤ 10 ms, p95 ≤ 25 ms for 5 UAVs at k = 20): config/scenarios/team5.yaml with
 // feature-level sensing. The first kWarmUpS seconds fill the joint state (5 vehicle blocks of
 // 15, each UAV's 20 nearest landmarks + new ones, a growing archive); each benchmark iteration

@@ -1,4 +1,4 @@
-// DC cooperation that is told the truth (issue #14 item 4; docs/cooperation.md "What is
+// DC cooperation that is told the truth (docs/cooperation.md "What is
 // fused, and how"): gates that bound the unknown correlation (ciBoundedNis), the innovation
 // test over time of a peer (PeerConsistency), the EKF update for estimates whose provenance
 // is disjoint from the own state's (CiUpdater::applyIndependent), and the joint covariance

@@ -1,4 +1,4 @@
-// GPS updates of a VSLAM vehicle (gps_updater.h; issue #17): the observation Jacobian by
+// GPS updates of a VSLAM vehicle (gps_updater.h): the observation Jacobian by
 // finite differences for both attitude parametrisations, and a UAV that starts 4 m off,
 // flies with GPS, loses it for 10 s and gets it back.
 #include "cvslam/slam/gps_updater.h"

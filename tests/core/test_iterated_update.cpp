@@ -1,7 +1,7 @@
 // The iterated EKF update (CovarianceHelper::iteratedUpdate), the state difference it rests on,
 // and loop closing through it (loop_closer.h): the loop's correction comes through the gain, its
 // joint NIS gate refuses a drift the covariance cannot explain, and over Monte-Carlo draws of
-// the drift the closed loop is consistent (issue #14, item 2).
+// the drift the closed loop is consistent.
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The ground station's loop closing is consistent (issues #12, #14): team5, --mode cc, seeds
+# The ground station's loop closing is consistent: team5, --mode cc, seeds
 # 61-66 (not used to choose any default), features, the shipped configuration. UAV2 flies a
 # 20 m circle (one lap ≈ 50 s) and, at the ground station, closes loops on its first lap's
 # landmarks from ≈ 48 s on, landmarks the joint map had archived. The 6-run mean vehicle NEES

@@ -7,7 +7,7 @@
 # from linearisation, which the shipped filter adds (docs/results/ideal_ekf.md).
 # In both, the global yaw stays unobservable: no UAV's yaw σ ever falls below its initial value
 # (an ideal EKF on the error state's coordinates, whose Jacobians at the true attitude mixed two
-# charts, took it from 1° to 0.4°: docs/results/ideal_ekf.md, stop 46).
+# charts, took it from 1° to 0.4°: docs/results/ideal_ekf.md).
 # With `shipped`, the same runs of the shipped filter (the invariant error chart,
 # docs/filter.md): its mean vehicle NEES must lie in the band too (the additive chart with
 # first estimates and the constraint measured 11.7 / 13.9 / 15.7 against [6.6, 11.8]).

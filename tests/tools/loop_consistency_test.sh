@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# Loop closing is consistent (issue #14): thesis_loop, seeds 51-56 (not used to choose any
+# Loop closing is consistent: thesis_loop, seeds 51-56 (not used to choose any
 # default), features, the shipped configuration. UAV1 closes its loop at ≈ 199 s on every seed
 # (a `loop_closure` event), its position error at the end is under 2 m (it drifted metres
 # before), and the 6-run mean vehicle NEES from the closure to 210 s is inside the χ² 95 %
-# band for 6 runs of 9 dof: the loop tells the vehicle no more than it knows (above: stop 36,
-# independent re-entry and the iterated update without the chart's transport, 20-run mean 781
-# at 200 s), and the re-entries around it do not widen what it does not inform (below: stops
-# 37–43, every re-entry scaling the whole state by 1/ω, 4.96 on these seeds; stop 44: 7.51
-# against the band 5.9–12.7; docs/filter.md "Re-activation"), on ≥ 90 % of the time steps, and
-# the position's mean NEES is inside its own band: the loop's intersection discount left it below
-# (1.22 against 1.37) until anchor landmarks (stop 51: 1.77; docs/filter.md "Anchor landmarks").
+# band for 6 runs of 9 dof: the loop tells the vehicle no more than it knows (independent
+# re-entry and the iterated update without the chart's transport would be far above: 20-run
+# mean 781 at 200 s), and the re-entries around it do not widen what it does not inform (every
+# re-entry scaling the whole state by 1/ω would be below: 4.96 on these seeds; docs/filter.md
+# "Re-activation"), on ≥ 90 % of the time steps, and the position's mean NEES is inside its own
+# band (without anchor landmarks the loop's intersection discount leaves it below, 1.22 against
+# 1.37; docs/filter.md "Anchor landmarks").
 #   tests/tools/loop_consistency_test.sh SOURCE_DIR BUILD_DIR OUT_DIR
 set -uo pipefail
 ROOT="$1" BUILD="$2" OUT="$3"
@@ -58,7 +58,7 @@ if closures:
           f' {100 * inside:.1f} % of the time steps inside (required {100 * MIN_INSIDE:.0f} %)')
     ok = ok and len(after) > 0 and lo <= mean <= hi and inside >= MIN_INSIDE
     # The position, which intersection discounts: below its band without anchor landmarks
-    # (stop 50: 1.22 against 1.37), inside with them (1.77).
+    # (1.22 against 1.37), inside with them (1.77).
     pos, plo, phi, _ = group('position')
     print(f'UAV1 mean position NEES from {start:.1f} s to the end: {pos:.2f} (band {plo:.2f}-{phi:.2f})')
     ok = ok and plo <= pos <= phi

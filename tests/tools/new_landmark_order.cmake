@@ -8,7 +8,7 @@
 #  - the shipped exchange (a peer's landmarks matched to unmapped observed points, archived
 #    landmarks offered where a peer looks): at least three times the fused pairs of the
 #    thesis's exchange, and at least 8, and a right pair fused on each of the three crossings
-#    (issue #14: "landmarks fused on every crossing").
+#    ("landmarks fused on every crossing").
 # Usage: cmake -DRUN=<cvslam_run> -DSOURCE=<source dir> -DOUT=<dir> -P new_landmark_order.cmake
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The second-order mean shortens the flown distance less (issue #14; docs/filter.md "The
+# The second-order mean shortens the flown distance less (docs/filter.md "The
 # second-order mean"). thesis_loop UAV2 flies ≈ 600 m away from its start, features, shipped
 # configuration; without the mean term its estimate falls behind the truth along the track on
 # every seed (−0.87 m on average at 209 s, seeds 201-220, where the run-to-run spread is

@@ -28,7 +28,7 @@ constexpr int64_t kTruthToleranceUs = 10000;
 /// Data starting later than this after the scenario's initial estimate: the agent joins a
 /// running team and starts at the first ground truth [µs].
 constexpr int64_t kLateStartUs = 100000;
-/// The cooperation streams: bytes_sent of stats.json and the bandwidth target (issue #6).
+/// The cooperation streams: bytes_sent of stats.json and the bandwidth target.
 /// In cc mode, the observation batches to the ground station.
 const std::vector<Stream> kCoopStreams = {Stream::kTeamSummary, Stream::kIndex, Stream::kSharedReq,
                                           Stream::kShared, Stream::kObs};

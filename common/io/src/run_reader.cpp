@@ -215,7 +215,7 @@ Expected<AgentRun> readAgentRun(const std::string& run_dir, int agent_id) {
     auto events = readCsvTable(run.dir + "/events.csv");
     if (!events.ok()) return events.status();
     const int nis = events->column("nis"), dof = events->column("nis_dof");
-    if (nis >= 0 && dof >= 0) {  // runs before stop 31 have neither
+    if (nis >= 0 && dof >= 0) {  // older runs' events.csv has neither column
       double nis_sum = 0.0;
       long dof_sum = 0;
       for (std::size_t r = 0; r < events->rows.size(); ++r) {

@@ -51,7 +51,7 @@ void VisualInertialSlam::configureModels() {
   // A Jacobian at the truth is defined only in coordinates that do not depend on the estimate:
   // the error state's δθ lives about the estimate's nominal R̂, so ∂h/∂δθ at the true R mixes
   // two charts, and the tilt between them lets updates inform the global yaw (the yaw σ fell
-  // from 1° to 0.6° in the first second on team3_aerial; docs/results/ideal_ekf.md, stop 46).
+  // from 1° to 0.6° in the first second on team3_aerial; docs/results/ideal_ekf.md).
   if (policy_status_.ok() && oracle_ != nullptr &&
       o_.ins.attitude == vehicle::Attitude::kErrorState)
     policy_status_ = Status::Error(

@@ -130,8 +130,8 @@ struct CcTeamFilterOptions {
   /// than that UAV (rendezvous_sigma_ratio), its observations of that map are applied first, as
   /// one iterated EKF update (slam.loop_closure_passes iterations) linearised first at the UAV
   /// shifted onto the met landmarks; the books follow the correction [m]; 0: never. 0.1: a
-  /// first meeting of practically any UAV (0.5 until stop 39 left UAVs with a 1σ of 0.3 m,
-  /// metres and degrees off, to a single EKF update; docs/ground_station.md "Rendezvous").
+  /// first meeting of practically any UAV (0.5 left UAVs with a 1σ of 0.3 m, metres and
+  /// degrees off, to a single EKF update; docs/ground_station.md "Rendezvous").
   double rendezvous_min_sigma_m = 0.1;
   /// ... and only when its position 1σ is at least this times the other UAV's; 0: whatever the
   /// other's. Through per-observation gated updates instead, linearised metres from where the

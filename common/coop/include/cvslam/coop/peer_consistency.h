@@ -1,5 +1,5 @@
 #pragma once
-// Innovation test over time of one peer's shared estimates (issue #14, "CI that is told the
+// Innovation test over time of one peer's shared estimates ("CI that is told the
 // truth"). Every exchange gives the normalised innovation squared of the peer's landmarks
 // against the local ones, NIS = dᵀ S⁻¹ d with a covariance S that BOUNDS the true one (so the
 // NIS of a consistent peer is at most χ²(dof)-distributed). Over a window of exchanges,

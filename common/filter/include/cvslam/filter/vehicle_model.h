@@ -7,7 +7,7 @@
 // end's motion prior and the run record reach the vehicle block only through these functions,
 // for any VariableKey::vehicle(i) of the state.
 //
-// Attitude (issue #13): a vehicle with a nominal rotation in the state
+// Attitude: a vehicle with a nominal rotation in the state
 // (SlamState::nominalAttitude) has the rotation error state — its three attitude entries are
 // δθ with R_BtoN = R̂ · Exp(δθ) (right, body-frame perturbation), zero between updates —
 // otherwise they are the thesis's ZYX Euler angles. The block keeps its size (9/15) and slot

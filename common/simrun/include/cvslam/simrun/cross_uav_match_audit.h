@@ -1,6 +1,6 @@
 #pragma once
-// Cross-UAV landmark matches of DC-VSLAM checked against the simulator's truth (issue #14,
-// "image-level cooperation that happens"; docs/cooperation.md "Cross-UAV matches against the
+// Cross-UAV landmark matches of DC-VSLAM checked against the simulator's truth
+// (docs/cooperation.md "Cross-UAV matches against the
 // truth"). Two landmarks of two UAVs are TWINS when their true positions (the feature's true id
 // with features; the surface the renderer showed where each was initialised with images) are
 // within `twin_radius_m`. The audit counts

@@ -1,5 +1,5 @@
 #pragma once
-// GPS updates of a VSLAM vehicle (issue #17; thesis §2.4, §3.7 — the chapter-3 GPS aiding,
+// GPS updates of a VSLAM vehicle (thesis §2.4, §3.7 — the chapter-3 GPS aiding,
 // here inside the chapter-5 SLAM filter): a team can fly in and out of GPS-denied areas, the
 // filter using fixes when there are any and vision alone otherwise.
 //
@@ -30,7 +30,7 @@ struct GpsUpdateOptions {
   bool use_velocity = true;  ///< also update with the fix's NED velocity
   /// Multiplies the receiver's stated σ. 2 by default, from the Monte-Carlo in docs/ins_gps.md
   /// ("GPS in VSLAM runs": ATE, RPE and NEES all lower than with 1): it makes up for the VSLAM
-  /// filter's over-confidence in tilt (issue #14), which full-weight fixes amplify.
+  /// filter's over-confidence in tilt (docs/filter.md), which full-weight fixes amplify.
   double sigma_scale = 2.0;
 
   Status load(const ConfigNode& node);

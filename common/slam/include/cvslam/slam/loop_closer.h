@@ -8,7 +8,7 @@
 // as one iterated EKF update (CovarianceHelper::iteratedUpdate): the first linearisation is at
 // the vehicle moved by that alignment, but the update starts from the prior, so the vehicle and
 // the landmarks correlated with it move through the gain and the covariance shrinks by exactly
-// what the loop tells (issue #14: the mean is never moved outside the filter). The joint NIS
+// what the loop tells (the mean is never moved outside the filter). The joint NIS
 // of the loop observations against the prior gates the loop (loop_closure_gate_probability):
 // a loop the prior covariance cannot explain is refused, not forced. Afterwards the first
 // estimates and OC yaw directions of what moved follow it (followCorrection).

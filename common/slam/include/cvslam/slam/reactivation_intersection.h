@@ -1,5 +1,5 @@
 #pragma once
-// Re-activation of archived landmarks by covariance intersection (issue #14, item 1).
+// Re-activation of archived landmarks by covariance intersection.
 //
 // An archived landmark (landmark_archive.h) keeps the marginal covariance Q it had when it left
 // the state; its correlation with the state since then is lost. The thesis (§5.8) re-enters it

@@ -63,7 +63,7 @@ struct SlamOptions {
   /// recent_reentry / reactivation say, and landmarks swapping in and out of the k nearest
   /// cost neither information nor consistency. Each costs 3 state entries in every update.
   /// 0: the thesis's archive only. 100 chosen on seeds 301–320 and the recordings with
-  /// kIntersection re-entry (docs/filter.md, "Re-activation", stop 37): the real-IMU recordings
+  /// kIntersection re-entry (docs/filter.md, "Re-activation"): the real-IMU recordings
   /// gain from the map they keep exactly (V1_02 9.8 → 7.1 cm); 300 was less consistent on
   /// euroc_mh03_hall (UAV2 NEES 12.9 against 11.7) at 6 ms per frame instead of 1.6.
   int held_landmarks = 100;

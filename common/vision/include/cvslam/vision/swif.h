@@ -1,6 +1,6 @@
 #pragma once
-// SWIF, the Scale Wavelet Invariant Feature detector and descriptor (thesis §4.4, issue #17
-// item 3; docs/front_end.md "SWIF").
+// SWIF, the Scale Wavelet Invariant Feature detector and descriptor (thesis §4.4;
+// docs/front_end.md "SWIF").
 //
 // Detector (§4.4.2–4.4.4): a wavelet pyramid of `levels` octaves; at each level the current
 // approximation A_l is decomposed with the Daubechies wavelets db_k of `orders` (eq. 4.27) and
