@@ -110,6 +110,40 @@ setup() {  # loss%
   echo "$shaped"
 }
 
+# The links' delay as packets see it, whatever shapes them: 40 UDP datagrams, one every 20 ms,
+# from the first UAV to the second, which echoes them (each way shaped on arrival, or by netem
+# on departure: the round trip is twice a link's delay) → DIR/logs/link_rtt.json.
+probe_link() {  # DIR
+  local ids=(${AGENTS//,/ }) echo_pid
+  [ ${#ids[@]} -ge 2 ] || return 0
+  ip netns exec "cvuav${ids[1]}" /usr/bin/python3 -c '
+import socket, sys
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind((sys.argv[1], 47100)); s.settimeout(2.0)
+try:
+    while True:
+        data, peer = s.recvfrom(64); s.sendto(data, peer)
+except socket.timeout:
+    pass' "10.77.0.${ids[1]}" &
+  echo_pid=$!
+  sleep 0.3
+  ip netns exec "cvuav${ids[0]}" /usr/bin/python3 - "10.77.0.${ids[1]}" "$1/logs/link_rtt.json" <<'PY'
+import json, select, socket, struct, sys, time
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+sent, rtts, next_send, end = 0, [], time.time(), None
+while end is None or time.time() < end:
+    now = time.time()
+    if sent < 40 and now >= next_send:
+        s.sendto(struct.pack("!d", now), (sys.argv[1], 47100)); sent += 1; next_send += 0.02
+        if sent == 40: end = now + 1.0
+    if select.select([s], [], [], 0.002)[0]:
+        rtts.append(1000.0 * (time.time() - struct.unpack("!d", s.recv(64)[:8])[0]))
+json.dump({"sent": sent, "received": len(rtts),
+           "mean_rtt_ms": sum(rtts) / len(rtts) if rtts else None,
+           "min_rtt_ms": min(rtts) if rtts else None}, open(sys.argv[2], "w"))
+PY
+  wait "$echo_pid"
+}
+
 run_level() {  # loss% repeat → DIR/loss_<L>[_r<k>]
   local loss="$1" repeat="$2" dir="$OUT/loss_$1" shaped link_seed=$((LINK_SEED + $2))
   [ "$REPEATS" -gt 1 ] && dir="$OUT/loss_${loss}_r$repeat"
@@ -132,6 +166,7 @@ run_level() {  # loss% repeat → DIR/loss_<L>[_r<k>]
       [ -e "$dir/logs/link_$id.ready" ] || die "UAV$id's link shaper did not start: $(cat "$dir/logs/link_$id.out")"
     done
   fi
+  probe_link "$dir"
   local start_at=$(( $(date +%s) + 3 )) pids=()
   for id in ${AGENTS//,/ }; do
     local ns="cvuav$id" extra=()

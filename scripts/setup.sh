@@ -52,6 +52,13 @@ else
   echo "setup: all Debian packages present"
 fi
 
+# The script tests run the Python tools with /usr/bin/python3 (tests/tools/python_modules.sh;
+# a python3 earlier on PATH, e.g. pyenv's, may lack the Debian modules).
+if ! /usr/bin/python3 -c 'import numpy, matplotlib' 2>/dev/null; then
+  echo "setup: /usr/bin/python3 cannot import numpy and matplotlib (python3-numpy, python3-matplotlib)" >&2
+  $check_only && exit 1
+fi
+
 # --- loopback multicast for LCM (udpm://239.255.76.67:7667?ttl=0 never leaves the host) ---
 net_ok=true
 if ! ip link show lo 2>/dev/null | grep -q MULTICAST; then

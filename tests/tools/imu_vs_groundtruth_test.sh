@@ -2,7 +2,7 @@
 # scripts/imu_vs_groundtruth.py on an analytic flight (a level 10 m circle at 1 rad/s, 30 s at
 # 200 Hz, biases in the ground truth): an IMU with only its datasheet's white noise reads ≈ 1×
 # the density on its 1 s means; one with a slow 0.05 m/s² wander reads ≫ 1×; bad input fails.
-# Exit 77 (skipped) without python3 and numpy.
+# Without numpy: skipped (77), or failed under CI=true (tests/tools/ci_facility.sh).
 set -uo pipefail
 SRC="$1" OUT="$2"
 source "$(dirname "$0")/python_modules.sh" imu_vs_groundtruth_test numpy

@@ -8,13 +8,18 @@
 # is 50 ± 3 ms, their spread is that of a uniform ±10 ms, the loss is 20 ± 4 % (3.2 σ of a
 # binomial on 1000), jitter larger than the interval reorders, and the shaper's own counters
 # agree with what the receiver saw.
-# Skipped (77) where namespaces or NFQUEUE are not available (needs root).
+# Needs root and network namespaces: without them skipped (77), or failed under CI=true
+# (tests/tools/ci_facility.sh).
 set -uo pipefail
 BUILD="$1" OUT="$2"
 SHAPER="$BUILD/tools/cvslam_link_shaper"
-if [ "$(id -u)" -ne 0 ] || ! ip netns add cvshape_a 2>/dev/null; then
-  echo "link_shaper_test: no network namespaces here (needs root): skipped"; exit 77
-fi
+source "$(dirname "$0")/ci_facility.sh"
+[ "$(id -u)" -eq 0 ] || missing_facility link_shaper_test "needs root (network namespaces)"
+# Namespaces left by a killed run are not a missing facility: remove them first.
+ip netns pids cvshape_b 2>/dev/null | xargs -r kill 2>/dev/null
+ip netns del cvshape_a 2>/dev/null; ip netns del cvshape_b 2>/dev/null
+err=$(ip netns add cvshape_a 2>&1) ||
+  missing_facility link_shaper_test "cannot create a network namespace as root: $err"
 [ -x "$SHAPER" ] || { echo "link_shaper_test: $SHAPER not built"; ip netns del cvshape_a; exit 1; }
 command -v iptables >/dev/null || { echo "link_shaper_test: no iptables"; ip netns del cvshape_a; exit 1; }
 cleanup() {
