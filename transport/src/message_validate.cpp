@@ -58,6 +58,16 @@ class Checker {
     for (const auto& row : rows) finite(field, row);
     return *this;
   }
+  // An LCM string ends at its first NUL byte: one inside it is encoded as a shorter string
+  // than the message holds (the publisher refuses it), so a receiver refuses it too.
+  Checker& text(const char* field, const std::string& value) {
+    if (value.find('\0') != std::string::npos) fail(std::string(field) + " holds a NUL byte");
+    return *this;
+  }
+  Checker& text(const char* field, const std::vector<std::string>& values) {
+    for (const std::string& v : values) text(field, v);
+    return *this;
+  }
   Status status() const { return error_.empty() ? Status::Ok() : Status::Error(error_); }
 
  private:
@@ -158,7 +168,8 @@ Status validate(const cvslam::agent_map_t& msg) {
 
 Status validate(const cvslam::agent_state_t& msg) {
   Checker c(msg.header);
-  c.require(msg.num_landmarks >= 0 && msg.num_archived >= 0, "negative landmark count");
+  c.require(msg.num_landmarks >= 0 && msg.num_archived >= 0, "negative landmark count")
+      .text("filter", msg.filter);
   return validateVehicleEstimate(c, msg);
 }
 
@@ -171,7 +182,9 @@ Status validate(const cvslam::agent_summary_t& msg) {
       .count("channel", msg.num_channels, msg.channel)
       .count("received", msg.num_channels, msg.received)
       .count("dropped", msg.num_channels, msg.dropped)
-      .count("invalid", msg.num_channels, msg.invalid);
+      .count("invalid", msg.num_channels, msg.invalid)
+      .text("mode", msg.mode)
+      .text("channel", msg.channel);
   for (double s : msg.ellipsoid_std) c.require(s >= 0.0, "ellipsoid_std is negative");
   return c.status();
 }
@@ -235,6 +248,7 @@ Status validate(const cvslam::observation_batch_t& msg) {
 
 Status validate(const cvslam::gs_state_t& msg) {
   Checker c(msg.header);
+  c.text("filter", msg.filter);
   return validateVehicleEstimate(c, msg);
 }
 
@@ -253,6 +267,7 @@ Status validate(const cvslam::status_t& msg) {
       .require(msg.health >= cvslam::status_t::HEALTH_OK &&
                    msg.health <= cvslam::status_t::HEALTH_FAILED,
                "unknown health value")
+      .text("message", msg.message)
       .status();
 }
 
