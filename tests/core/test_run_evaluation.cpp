@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "ci_facility.h"
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_reader.h"
 #include "fake_run.h"
@@ -276,7 +277,7 @@ int run(const std::string& command) {
 
 TEST_F(RunEvaluation, ToolEndToEnd) {
   const std::string tool = std::string(CVSLAM_BINARY_DIR) + "/tools/cvslam_eval";
-  if (!fs::exists(tool)) GTEST_SKIP() << "build the cvslam_eval target first";
+  if (!fs::exists(tool)) CVSLAM_SKIP_UNLESS_CI() << "build the cvslam_eval target first";
   const std::string json = dir_ + "/summary.json";
   EXPECT_EQ(
       run(tool + " --run " + dir_ + "/run --summary-json " + json + " > " + dir_ + "/out.txt"), 0);
@@ -296,7 +297,7 @@ TEST_F(RunEvaluation, ToolEndToEnd) {
 
 TEST_F(RunEvaluation, PlotScriptWritesFigures) {
   if (run("/usr/bin/python3 -c 'import matplotlib, numpy' 2> /dev/null") != 0)
-    GTEST_SKIP() << "python3-matplotlib not installed";
+    CVSLAM_SKIP_UNLESS_CI() << "/usr/bin/python3 lacks matplotlib or numpy (scripts/setup.sh)";
   const std::string script = test::sourceDir() + "/scripts/plot_run.py";
   ASSERT_EQ(run("/usr/bin/python3 " + script + " " + dir_ + "/run > /dev/null"), 0);
   for (const char* png :
