@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <functional>
 #include <memory>
 
 #include "cvslam/sim/flight_trajectory.h"
@@ -27,7 +28,10 @@ struct NavState {
 
 /// Strapdown integration with classical RK4 of Ṙ = R [ω]×, v̇ = R f + g, ṗ = v, using IMU
 /// samples at t, t + h/2 and t + h (a "simple high-rate integrator").
-inline NavState integrateImu(const Trajectory& traj, double t0, double t1, double h) {
+/// `sampler` gives the sample at a true state (default: the simulator's noise-free sample).
+using ImuSampler = std::function<ImuSample(const TrajectoryState&)>;
+inline NavState integrateImu(const Trajectory& traj, double t0, double t1, double h,
+                             const ImuSampler& sampler = {}) {
   const TrajectoryState s0 = traj.state(t0);
   NavState x{s0.R_NtoB.transpose(), s0.v_N, s0.p_BinN};
   const Eigen::Vector3d g = gravityNed();
@@ -36,7 +40,8 @@ inline NavState integrateImu(const Trajectory& traj, double t0, double t1, doubl
     Eigen::Vector3d dv, dp;
   };
   const auto f = [&](const NavState& s, double t) {
-    const ImuSample m = ImuSimulator::perfectSample(traj.state(t), 0);
+    const ImuSample m =
+        sampler ? sampler(traj.state(t)) : ImuSimulator::perfectSample(traj.state(t), 0);
     return Deriv{s.R_BtoN * skew(m.gyro_B), s.R_BtoN * m.accel_B + g, s.v_N};
   };
   const auto add = [](const NavState& s, const Deriv& d, double k) {
