@@ -1,7 +1,7 @@
 // The CC-VSLAM joint filter (coop/cc_team_filter.h): one vehicle is VisualInertialSlam exactly;
 // two UAVs on known initial poses (§6.3.1) beat their single filters; a type-2 observation
 // moves the UAV that mapped the landmark; the state stays bounded by k-nearest management;
-// the vehicle NEES is consistent; bad batches are counted, not fatal.
+// each UAV's vehicle NEES is inside its χ² band; bad batches are counted, not fatal.
 
 #include <gtest/gtest.h>
 
@@ -20,6 +20,7 @@
 #include "cvslam/io/config_node.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/simrun/simulated_team_run.h"
+#include "nees_band.h"
 
 namespace cvslam {
 namespace {
@@ -215,16 +216,25 @@ TEST(CcTeamFilter, KNearestKeepsTheJointStateBounded) {
   EXPECT_GT(map_size, static_cast<std::size_t>(r.max_state_size / 3)) << "most are archived";
 }
 
-TEST(CcTeamFilter, VehicleNeesWithinTwiceItsDegreesOfFreedom) {
-  // Consistency (issue #12 acceptance): mean 9-dof NEES of each UAV's joint estimate ≤ 18.
-  // (The project's configuration, config/agent.yaml; the C++ defaults have no bias states and
-  // their single filter is not consistent either.) From the truth, as written: from perturbed
-  // starts (the scenarios' default) UAV1/UAV2 reach 11.3/18.4 on this seed and 19.8/14.1 on
-  // the mean of seeds 4–9, the cross-UAV over-confidence open in issue #12.
-  const CcRun r =
-      runCc(cooptest::twoUavScenario(12.0, 4, false, /*exact_starts=*/true), projectOptions());
-  ASSERT_TRUE(r.ok);
-  for (const auto& [id, u] : r.uav) EXPECT_LE(u.neesMean(), 18.0) << "UAV" << id;
+TEST(CcTeamFilter, EachUavsVehicleNeesIsInsideTheBandFromPerturbedStarts) {
+  // Consistency of the joint estimate: each UAV's mean 9-dof NEES over seeds 4–9, its estimate
+  // started from a draw of its uncertainty (the scenarios' default, 0.1 m / 1°), inside the χ²
+  // band of 6 runs (tests/core/nees_band.h: [5.93, 12.70]; measured 9.19 and 8.69). The ground
+  // station's configuration (config/ground_station.yaml); from exact starts the same runs are
+  // below the band (2.4–5.3: errors start at zero, their covariance does not).
+  const std::vector<uint64_t> seeds = {4, 5, 6, 7, 8, 9};
+  std::map<int, double> nees;
+  for (uint64_t seed : seeds) {
+    const CcRun r = runCc(cooptest::twoUavScenario(12.0, seed, false), projectOptions());
+    ASSERT_TRUE(r.ok);
+    for (const auto& [id, u] : r.uav) nees[id] += u.neesMean() / static_cast<double>(seeds.size());
+  }
+  const test::NeesBand band = test::neesBand(9, static_cast<int>(seeds.size()));
+  ASSERT_EQ(nees.size(), 2u);
+  for (const auto& [id, v] : nees) {
+    RecordProperty("nees_uav" + std::to_string(id), std::to_string(v));
+    EXPECT_TRUE(band.contains(v)) << "UAV" << id << ": mean NEES " << v << ", band " << band.str();
+  }
 }
 
 TEST(CcTeamFilter, TwoUavsThatDriftedAlikeMeetThroughTheIteratedUpdate) {
@@ -233,8 +243,8 @@ TEST(CcTeamFilter, TwoUavsThatDriftedAlikeMeetThroughTheIteratedUpdate) {
   // gated per-observation updates of ratio 3 (the default before; thesis_loop seeds 31–46:
   // CC worse than DC). Seeds 11–16, no default chosen on them. Without the second-order term
   // (as the rendezvous was measured) the team's summed position RMS must drop by 5 % and its
-  // summed 9-dof NEES by 40 % (measured at stop 47: 15.57 vs 18.54 m, 112 vs 266). With the
-  // term (the shipped configuration since stop 47) the rendezvous team must stay within 1.5×
+  // summed 9-dof NEES by 40 % (measured: 15.57 vs 18.54 m, 112 vs 266). With the term (the
+  // shipped configuration) the rendezvous team must stay within 1.5×
   // its 12 × 9 degrees of freedom and within 2 % of that error (measured: 107, 15.61 m; the
   // gated updates then come as close: 106, 15.62 m; docs/ground_station.md).
   const std::string lost =
@@ -285,7 +295,11 @@ TEST(CcTeamFilter, AUavMeetingAnotherMapThroughHeldLandmarksMeetsByTheIteratedUp
     EXPECT_EQ(r.stats.agents.at(2).rendezvous, 1) << "seed " << seed;
     for (const auto& [id, u] : r.uav) nees += u.neesMean();
   }
-  RecordProperty("nees_sum", std::to_string(nees));
+  // ... and consistently: the 12 runs' mean 9-dof NEES inside their χ² band ([6.76, 11.55];
+  // measured 8.30).
+  const test::NeesBand band = test::neesBand(9, 12);
+  RecordProperty("nees_mean", std::to_string(nees / 12.0));
+  EXPECT_TRUE(band.contains(nees / 12.0)) << "mean NEES " << nees / 12.0 << ", band " << band.str();
 }
 
 /// A filter with UAV1 at rest at the origin, for the bad-input tests.

@@ -13,6 +13,7 @@
 #include "cvslam/io/config_node.h"
 #include "cvslam/simrun/simulated_team_run.h"
 #include "jacobian_check.h"
+#include "nees_band.h"
 
 namespace cvslam {
 namespace {
@@ -76,9 +77,21 @@ struct GpsRun {
   double mean_position_nees = 0;
 };
 
+/// The shipped configuration (config/agent.yaml) with GPS updates on or off.
+VisualInertialSlamOptions shippedOptions(bool gps) {
+  VisualInertialSlamOptions o;
+  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  EXPECT_TRUE(shipped.ok()) << shipped.status().message();
+  if (shipped.ok()) {
+    const Status st = o.load(*shipped);
+    EXPECT_TRUE(st.ok()) << st.message();
+  }
+  o.gps.enabled = gps;
+  return o;
+}
+
 GpsRun runWithGps(bool enabled, int seed) {
-  VisualInertialSlamOptions options;
-  options.gps.enabled = enabled;
+  const VisualInertialSlamOptions options = shippedOptions(enabled);
   auto team = SimulatedTeamRun::create(gpsScenario(seed), options);
   EXPECT_TRUE(team.ok()) << team.status().message();
   double sum[3] = {0, 0, 0}, nees = 0;
@@ -107,8 +120,9 @@ GpsRun runWithGps(bool enabled, int seed) {
   return r;
 }
 
-// Means over six seeds (one draw of the start offset and of the GPS noise each; measured:
-// with GPS 0.28–1.05 m, without 1.5–5.7 m, position NEES 0.3–2.9 at the default sigma_scale 2).
+// The shipped configuration (config/agent.yaml, GPS on). Means over six seeds (one draw of the
+// start offset and of the GPS noise each; measured: with GPS 0.29–1.17 m, without 1.7–5.8 m,
+// position NEES 0.31–3.5, mean 1.15).
 TEST(GpsUpdater, GpsPullsInAnOffsetStartAndVisionCarriesTheOutage) {
   GpsRun with, without;
   const int seeds[] = {11, 12, 13, 14, 15, 16};
@@ -130,8 +144,12 @@ TEST(GpsUpdater, GpsPullsInAnOffsetStartAndVisionCarriesTheOutage) {
   EXPECT_LT(with.rms_outage, 1.5 * with.rms_before_outage + 0.2)
       << with.rms_outage << " before " << with.rms_before_outage;
   EXPECT_LT(with.rms_after, 0.8) << with.rms_after;
-  // Consistent: the mean 3-dof position NEES below twice its dof.
-  EXPECT_LT(with.mean_position_nees, 6.0) << with.mean_position_nees;
+  // Not over-confident: the mean 3-dof position NEES under the χ² band of the six runs. It is
+  // not consistent either: below the band (1.15 against [1.37, 5.25]), the fixes' σ doubled
+  // by gps.sigma_scale 2 on purpose (docs/ins_gps.md).
+  const test::NeesBand band = test::neesBand(3, static_cast<int>(std::size(seeds)));
+  EXPECT_LT(with.mean_position_nees, band.hi) << with.mean_position_nees << ", band " << band.str();
+  RecordProperty("mean_position_nees", std::to_string(with.mean_position_nees));
 }
 
 TEST(GpsUpdater, OptionsLoadAndRejectABadScale) {

@@ -132,8 +132,8 @@ TEST(ImageSlam, FastSiftEndToEndOnRenderedCircle) {
   // The shipped default: fast SIFT (§4.2.5 on our scale space), 150 matches described.
   ImageRun a;
   runImages(imageScenario(15.0, 11), vision::DetectorType::kFastSift, &a);
-  // Measured with the bias estimates drawn from their prior (perturb_biases, the default since
-  // stop 42): ATE 0.52 m, map 0.52 m (the reference below: 0.54 / 0.53 m); with exactly known
+  // Measured with the bias estimates drawn from their prior (perturb_biases, the scenarios'
+  // default): ATE 0.52 m, map 0.52 m (the reference below: 0.54 / 0.53 m); with exactly known
   // biases they were 0.36 / 0.37 and 0.30 / 0.30 m, under a bound of 0.45. On thesis_loop's
   // 210 s fast SIFT closes the loop that the reference misses (docs/image_sensing.md).
   expectEndToEnd(a);

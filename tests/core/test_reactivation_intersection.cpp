@@ -214,7 +214,7 @@ TEST_F(ReactivationScene, AfterDriftTheLogDetWeightReentersAndThePositionTraceOn
   // and a 1 m drift against 0.5 m, it buys 11 % of the position trace for a 6 % wider rest of
   // the block). ω by the position trace alone goes so low (0.27) that its 1/ω widens the rest
   // of the block more than the update narrows it, and the log-det test maps the landmarks
-  // anew: why the agents' objective is the log-det (docs/filter.md "Re-activation", stop 44).
+  // anew: why the agents' objective is the log-det (docs/filter.md "Re-activation").
   ASSERT_NO_FATAL_FAILURE(driftOneMetrePerAxis());
   const StereoUpdater updater(key_, camera_, options_);
   {

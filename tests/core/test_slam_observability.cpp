@@ -22,6 +22,7 @@
 #include "cvslam/slam/observability_constraint.h"
 #include "cvslam/slam/vehicle_propagation.h"
 #include "cvslam/slam/visual_inertial_slam.h"
+#include "nees_band.h"
 
 namespace cvslam {
 namespace {
@@ -332,12 +333,19 @@ TEST(ObservabilityConstraint, TurnsNeverGainAbsoluteYawAndStayConsistent) {
   RecordProperty("mean_pose_nees", std::to_string(oc.mean_pose_nees));
   // Nothing observes the absolute yaw (landmarks are unknown): its σ can only grow.
   EXPECT_GE(oc.min_yaw_sigma_deg, 0.999 * kInitialYawSigmaDeg);
-  // 4-dof NEES of a consistent filter averages ≈ 4.
-  EXPECT_LT(oc.mean_pose_nees, 8.0);
+  // The 3 runs' mean 4-dof pose NEES inside their χ² band ([1.47, 7.78]; measured 4.78).
+  const test::NeesBand band = test::neesBand(4, 3);
+  EXPECT_TRUE(band.contains(oc.mean_pose_nees))
+      << "mean pose NEES " << oc.mean_pose_nees << ", band " << band.str();
+  // The same runs unconstrained gain yaw information nothing provides (measured: σ down to
+  // 0.33°): the constraint is what keeps it (their NEES, 6.6, is still inside the band over
+  // 30 s).
   const TurnStatistics plain = monteCarloTurns(false);
+  RecordProperty("unconstrained_min_yaw_sigma_deg", std::to_string(plain.min_yaw_sigma_deg));
   std::cout << "OC: min yaw sigma " << oc.min_yaw_sigma_deg << " deg, NEES " << oc.mean_pose_nees
             << "; unconstrained: " << plain.min_yaw_sigma_deg << " deg, NEES "
             << plain.mean_pose_nees << "\n";
+  EXPECT_LT(plain.min_yaw_sigma_deg, 0.5 * kInitialYawSigmaDeg);
 }
 
 TEST(ObservabilityConstraint, ErrorStateTurnsKeepMostOfTheYawUnobservable) {
@@ -368,7 +376,8 @@ TEST(InvariantErrorChart, TurnsNeverGainAbsoluteYawWithTheFiltersOwnJacobians) {
               << ", invariant chart: min yaw sigma " << ri.min_yaw_sigma_deg << " deg, NEES "
               << ri.mean_pose_nees << "\n";
     EXPECT_GE(ri.min_yaw_sigma_deg, 0.999 * kInitialYawSigmaDeg);
-    EXPECT_LT(ri.mean_pose_nees, 8.0);
+    // Inside the χ² band of the 3 runs' 4-dof pose NEES ([1.47, 7.78]; measured 4.65).
+    EXPECT_TRUE(test::neesBand(4, 3).contains(ri.mean_pose_nees)) << ri.mean_pose_nees;
   }
   const TurnStatistics additive = monteCarloTurns(false, vehicle::Attitude::kEuler, true);
   EXPECT_LT(additive.min_yaw_sigma_deg, 0.99 * kInitialYawSigmaDeg);
@@ -395,7 +404,7 @@ double thesisLoopNees(SlamOptions::OcProjection projection, double duration,
     sc->seed = seed;
     sc->duration = duration;
     // As measured in docs/filter.md: biases known exactly at the start. With them drawn (the
-    // default since stop 42) this legacy chart's range-weighted NEES is 22 (unweighted 286).
+    // scenarios' default) this legacy chart's range-weighted NEES is 22 (unweighted 286).
     for (sim::AgentSpec& a : sc->agents) a.initial.perturb_biases = false;
     auto run = SimulatedTeamRun::create(*sc, o);
     EXPECT_TRUE(run.ok()) << run.status().message();
@@ -417,10 +426,13 @@ double thesisLoopNees(SlamOptions::OcProjection projection, double duration,
   return sum / std::max(n, 1);
 }
 
-// The range-weighted constraint (the default) against the unweighted one, on seeds other
-// than those the default was chosen on (101-106, docs/filter.md): 150 s of thesis_loop, both
-// UAVs, before any loop closure.
-TEST(ObservabilityConstraint, RangeWeightedProjectionKeepsTheLongFlightConsistent) {
+// The range-weighted constraint (the additive chart's default) against the unweighted one, on
+// seeds other than those the default was chosen on (101-106, docs/filter.md): 150 s of
+// thesis_loop, both UAVs, before any loop closure. Range-weighted, the mean 9-dof NEES stays
+// under twice its dof (measured 16.7) and more than 3 times below the unweighted one's
+// (196.8). It is not consistent: above the χ² band of the 6 runs, [5.93, 12.70] (and 22 with
+// the biases drawn from their prior): the legacy chart, not the shipped one.
+TEST(ObservabilityConstraint, RangeWeightedProjectionKeepsTheLongFlightNeesUnderTwiceItsDof) {
   const double weighted =
       thesisLoopNees(SlamOptions::OcProjection::kRangeWeighted, 150.0, {7, 8, 9});
   const double unweighted =

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -14,6 +15,7 @@
 #include "cvslam/sim/scenario.h"
 #include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
+#include "nees_band.h"
 
 namespace cvslam {
 namespace {
@@ -119,22 +121,36 @@ RunErrors runScenario(const sim::Scenario& scenario, const VisualInertialSlamOpt
 }
 
 TEST(VisualInertialSlam, BeatsDeadReckoningAndStaysConsistent) {
-  // From the truth: this guards the C++ defaults' filter (no bias states, no OC) as it was
-  // written; from a perturbed start (the scenarios' default) its position NEES is 13.1, the
-  // over-confidence in the unobservable directions of issue #14 (docs/filter.md).
-  sim::Scenario sc = loadScenario(circleScenario(40.0, 11));
-  sc.agents[0].initial.perturb = false;
-  const RunErrors r = runScenario(sc, {});
-  ASSERT_GT(r.frames, 350);
-  const double slam = r.rms(r.slam_error), ins = r.rms(r.ins_error);
+  // The shipped configuration (config/agent.yaml) from perturbed starts (the scenarios'
+  // default), seeds 11-13: the position error far below the INS's (measured 0.78 against 64 m),
+  // and the three runs' mean 9-dof vehicle NEES and 3-dof position NEES inside their χ² bands
+  // (tests/core/nees_band.h; measured 7.2 in [4.86, 14.40] and 2.8 in [0.90, 6.34]). (The C++
+  // defaults, without bias states, are not: vehicle NEES 870 from the truth or perturbed.)
+  VisualInertialSlamOptions shipped;
+  ASSERT_TRUE(loadShippedOptions(&shipped));
+  double slam = 0.0, ins = 0.0, nees = 0.0, nees_position = 0.0;
+  const std::vector<uint64_t> seeds = {11, 12, 13};
+  const auto n = static_cast<double>(seeds.size());
+  for (uint64_t seed : seeds) {
+    const RunErrors r = runScenario(loadScenario(circleScenario(40.0, seed)), shipped);
+    ASSERT_GT(r.frames, 350);
+    slam += r.rms(r.slam_error) / n;
+    ins += r.rms(r.ins_error) / n;
+    nees += r.meanVehicleNees() / n;
+    double p = 0.0;
+    for (double v : r.nees_position) p += v;
+    nees_position += p / static_cast<double>(r.nees_position.size()) / n;
+  }
   RecordProperty("slam_rmse_m", std::to_string(slam));
   RecordProperty("ins_rmse_m", std::to_string(ins));
+  RecordProperty("vehicle_nees", std::to_string(nees));
+  RecordProperty("position_nees", std::to_string(nees_position));
   EXPECT_LT(slam, 0.2 * ins) << "VSLAM " << slam << " m vs INS " << ins << " m";
-  double nees = 0.0;
-  for (double v : r.nees_position) nees += v;
-  nees /= static_cast<double>(r.nees_position.size());
-  // 3-dof position NEES: a consistent filter averages ≈ 3; allow the usual EKF-SLAM optimism.
-  EXPECT_LT(nees, 12.0) << "mean position NEES " << nees;
+  const test::NeesBand vehicle = test::neesBand(9, static_cast<int>(seeds.size()));
+  EXPECT_TRUE(vehicle.contains(nees)) << "mean vehicle NEES " << nees << ", band " << vehicle.str();
+  const test::NeesBand position = test::neesBand(3, static_cast<int>(seeds.size()));
+  EXPECT_TRUE(position.contains(nees_position))
+      << "mean position NEES " << nees_position << ", band " << position.str();
 }
 
 TEST(VisualInertialSlam, FrameNisTellsWhetherThePixelNoiseIsStatedRight) {
@@ -216,15 +232,16 @@ TEST(VisualInertialSlam, FullMapGrowsWithTheLandmarksSeen) {
   EXPECT_EQ((*run)->slam(0).archive().size(), 0u);
 }
 
-TEST(VisualInertialSlam, HeldLandmarksKeepAHoveringVehicleConsistent) {
+TEST(VisualInertialSlam, HoveringVehicleWithHeldLandmarksStaysInsideTheNeesBand) {
   // MH_01 in the hall (features): 20 s at rest, then the flight, before any landmark is 30 s
   // unseen. At rest ~40 landmarks are visible, k = 20 are in the state: they leave and come
-  // back every few frames. Re-mapped, each return forgets what the map knew and the tilt and
-  // gyro bias turn over-confident (docs/filter.md); held, each comes back exactly. Perturbed
-  // starts, seeds no default was chosen on. The held landmarks' own effect is measured without
-  // the anchors (slam.anchor_landmarks), which bring older landmarks back exactly too and take
-  // the mean from 8.8 to 9.1 here (remap 8.9): the shipped configuration is checked for its
-  // bound only.
+  // back every few frames, as held landmarks (slam.held_landmarks), exactly. Perturbed starts,
+  // seeds no default was chosen on. Held landmarks alone (without slam.anchor_landmarks) and
+  // the shipped configuration (with them): the state stays bounded, the held landmarks come
+  // back more often than there are frames, and the 8 runs' mean 9-dof vehicle NEES is inside
+  // their χ² band ([6.30, 12.17]; measured 8.80 held, 9.31 shipped). Re-mapping the returning
+  // landmarks instead measured 8.97 on the same runs: that held landmarks make the filter more
+  // consistent is not shown by this flight, and not asserted.
   auto hall = sim::Scenario::loadFile(kHallScenario);
   ASSERT_TRUE(hall.ok()) << hall.status().message();
   hall->agents.resize(1);
@@ -232,17 +249,15 @@ TEST(VisualInertialSlam, HeldLandmarksKeepAHoveringVehicleConsistent) {
   VisualInertialSlamOptions shipped;
   ASSERT_TRUE(loadShippedOptions(&shipped));
   ASSERT_GT(shipped.slam.anchor_landmarks, 0);
+  ASSERT_GT(shipped.slam.held_landmarks, 0);
   VisualInertialSlamOptions held = shipped;  // the shipped count of recent held landmarks
   held.slam.anchor_landmarks = 0;
-  VisualInertialSlamOptions remap = held;
-  remap.slam.held_landmarks = 0;
-  double nees_remap = 0.0, nees_held = 0.0, nees_shipped = 0.0;
+  double nees_held = 0.0, nees_shipped = 0.0;
   const std::vector<uint64_t> seeds = {21, 22, 23, 24, 25, 26, 27, 28};
   const auto n = static_cast<double>(seeds.size());
   for (uint64_t seed : seeds) {
     hall->seed = seed;
-    const RunErrors a = runScenario(*hall, remap), b = runScenario(*hall, held),
-                    c = runScenario(*hall, shipped);
+    const RunErrors b = runScenario(*hall, held), c = runScenario(*hall, shipped);
     ASSERT_GT(b.frames, 700);
     EXPECT_GT(b.reactivated, b.frames) << "seed " << seed;
     for (std::size_t i = 0; i < c.state_size.size(); ++i) {
@@ -251,56 +266,56 @@ TEST(VisualInertialSlam, HeldLandmarksKeepAHoveringVehicleConsistent) {
                           shipped.slam.anchor_landmarks))
           << "frame " << i;
     }
-    nees_remap += a.meanVehicleNees() / n;
     nees_held += b.meanVehicleNees() / n;
     nees_shipped += c.meanVehicleNees() / n;
-    std::cout << "seed " << seed << ": vehicle NEES remap " << a.meanVehicleNees() << ", held "
-              << b.meanVehicleNees() << ", with anchors " << c.meanVehicleNees() << "\n";
+    std::cout << "seed " << seed << ": vehicle NEES held " << b.meanVehicleNees()
+              << ", with anchors " << c.meanVehicleNees() << "\n";
   }
-  EXPECT_LT(nees_held, 2.0 * 9.0);
-  EXPECT_LT(nees_held, nees_remap);
-  EXPECT_LT(nees_shipped, 2.0 * 9.0);
+  const test::NeesBand band = test::neesBand(9, static_cast<int>(seeds.size()));
+  RecordProperty("nees_held", std::to_string(nees_held));
+  RecordProperty("nees_shipped", std::to_string(nees_shipped));
+  EXPECT_TRUE(band.contains(nees_held)) << "held: " << nees_held << ", band " << band.str();
+  EXPECT_TRUE(band.contains(nees_shipped)) << "shipped: " << nees_shipped << ", band " << band.str();
 }
 
-TEST(VisualInertialSlam, TiltConstraintTakesTheFullMapCloseToItsNees) {
-  // MH_02 in the hall (features), the full map: hundreds of landmarks re-observed for a
-  // minute. Linearised at each landmark's first estimate (FEJ), the stale Jacobians make the
-  // velocity over-confident and, in the fast turns after 60 s, the gate rejects most
-  // observations; linearised at the current estimate, the landmark's moving linearisation
-  // point lets the vision updates inform the tilt. Linearised at the current estimate and
-  // constrained in the tilt directions too (oc_tilt), the filter is far closer to its NEES and
-  // more accurate (docs/filter.md "Tilt constraint"; measured: NEES 114 against 4 071, RMS
-  // error 0.24 against 1.98 m). Shipped configuration otherwise (loop closing on), a perturbed
-  // start, a seed no setting was chosen on.
+TEST(VisualInertialSlam, FullMapOfAHallFlightStaysInsideItsNeesBand) {
+  // MH_02 in the hall (features) with the full map, the map one vehicle inside one room runs
+  // (scripts/run_dataset.sh --map room, at most 500 landmarks): hundreds of landmarks
+  // re-observed. The shipped configuration otherwise, perturbed starts and drawn biases (the
+  // scenarios' defaults), seeds no setting was chosen on: the runs' mean 9-dof vehicle NEES
+  // inside their χ² band ([4.12, 15.76]; measured 12.9) and the position RMS error under 0.4 m
+  // (0.26 m). (The additive chart's tilt
+  // constraint against first-estimate Jacobians on this flight, 80 s: scripts/
+  // tilt_constraint_figures.sh.)
   auto hall = sim::Scenario::loadFile(kHallScenario);
   ASSERT_TRUE(hall.ok()) << hall.status().message();
   hall->agents.erase(hall->agents.begin());
   hall->agents.resize(1);
-  hall->duration = 80.0;
-  hall->seed = 43;
-  // As measured in docs/filter.md, the bias estimates start exact. Drawn from their prior (the
-  // default since stop 42) the FEJ filter fares far better on this seed (NEES 612, 0.31 m) and
-  // oc_tilt the same (120, 0.24 m): still ahead, by less than the factors asserted here.
-  hall->agents.front().initial.perturb_biases = false;
-  VisualInertialSlamOptions tilt;
-  ASSERT_TRUE(loadShippedOptions(&tilt));
-  tilt.map.kind = MapKind::kFull;
-  tilt.ins.attitude = vehicle::Attitude::kEuler;  // as measured in docs/filter.md
-  tilt.slam.error_chart = ErrorChart::kAdditive;  // the constraints belong to this chart
-  tilt.slam.observability_constrained = true;
-  tilt.slam.first_estimate_jacobians = false;
-  tilt.slam.oc_tilt = true;
-  tilt.slam.second_order_noise = false;  // as measured (the agents' default since stop 46)
-  VisualInertialSlamOptions fej = tilt;
-  fej.slam.first_estimate_jacobians = true;
-  fej.slam.oc_tilt = false;
-  const RunErrors a = runScenario(*hall, tilt), b = runScenario(*hall, fej);
-  ASSERT_GT(a.frames, 1500);
-  std::cout << "vehicle NEES / RMS error: oc_tilt " << a.meanVehicleNees() << " / "
-            << a.rms(a.slam_error) << " m, FEJ " << b.meanVehicleNees() << " / "
-            << b.rms(b.slam_error) << " m\n";
-  EXPECT_LT(a.meanVehicleNees(), 0.1 * b.meanVehicleNees());
-  EXPECT_LT(a.rms(a.slam_error), 0.5 * b.rms(b.slam_error));
+  hall->duration = 20.0;
+  VisualInertialSlamOptions room;
+  ASSERT_TRUE(loadShippedOptions(&room));
+  room.map.kind = MapKind::kFull;
+  room.map.max_landmarks = 500;
+  const std::vector<uint64_t> seeds = {43, 44};
+  const auto n = static_cast<double>(seeds.size());
+  double nees = 0.0, rms = 0.0;
+  int max_state = 0;
+  for (uint64_t seed : seeds) {
+    hall->seed = seed;
+    const RunErrors r = runScenario(*hall, room);
+    ASSERT_GT(r.frames, 190);
+    nees += r.meanVehicleNees() / n;
+    rms += r.rms(r.slam_error) / n;
+    max_state = std::max(max_state, *std::max_element(r.state_size.begin(), r.state_size.end()));
+    std::cout << "seed " << seed << ": vehicle NEES " << r.meanVehicleNees() << ", RMS "
+              << r.rms(r.slam_error) << " m\n";
+  }
+  const test::NeesBand band = test::neesBand(9, static_cast<int>(seeds.size()));
+  RecordProperty("vehicle_nees", std::to_string(nees));
+  RecordProperty("rms_m", std::to_string(rms));
+  EXPECT_GT(max_state, 15 + 3 * 150) << "the full map holds the landmarks seen";
+  EXPECT_TRUE(band.contains(nees)) << "mean vehicle NEES " << nees << ", band " << band.str();
+  EXPECT_LT(rms, 0.4);
 }
 
 TEST(VisualInertialSlam, NhinfWithVanishingThetaIsTheEkf) {
