@@ -20,10 +20,10 @@ inline bool underCi() {
 
 // A statement (use it as `CVSLAM_SKIP_UNLESS_CI() << "why";`): GTEST_SKIP() outside CI, a
 // fatal failure under CI=true; returns from the test either way (as GTEST_SKIP does).
-#define CVSLAM_SKIP_UNLESS_CI()                                                         \
-  return ::testing::internal::AssertHelper(                                             \
-             ::cvslam::test::underCi() ? ::testing::TestPartResult::kFatalFailure       \
-                                       : ::testing::TestPartResult::kSkip,              \
-             __FILE__, __LINE__,                                                        \
+#define CVSLAM_SKIP_UNLESS_CI()                                                           \
+  return ::testing::internal::AssertHelper(                                               \
+             ::cvslam::test::underCi() ? ::testing::TestPartResult::kFatalFailure         \
+                                       : ::testing::TestPartResult::kSkip,                \
+             __FILE__, __LINE__,                                                          \
              ::cvslam::test::underCi() ? "CI=true: a facility this test needs is missing" \
                                        : "Skipped") = ::testing::Message()

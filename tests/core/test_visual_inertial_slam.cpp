@@ -275,7 +275,8 @@ TEST(VisualInertialSlam, HoveringVehicleWithHeldLandmarksStaysInsideTheNeesBand)
   RecordProperty("nees_held", std::to_string(nees_held));
   RecordProperty("nees_shipped", std::to_string(nees_shipped));
   EXPECT_TRUE(band.contains(nees_held)) << "held: " << nees_held << ", band " << band.str();
-  EXPECT_TRUE(band.contains(nees_shipped)) << "shipped: " << nees_shipped << ", band " << band.str();
+  EXPECT_TRUE(band.contains(nees_shipped))
+      << "shipped: " << nees_shipped << ", band " << band.str();
 }
 
 TEST(VisualInertialSlam, FullMapOfAHallFlightStaysInsideItsNeesBand) {
