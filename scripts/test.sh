@@ -3,7 +3,8 @@
 #
 #   scripts/test.sh              build in ./build and run all tests
 #   BUILD_DIR=dir JOBS=n scripts/test.sh
-#   CI=true makes compiler warnings errors.
+#   CI=true makes compiler warnings errors and a test whose facility is missing (root and
+#   network namespaces, numpy, matplotlib, java) fail instead of being skipped.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -21,8 +22,8 @@ echo "test.sh: build took $(( $(date +%s) - start )) s"
 
 # ctest starts the longest tests first when it knows their costs (Testing/Temporary/
 # CTestCostData.txt, rewritten by every run). A fresh build directory starts from the costs of
-# a full run on the 2-core CI machine (tests/ctest_costs.txt), so that the six-minute test does
-# not start last; names it does not know are ignored, new tests cost 0 until measured.
+# a full run on the 2-core CI machine (tests/ctest_costs.txt), so that the longest tests do not
+# start last; names it does not know are ignored, new tests cost 0 until measured.
 costs="$BUILD_DIR/Testing/Temporary/CTestCostData.txt"
 if [ ! -f "$costs" ]; then
   mkdir -p "$(dirname "$costs")"
