@@ -4,12 +4,13 @@
 usage: /usr/bin/python3 scripts/plot_run.py DIR [--out PLOTS_DIR] [--agents 1,2] [--dpi N]
 
 Writes PNGs into DIR/plots/ (or --out):
-  agent_<id>_position.png   true / INS / estimated x, y, z against time, ±3σ envelope
+  agent_<id>_position.png   true / estimated x, y, z against time, ±3σ envelope (INS clipped)
                             (thesis figures 5.3, 6.x)
   agent_<id>_errors.png     estimation error of the 9 vehicle states with ±3σ (estimated vs
                             true uncertainty, §5.7.3)
-  trajectories.png          every agent's true / INS / estimated path in the N-E plane,
-                            plus the final landmarks
+  trajectories.png          every agent's true / estimated path in the N-E plane, plus the
+                            final landmarks, scaled to the paths
+  trajectories_ins.png      the same with the INS dead reckoning, scaled to everything
   landmark_uncertainty.png  mean landmark σ of the state over time (when recorded)
   state_size.png            filter state length over time
   nees.png                  NEES per step against the 95 % χ² band (when states+truth exist)
@@ -110,6 +111,20 @@ def wrap(a):
     return (a + np.pi) % (2 * np.pi) - np.pi
 
 
+def span(values, margin=0.1):
+    """(lo, hi) over the finite entries of the given arrays, widened by margin of the range, or
+    None when there are none. Axes are scaled to the estimate and the truth: INS dead reckoning
+    can run hundreds of metres away, and would shrink the tracks to a blob (it is clipped)."""
+    finite = [np.asarray(v, float)[np.isfinite(v)] for v in values if v is not None and len(v)]
+    finite = [v for v in finite if len(v)]
+    if not finite:
+        return None
+    lo = min(v.min() for v in finite)
+    hi = max(v.max() for v in finite)
+    pad = max(margin * (hi - lo), 0.5)
+    return lo - pad, hi + pad
+
+
 def plot_position(agent, out, dpi):
     st, tr, ins, traj = agent["states"], agent["truth"], agent["ins"], agent["traj"]
     if st is None and traj is None:
@@ -129,6 +144,11 @@ def plot_position(agent, out, dpi):
                                 label="±3σ")
         elif traj is not None:
             ax.plot(traj[:, 0], traj[:, 1 + k], "b-", lw=1.0, label="estimated")
+        lim = span([tr[name] if tr is not None else None,
+                    st[name] if st is not None else None,
+                    traj[:, 1 + k] if st is None and traj is not None else None])
+        if lim is not None:
+            ax.set_ylim(*lim)
         ax.set_ylabel(f"{name} [m]")
         ax.grid(True, alpha=0.3)
     axes[0].legend(loc="best", fontsize=8)
@@ -174,15 +194,23 @@ def plot_errors(agent, out, dpi):
     return path
 
 
-def plot_trajectories(agents, out, dpi):
+def plot_trajectories(agents, out, dpi, with_ins=False):
+    """The N-E plane scaled to the true and estimated paths; with_ins draws the INS dead
+    reckoning too, in its own figure (trajectories_ins.png) scaled to everything."""
     fig, ax = plt.subplots(figsize=(8, 8))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    east, north = [], []
     for n, a in enumerate(agents):
         c = colors[n % len(colors)]
         # North up, East right: plot (y = East, x = North).
         if a["truth"] is not None and len(a["truth"]["t"]):
             ax.plot(a["truth"]["y"], a["truth"]["x"], "--", color=c, lw=1, label=f"{a['id']} true")
-        if a["ins"] is not None and len(a["ins"]):
+            east.append(a["truth"]["y"])
+            north.append(a["truth"]["x"])
+        if a["traj"] is not None and len(a["traj"]):
+            east.append(a["traj"][:, 2])
+            north.append(a["traj"][:, 1])
+        if with_ins and a["ins"] is not None and len(a["ins"]):
             ax.plot(a["ins"][:, 2], a["ins"][:, 1], ":", color=c, lw=1, label=f"{a['id']} INS")
         if a["traj"] is not None and len(a["traj"]):
             ax.plot(a["traj"][:, 2], a["traj"][:, 1], "-", color=c, lw=1.2,
@@ -194,11 +222,21 @@ def plot_trajectories(agents, out, dpi):
                 ax.plot(lm["true_y"], lm["true_x"], ".", color="k", ms=2)
     ax.set_xlabel("East [m]")
     ax.set_ylabel("North [m]")
-    ax.set_aspect("equal", adjustable="datalim")
+    e_lim, n_lim = span(east), span(north)
+    if not with_ins and e_lim is not None and n_lim is not None:
+        # Equal scale on both axes, centred on the tracks.
+        half = max(e_lim[1] - e_lim[0], n_lim[1] - n_lim[0]) / 2
+        ec, nc = sum(e_lim) / 2, sum(n_lim) / 2
+        ax.set_xlim(ec - half, ec + half)
+        ax.set_ylim(nc - half, nc + half)
+        ax.set_aspect("equal", adjustable="box")
+    else:
+        ax.set_aspect("equal", adjustable="datalim")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7, loc="best")
-    ax.set_title("trajectories (N-E plane)")
-    path = os.path.join(out, "trajectories.png")
+    ax.set_title("INS dead reckoning against the estimates (N-E plane)" if with_ins
+                 else "trajectories (N-E plane)")
+    path = os.path.join(out, "trajectories_ins.png" if with_ins else "trajectories.png")
     fig.tight_layout()
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
@@ -310,6 +348,8 @@ def main(argv):
         for a in agents:
             written += [plot_position(a, out, args.dpi), plot_errors(a, out, args.dpi)]
         written.append(plot_trajectories(agents, out, args.dpi))
+        if any(a["ins"] is not None and len(a["ins"]) for a in agents):
+            written.append(plot_trajectories(agents, out, args.dpi, with_ins=True))
         written.append(plot_frames(agents, "landmark_sigma_mean_m", "mean landmark σ [m]",
                                    "landmark uncertainty in the state", "landmark_uncertainty.png",
                                    out, args.dpi))

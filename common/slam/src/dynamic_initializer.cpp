@@ -326,8 +326,10 @@ Expected<DynamicInitialization> DynamicInitializer::solve() const {
   const Eigen::Vector3d g_dir = g / out.gravity_norm;
   const Eigen::Matrix3d tangent = I - g_dir * g_dir.transpose();
   const Eigen::Matrix3d C_tilt = tangent * C.block<3, 3>(ig, ig) * tangent;
-  out.tilt_sigma = std::max(o_.tilt_sigma_min,
-                            std::sqrt(C_tilt.eigenvalues().real().maxCoeff()) / out.gravity_norm);
+  out.tilt_sigma = std::max(
+      o_.tilt_sigma_min,
+      std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C_tilt).eigenvalues().maxCoeff()) /
+          out.gravity_norm);
   out.velocity_sigma =
       std::max(o_.velocity_sigma_min, std::sqrt(C.block<3, 3>(3 * K, 3 * K).diagonal().maxCoeff()));
   // Velocities again with |g| fixed to the local gravity.
