@@ -18,7 +18,7 @@
 # Detector: the configuration's (config/agent.yaml: fast_sift, our adaptive SIFT of thesis
 # §4.2.5, ≈ 10 ms per 320×240 pair). --detector adaptive_sift is the OpenCV-based reference
 # (≈ 3.5× slower: lockstep only on 2 cores); ORB has its own feature-index vocabulary
-# (config/vocabulary_orb.cvoc), but its map association is less precise (docs/image_sensing.md).
+# (config/vocabulary_orb.cvoc), but its map association is less precise (docs/front_end.md).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"

@@ -154,7 +154,7 @@ TEST(AgentConfig, TheSecondOrderTermIsOnForFeaturesAndOffForImages) {
 }
 
 // Detected keypoints are assumed tighter than the feature-level simulator's pixel noise, and the
-// ground station assumes for them what the agents do (docs/image_sensing.md "Pixel σ of
+// ground station assumes for them what the agents do (docs/front_end.md "Pixel σ of
 // keypoints"): the two files must not drift apart.
 TEST(AgentConfig, ImagesAssumeTheSameTighterPixelSigmaAtAgentsAndGroundStation) {
   auto c = AgentConfig::load({}, shippedConfig(), skipAgent);

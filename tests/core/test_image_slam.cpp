@@ -135,12 +135,12 @@ TEST(ImageSlam, FastSiftEndToEndOnRenderedCircle) {
   // Measured with the bias estimates drawn from their prior (perturb_biases, the scenarios'
   // default): ATE 0.52 m, map 0.52 m (the reference below: 0.54 / 0.53 m); with exactly known
   // biases they were 0.36 / 0.37 and 0.30 / 0.30 m, under a bound of 0.45. On thesis_loop's
-  // 210 s fast SIFT closes the loop that the reference misses (docs/image_sensing.md).
+  // 210 s fast SIFT closes the loop that the reference misses (docs/front_end.md).
   expectEndToEnd(a);
   // The cap keeps what the association looks for: most observations near a prediction.
   EXPECT_LE(a.stats.observations, 150L * a.frames);
   // The assumed pixel σ is tighter than the simulator's but not below the keypoints' error
-  // against the renderer's truth (measured 0.07-0.09 px; docs/image_sensing.md "Pixel σ").
+  // against the renderer's truth (measured 0.07-0.09 px; docs/front_end.md "Pixel σ").
   EXPECT_GE(a.pixel_sigma, a.stats.reobservationRms());
 }
 

@@ -149,7 +149,7 @@ TEST_P(VisionStereoReal, RectifiedEurocPairHasRowAlignedPlausibleMatches) {
             << "\n";
   EXPECT_LT(s.median_row_error, 0.5);  // rectification: epipolar lines are rows
   // Without the doubled octave: ≈ 18 % fewer matches and 96.7 % plausible against 98.2 %
-  // (measured; docs/image_sensing.md), hence the option is off by default.
+  // (measured; docs/front_end.md), hence the option is off by default.
   EXPECT_GE(s.plausible, GetParam() ? 0.98 : 0.95);
 }
 

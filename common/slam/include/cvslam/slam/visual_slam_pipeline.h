@@ -76,13 +76,13 @@ struct VisualFrontEndOptions {
   /// New landmarks are offered only to fill the map up to this many landmarks of the state
   /// re-observed in the frame (0: the map's k, thesis §5.8). A landmark is worth most while
   /// it is tracked: initialising new ones beyond what the k-nearest map keeps would push
-  /// still-visible landmarks into the archive after two or three frames (docs/image_sensing.md).
+  /// still-visible landmarks into the archive after two or three frames (docs/front_end.md).
   int tracked_landmarks = 0;
   /// The order in which confirmed new points are offered (as many as the map has room for).
   /// `confirmation`: the points that confirmed best, a choice that depends on the view.
   /// `response`: the scene's most distinctive points, which another UAV flying over the same
   /// ground detects and maps too: 3–4× more cross-UAV landmark pairs for DC to find, but
-  /// less accurate alone on the recordings and on thesis_loop's UAV2 (docs/image_sensing.md
+  /// less accurate alone on the recordings and on thesis_loop's UAV2 (docs/front_end.md
   /// "New landmarks by detector response"), hence not the default.
   NewLandmarkOrder new_landmark_order = NewLandmarkOrder::kConfirmation;
   /// With `response`: the image is cut into this many cells per side and the strongest point
@@ -91,19 +91,19 @@ struct VisualFrontEndOptions {
   int new_landmark_grid = 4;
   /// Keep one observation per left pixel (SIFT gives one keypoint per dominant orientation,
   /// i.e. the same point twice with different descriptors). Off by default: on thesis_loop it
-  /// changed the drift by several metres either way (docs/image_sensing.md).
+  /// changed the drift by several metres either way (docs/front_end.md).
   bool drop_duplicate_points = false;
   LoopDetectionOptions loop_detection;  ///< `loop_detection:` (appearance_loop_detector.h)
   /// Overrides slam.first_estimate_jacobians when this front end feeds the filter (absent:
   /// the slam setting). The landmark-only first-estimate Jacobians help at feature level
   /// but, with real keypoints, let the filter gain spurious yaw information (UAV2 of
   /// thesis_loop, 60 s: yaw error 0.9° and ATE 1.22 m with them, 0.17° and 0.25 m without;
-  /// docs/image_sensing.md).
+  /// docs/front_end.md).
   std::optional<bool> first_estimate_jacobians;
   /// Overrides slam.observability_constrained likewise. Measured on the full thesis_loop with
   /// images (seed 2010): with it UAV1 missed its loop closure (ATE 20.0 m, NEES ≈ 1.4e4; with
   /// FEJ too 29.7 m), without it UAV1 2.96 m with the loop closed at 199 s, NEES 5.8
-  /// (docs/image_sensing.md). Why the constraint hurts with real keypoints is open.
+  /// (docs/front_end.md). Why the constraint hurts with real keypoints is open.
   std::optional<bool> observability_constrained;
   /// Overrides slam.second_order_noise likewise. With real keypoints the assumed pixel σ is
   /// already several times their re-observation error, and the term only slowed the
@@ -117,7 +117,7 @@ struct VisualFrontEndOptions {
   /// feature-level simulator's true noise; detected keypoints are localised several times
   /// tighter (re-observation error 0.07-0.09 px rendered, stereo row error 0.14 px median on
   /// real EuRoC pairs), and the filter fed them with 0.5 px ran below its NEES band
-  /// (docs/image_sensing.md "Pixel σ of keypoints").
+  /// (docs/front_end.md "Pixel σ of keypoints").
   std::optional<double> pixel_sigma;
 
   Status load(const ConfigNode& node);

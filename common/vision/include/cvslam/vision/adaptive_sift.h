@@ -20,7 +20,7 @@
 //     octave; that octave is ≈ 3/4 of the pyramid and extremum search and ≈ 75 % of the
 //     detector's time. With upsample_first_octave = false the pyramid starts at the input
 //     resolution instead (no octave below σ0 at the input's pixel size; features are coarser
-//     and fewer at small images, ≈ 2× faster; docs/image_sensing.md has the figures).
+//     and fewer at small images, ≈ 2× faster; docs/front_end.md has the figures).
 //  5. A band on the count: at most max_features (strongest DoG responses); below
 //     min_features the threshold is halved and detection repeated (at most `retries` times),
 //     the count-level counterpart of the k ← k² step.
