@@ -47,7 +47,7 @@ TEST(InsGpsMath, GpsJacobianMatchesFiniteDifferences) {
   for (int trial = 0; trial < 20; ++trial) {
     const StateVector x = randomState(rng);
     auto h = [](const Eigen::VectorXd& z) { return Eigen::VectorXd(gpsPredicted(StateVector(z))); };
-    EXPECT_TRUE(test::jacobianMatches(h, x, Eigen::MatrixXd(gpsJacobian(x)), 1e-6, 1e-7));
+    EXPECT_TRUE(cvslam::test::jacobianMatches(h, x, Eigen::MatrixXd(gpsJacobian(x)), 1e-6, 1e-7));
   }
 }
 
@@ -64,9 +64,9 @@ TEST(InsGpsMath, EkfTransitionMatchesFiniteDifferencesOfTheMechanisation) {
     const Eigen::VectorXd w0 = Eigen::VectorXd::Zero(kNoiseSize);
     auto fx = [&](const Eigen::VectorXd& z) { return prop.stepMean(z, s0, s1, w0); };
     auto fw = [&](const Eigen::VectorXd& w) { return prop.stepMean(x, s0, s1, w); };
-    EXPECT_TRUE(test::jacobianMatches(fx, x, F, 1e-5, 1e-7));
+    EXPECT_TRUE(cvslam::test::jacobianMatches(fx, x, F, 1e-5, 1e-7));
     // w enters almost linearly: a larger step keeps the 200 m positions' round-off out.
-    EXPECT_TRUE(test::jacobianMatches(fw, w0, G, 1e-5, 1e-9, 1e-3));
+    EXPECT_TRUE(cvslam::test::jacobianMatches(fw, w0, G, 1e-5, 1e-9, 1e-3));
   }
 }
 
@@ -102,7 +102,7 @@ TEST(InsGpsMath, StaircaseSdcIsExactAndTendsToTheJacobianAtTheOrigin) {
   // Near 0 the SDC matrix tends to the Jacobian at 0.
   const Eigen::Vector3d tiny = 1e-5 * e;
   auto cv = [&](const Eigen::VectorXd& z) { return Eigen::VectorXd(c(Eigen::Vector3d(z))); };
-  const Eigen::MatrixXd J0 = test::numericalJacobian(cv, Eigen::Vector3d::Zero());
+  const Eigen::MatrixXd J0 = cvslam::test::numericalJacobian(cv, Eigen::Vector3d::Zero());
   EXPECT_LT((staircaseSdc(c, tiny, kForwardOrder) - J0).norm(), 1e-4);
 }
 

@@ -22,9 +22,6 @@ using Clock = std::chrono::steady_clock;
 
 /// Largest plausible agent id in a header (the replay is −1, the ground station 0).
 constexpr int32_t kMaxAgentId = 1000000;
-/// Ground truth within this of a frame is the frame's truth (cvslam_eval's default
-/// association tolerance) [µs].
-constexpr int64_t kTruthToleranceUs = 10000;
 /// Data starting later than this after the scenario's initial estimate: the agent joins a
 /// running team and starts at the first ground truth [µs].
 constexpr int64_t kLateStartUs = 100000;

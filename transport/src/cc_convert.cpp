@@ -15,12 +15,6 @@ namespace {
 constexpr double kMaxGyroRadS = 350.0;
 constexpr double kMaxAccelMS2 = 1600.0;
 
-template <typename Msg>
-Expected<Msg> finalized(Msg msg) {
-  if (Status s = finalize(msg); !s.ok()) return s;
-  return msg;
-}
-
 std::vector<float> toFloat(const Eigen::Vector3d& v) {
   return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
 }

@@ -13,7 +13,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 /// The ground station's id in headers and on STATUS (header_t.lcm).
-constexpr int32_t kGroundStationId = 0;
 
 }  // namespace
 

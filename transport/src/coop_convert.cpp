@@ -18,12 +18,6 @@ coop::CoopHeader fromHeader(const cvslam::header_t& m) {
   return {m.agent_id, m.seq, m.utime};
 }
 
-template <typename Msg>
-Expected<Msg> finalized(Msg msg) {
-  if (Status s = finalize(msg); !s.ok()) return s;
-  return msg;
-}
-
 /// A cross-covariance block on the wire: 9 doubles, row-major (shared_landmarks2_t.lcm).
 using RowMajor3 = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
 using ConstRowMajor3 = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;

@@ -16,10 +16,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// The ground station's id in headers and on STATUS (header_t.lcm).
-constexpr int32_t kGroundStationId = 0;
-/// Ground truth within this of a batch is the batch's truth (as the agents) [µs].
-constexpr int64_t kTruthToleranceUs = 10000;
 /// Ground-truth samples kept per UAV to find a batch's truth (≥ 1 s at 200 Hz).
 constexpr std::size_t kTruthKept = 400;
 

@@ -1,4 +1,5 @@
 #include "cvslam/dataset/euroc_dataset_writer.h"
+#include "cvslam/io/number_format.h"
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -11,16 +12,6 @@
 namespace cvslam {
 namespace fs = std::filesystem;
 namespace {
-
-// Shortest decimal that reads back to exactly x (15 digits when enough, up to 17).
-std::string num(double x) {
-  char buf[32];
-  for (int digits = 15; digits <= 17; ++digits) {
-    std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-    if (std::strtod(buf, nullptr) == x) break;
-  }
-  return buf;
-}
 
 Status writeText(const std::string& path, const std::string& text) {
   std::ofstream out(path);
@@ -131,9 +122,9 @@ Status EurocDatasetWriter::addImu(const ImuSample& m) {
   const int64_t t_ns = m.t_us * 1000;
   if (t_ns <= last_imu_ns_)
     return Status::Error(mav0_ + ": IMU timestamp " + std::to_string(t_ns) + " does not increase");
-  imu_csv_ << t_ns << ',' << num(m.gyro_B.x()) << ',' << num(m.gyro_B.y()) << ','
-           << num(m.gyro_B.z()) << ',' << num(m.accel_B.x()) << ',' << num(m.accel_B.y()) << ','
-           << num(m.accel_B.z()) << '\n';
+  imu_csv_ << t_ns << ',' << formatShortest(m.gyro_B.x()) << ',' << formatShortest(m.gyro_B.y())
+           << ',' << formatShortest(m.gyro_B.z()) << ',' << formatShortest(m.accel_B.x()) << ','
+           << formatShortest(m.accel_B.y()) << ',' << formatShortest(m.accel_B.z()) << '\n';
   last_imu_ns_ = t_ns;
   return Status::Ok();
 }
@@ -147,7 +138,7 @@ Status EurocDatasetWriter::addGroundTruth(const EurocGroundTruth& g) {
   for (double x : {g.p_SinR.x(), g.p_SinR.y(), g.p_SinR.z(), q.w(), q.x(), q.y(), q.z(),
                    g.v_SinR.x(), g.v_SinR.y(), g.v_SinR.z(), g.gyro_bias.x(), g.gyro_bias.y(),
                    g.gyro_bias.z(), g.accel_bias.x(), g.accel_bias.y(), g.accel_bias.z()})
-    gt_csv_ << ',' << num(x);
+    gt_csv_ << ',' << formatShortest(x);
   gt_csv_ << '\n';
   last_gt_ns_ = g.t_ns;
   return Status::Ok();

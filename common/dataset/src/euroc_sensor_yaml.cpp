@@ -1,6 +1,7 @@
 #include "cvslam/dataset/euroc_sensor_yaml.h"
 
 #include "cvslam/camera/euroc_calibration.h"
+#include "cvslam/io/number_format.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -55,20 +56,10 @@ Status readTbs(const YAML::Node& root, const std::string& path, Eigen::Matrix4d&
   return Status::Ok();
 }
 
-// Shortest decimal that reads back to exactly x (15 digits when enough, up to 17).
-std::string num(double x) {
-  char buf[32];
-  for (int digits = 15; digits <= 17; ++digits) {
-    std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-    if (std::strtod(buf, nullptr) == x) break;
-  }
-  return buf;
-}
-
 std::string tbsBlock(const Eigen::Matrix4d& T) {
   std::string s = "T_BS:\n  cols: 4\n  rows: 4\n  data: [";
   for (int k = 0; k < 16; ++k) {
-    s += num(T(k / 4, k % 4));
+    s += formatShortest(T(k / 4, k % 4));
     if (k < 15) s += (k % 4 == 3) ? ",\n         " : ", ";
   }
   return s + "]\n";
@@ -119,13 +110,15 @@ std::string formatEurocCameraYaml(const EurocCameraInfo& c) {
   std::string s =
       "%YAML:1.0\n# General sensor definitions.\nsensor_type: camera\ncomment: " + c.comment +
       "\n\n# Sensor extrinsics wrt. the body-frame.\n" + tbsBlock(c.T_BS);
-  s += "\n# Camera specific definitions.\nrate_hz: " + num(c.rate_hz) + "\n";
+  s += "\n# Camera specific definitions.\nrate_hz: " + formatShortest(c.rate_hz) + "\n";
   s += "resolution: [" + std::to_string(c.width) + ", " + std::to_string(c.height) + "]\n";
   s += "camera_model: " + c.camera_model + "\n";
-  s += "intrinsics: [" + num(c.intrinsics(0)) + ", " + num(c.intrinsics(1)) + ", " +
-       num(c.intrinsics(2)) + ", " + num(c.intrinsics(3)) + "] #fu, fv, cu, cv\n";
+  s += "intrinsics: [" + formatShortest(c.intrinsics(0)) + ", " + formatShortest(c.intrinsics(1)) +
+       ", " + formatShortest(c.intrinsics(2)) + ", " + formatShortest(c.intrinsics(3)) +
+       "] #fu, fv, cu, cv\n";
   s += "distortion_model: " + c.distortion_model + "\ndistortion_coefficients: [";
-  for (std::size_t i = 0; i < c.distortion.size(); ++i) s += (i ? ", " : "") + num(c.distortion[i]);
+  for (std::size_t i = 0; i < c.distortion.size(); ++i)
+    s += (i ? ", " : "") + formatShortest(c.distortion[i]);
   return s + "]\n";
 }
 
@@ -133,14 +126,15 @@ std::string formatEurocImuYaml(const EurocImuInfo& m) {
   std::string s =
       "%YAML:1.0\n#Default imu sensor yaml file\nsensor_type: imu\ncomment: " + m.comment +
       "\n\n# Sensor extrinsics wrt. the body-frame.\n" + tbsBlock(m.T_BS);
-  s += "rate_hz: " + num(m.rate_hz) + "\n\n# inertial sensor noise model parameters (static)\n";
-  s += "gyroscope_noise_density: " + num(m.gyroscope_noise_density) +
+  s += "rate_hz: " + formatShortest(m.rate_hz) +
+       "\n\n# inertial sensor noise model parameters (static)\n";
+  s += "gyroscope_noise_density: " + formatShortest(m.gyroscope_noise_density) +
        "     # [ rad / s / sqrt(Hz) ]   ( gyro \"white noise\" )\n";
-  s += "gyroscope_random_walk: " + num(m.gyroscope_random_walk) +
+  s += "gyroscope_random_walk: " + formatShortest(m.gyroscope_random_walk) +
        "       # [ rad / s^2 / sqrt(Hz) ] ( gyro bias diffusion )\n";
-  s += "accelerometer_noise_density: " + num(m.accelerometer_noise_density) +
+  s += "accelerometer_noise_density: " + formatShortest(m.accelerometer_noise_density) +
        "  # [ m / s^2 / sqrt(Hz) ]   ( accel \"white noise\" )\n";
-  s += "accelerometer_random_walk: " + num(m.accelerometer_random_walk) +
+  s += "accelerometer_random_walk: " + formatShortest(m.accelerometer_random_walk) +
        "    # [ m / s^3 / sqrt(Hz) ].  ( accel bias diffusion )\n";
   return s;
 }

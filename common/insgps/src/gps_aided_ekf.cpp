@@ -38,10 +38,10 @@ Status GpsAidedEkf::propagate(const ImuSample& s0, const ImuSample& s1) {
 }
 
 Status GpsAidedEkf::update(const GpsFix& fix) {
-  const MeasVector r = gpsMeasurement(fix) - gpsPredicted(x_);
+  const MeasVector r = insgps::gpsMeasurement(fix) - gpsPredicted(x_);
   StateVector dx;
-  if (!kalmanCorrect(r, gpsJacobian(x_), gpsCovariance(fix), o_.joseph_form, o_.innovation_gate,
-                     &dx, &P_)) {
+  if (!kalmanCorrect(r, gpsJacobian(x_), insgps::gpsCovariance(fix), o_.joseph_form,
+                     o_.innovation_gate, &dx, &P_)) {
     ++rejected_;
     return Status::Ok();
   }

@@ -43,9 +43,9 @@ Status GpsAidedKf::propagate(const ImuSample& s0, const ImuSample& s1) {
 Status GpsAidedKf::update(const GpsFix& fix) {
   // z = y − h(x_ins) ≈ H δx + v; innovation z − H δx̂ (eq. 3.8).
   const MeasJacobian H = gpsJacobian(x_ins_);
-  const MeasVector r = gpsMeasurement(fix) - gpsPredicted(x_ins_) - H * dx_;
+  const MeasVector r = insgps::gpsMeasurement(fix) - gpsPredicted(x_ins_) - H * dx_;
   StateVector correction;
-  kalmanCorrect(r, H, gpsCovariance(fix), o_.joseph_form, 0.0, &correction, &P_);
+  kalmanCorrect(r, H, insgps::gpsCovariance(fix), o_.joseph_form, 0.0, &correction, &P_);
   dx_ += correction;
   if (o_.reset_interval_s > 0.0 &&
       1e-6 * static_cast<double>(fix.t_us - last_reset_us_) >= o_.reset_interval_s) {

@@ -111,7 +111,7 @@ Status GpsAidedUkf::update(const GpsFix& fix) {
     upsilon[i] = gpsPredicted(chi[i]);
     y_mean += (i == 0 ? w.wm0 : w.wi) * upsilon[i];
   }
-  MeasMatrix S = gpsCovariance(fix);
+  MeasMatrix S = insgps::gpsCovariance(fix);
   Eigen::Matrix<double, kStateSize, kMeasSize> Pxy =
       Eigen::Matrix<double, kStateSize, kMeasSize>::Zero();
   for (std::size_t i = 0; i < chi.size(); ++i) {
@@ -122,7 +122,7 @@ Status GpsAidedUkf::update(const GpsFix& fix) {
   }
   const Eigen::LDLT<MeasMatrix> S_ldlt(S);
   const Eigen::Matrix<double, kStateSize, kMeasSize> K = S_ldlt.solve(Pxy.transpose()).transpose();
-  x_ = wrapYaw(x_ + K * (gpsMeasurement(fix) - y_mean));
+  x_ = wrapYaw(x_ + K * (insgps::gpsMeasurement(fix) - y_mean));
   P_ -= K * S * K.transpose();
   P_ = 0.5 * (P_ + P_.transpose()).eval();
   return Status::Ok();

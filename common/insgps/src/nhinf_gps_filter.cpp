@@ -45,7 +45,7 @@ Status NhinfGpsFilter::propagate(const ImuSample& s0, const ImuSample& s1) {
 
 Status NhinfGpsFilter::update(const GpsFix& fix) {
   const MeasJacobian H = gpsJacobian(x_);
-  const MeasMatrix R_inv = (gpsCovariance(fix) / ho_.cv2()).inverse();
+  const MeasMatrix R_inv = (insgps::gpsCovariance(fix) / ho_.cv2()).inverse();
   const StateMatrix info = P_.inverse() + H.transpose() * R_inv * H;
   double theta = 1.0 / (ho_.gamma * ho_.gamma);
   const double lambda_min = Eigen::SelfAdjointEigenSolver<StateMatrix>(info).eigenvalues()(0);
@@ -56,7 +56,7 @@ Status NhinfGpsFilter::update(const GpsFix& fix) {
   StateMatrix P_post = (info - theta * StateMatrix::Identity()).inverse();
   P_post = 0.5 * (P_post + P_post.transpose()).eval();
   const Eigen::Matrix<double, kStateSize, kMeasSize> K = P_post * H.transpose() * R_inv;
-  x_ = wrapYaw(x_ + K * (gpsMeasurement(fix) - gpsPredicted(x_)));
+  x_ = wrapYaw(x_ + K * (insgps::gpsMeasurement(fix) - gpsPredicted(x_)));
   P_ = P_post;
   return Status::Ok();
 }

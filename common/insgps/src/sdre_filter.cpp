@@ -75,7 +75,7 @@ Status SdreFilter::update(const GpsFix& fix) {
   const InsSdc sdc = insSdc(x_, last_imu_, propagator_.options().gravity, o_.alpha, o_.sdc);
   const StateMatrix A_T = sdc.A * T_;
   const StateMatrix Phi = o_.riccati_discount * A_T.exp();
-  const MeasMatrix R = gpsCovariance(fix);
+  const MeasMatrix R = insgps::gpsCovariance(fix);
   const Expected<RiccatiResult> dare =
       solveFilterDare(Phi, sdc.H, R, o_.process_noise_scale * Q_acc_, o_.riccati);
   if (!dare.ok()) return dare.status();
@@ -84,7 +84,7 @@ Status SdreFilter::update(const GpsFix& fix) {
   const MeasMatrix S = sdc.H * P * sdc.H.transpose() + R;
   const Eigen::LDLT<MeasMatrix> S_ldlt(S);
   const Eigen::Matrix<double, kStateSize, kMeasSize> K = S_ldlt.solve(sdc.H * P).transpose();
-  x_ = wrapYaw(x_ + K * (gpsMeasurement(fix) - gpsPredicted(x_)));
+  x_ = wrapYaw(x_ + K * (insgps::gpsMeasurement(fix) - gpsPredicted(x_)));
   const StateMatrix I_KH = StateMatrix::Identity() - K * sdc.H;
   P_post_ = I_KH * P * I_KH.transpose() + K * R * K.transpose();
   Q_acc_.setZero();

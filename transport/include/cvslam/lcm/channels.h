@@ -66,6 +66,9 @@ std::string allAgentsPattern(Stream stream);
 bool isAgentPattern(const std::string& name);
 
 /// Shorthands, one per stream, so call sites read `channels::imu(2)`.
+/// The ground station's agent id in headers and per-agent channel names (UAVs count from 1).
+constexpr int32_t kGroundStationId = 0;
+
 namespace channels {
 inline std::string imu(int32_t id) {
   return channelName(Stream::kImu, id);

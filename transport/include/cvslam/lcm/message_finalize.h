@@ -25,4 +25,11 @@ Status finalize(cvslam::gs_state_t& msg);
 Status finalize(cvslam::map_t& msg);
 Status finalize(cvslam::status_t& msg);
 
+/// The message, finalized, or finalize()'s error.
+template <typename Msg>
+Expected<Msg> finalized(Msg msg) {
+  if (Status s = finalize(msg); !s.ok()) return s;
+  return msg;
+}
+
 }  // namespace cvslam::transport

@@ -39,4 +39,8 @@ bool toSensorEvent(const cvslam::pose_t& msg, int agent_id, SensorEvent* event);
 bool toSensorEvent(const cvslam::stereo_features_t& msg, int agent_id, SensorEvent* event);
 bool toSensorEvent(const cvslam::stereo_image_t& msg, int agent_id, SensorEvent* event);
 
+/// Ground truth within this of a frame is the frame's truth (cvslam_eval's default
+/// association tolerance) [µs].
+constexpr int64_t kTruthToleranceUs = 10000;
+
 }  // namespace cvslam::transport
