@@ -17,7 +17,7 @@
 // OpenVINS and MSCKF implementations).
 //
 // Outside the estimator, vehicle states travel in the thesis's Euler layout (run record,
-// agent_state_t, gs_state_t; docs/messages.md): `eulerLayout` derives φ θ ψ from R̂ and maps
+// agent_state_t, gs_state_t; docs/transport.md): `eulerLayout` derives φ θ ψ from R̂ and maps
 // the covariance by ∂e/∂δθ; `addVehicle` takes that layout in (∂δθ/∂e).
 
 #include <Eigen/Core>
