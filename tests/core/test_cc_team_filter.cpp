@@ -15,6 +15,7 @@
 #include "coop_team_fixture.h"
 #include "cvslam/coop/cc_batch_builder.h"
 #include "cvslam/coop/cc_team_filter.h"
+#include "cvslam/geometry/euler.h"
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/io/config_node.h"
@@ -47,10 +48,6 @@ struct CcRun {
   int max_state_size = 0;
   bool ok = false;
 };
-
-double wrapAngle(double a) {
-  return std::atan2(std::sin(a), std::cos(a));
-}
 
 /// Called after each processed batch: the filter, the report, and UAV1's estimate before it.
 using StepCheck = std::function<void(const coop::CcTeamFilter&, const coop::CcStepReport&,
