@@ -1,5 +1,5 @@
-// IMU synthesis (cvslam/sim/imu_simulator.h): sign conventions (docs/conventions.md), integration of
-// the noise-free IMU back to the trajectory, white-noise and bias random-walk statistics.
+// IMU synthesis (cvslam/sim/imu_simulator.h): sign conventions (docs/conventions.md), integration
+// of the noise-free IMU back to the trajectory, white-noise and bias random-walk statistics.
 
 #include <gtest/gtest.h>
 
@@ -81,12 +81,11 @@ TEST(SimImu, WrongGravitySignWouldBeCaught) {
   auto traj = makeFlight(std::make_shared<LoopPath>(loop));
   const double t1 = 5.0;
   const simtest::NavState right = integrateImu(*traj, 0.0, t1, 1e-3);
-  const simtest::NavState wrong =
-      integrateImu(*traj, 0.0, t1, 1e-3, [](const TrajectoryState& s) {
-        ImuSample m = ImuSimulator::perfectSample(s, 0);
-        m.accel_B += 2.0 * s.R_NtoB * gravityNed();
-        return m;
-      });
+  const simtest::NavState wrong = integrateImu(*traj, 0.0, t1, 1e-3, [](const TrajectoryState& s) {
+    ImuSample m = ImuSimulator::perfectSample(s, 0);
+    m.accel_B += 2.0 * s.R_NtoB * gravityNed();
+    return m;
+  });
   const Eigen::Vector3d truth = traj->state(t1).p_BinN;
   EXPECT_LT((right.p_N - truth).norm(), 1e-3);
   EXPECT_GT((wrong.p_N - truth).norm(), 10.0);
