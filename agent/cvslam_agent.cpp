@@ -8,9 +8,7 @@
 
 #include <unistd.h>
 
-#include <atomic>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -19,6 +17,8 @@
 
 #include "cvslam/coop/agent_config.h"
 #include "cvslam/io/cli.h"
+#include "cvslam/io/options_description.h"
+#include "cvslam/io/process_shell.h"
 #include "cvslam/io/run_writer.h"
 #include "cvslam/lcm/agent_node.h"
 #include "cvslam/lcm/cc_link.h"
@@ -85,14 +85,9 @@ options:
   -h, --help              this text
 )";
 
-std::atomic<bool> g_stop{false};
-void onSignal(int) {
-  g_stop = true;
-}
-
+const cvslam::cli::ProcessShell shell("cvslam_agent");
 int fail(const std::string& message) {
-  std::fprintf(stderr, "cvslam_agent: %s\n", message.c_str());
-  return 2;
+  return shell.fail(message);
 }
 
 struct Args {
@@ -236,15 +231,20 @@ int main(int argc, char** argv) {
   }
   if (Status s = writeRunConfig(args, *config, info); !s.ok()) return fail(s.message());
 
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  shell.stopOnSignals();
   auto agent = cvslam::transport::AgentNode::create(node, std::move(*calibration),
                                                     std::move(*images), std::move(coop));
   if (!agent.ok()) return fail(agent.status().message());
-  if (args.verbose)
+  if (args.verbose) {
+    std::vector<cvslam::ConfigNode::Value> values = config->values();
+    const auto agent_section = cvslam::inSection(cvslam::optionValues(node), "agent");
+    values.insert(values.end(), agent_section.begin(), agent_section.end());
+    std::fprintf(stderr, "cvslam_agent %d: effective configuration\n%s", args.id,
+                 cvslam::formatOptionValues(values).c_str());
     std::fprintf(stderr, "cvslam_agent %d: %s mode, boot id %lld, listening\n", args.id,
                  args.mode.c_str(), static_cast<long long>(node.boot_id));
-  Status s = (*agent)->run(g_stop);
+  }
+  Status s = (*agent)->run(shell.stopFlag());
   std::printf("cvslam_agent: %s\n", (*agent)->report().c_str());
   if (!s.ok()) return fail(s.message());
   return 0;

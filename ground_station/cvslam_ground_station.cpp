@@ -7,8 +7,6 @@
 //   cvslam_ground_station --agents 1,2,3 --scenario config/scenarios/team3_aerial.yaml --out
 //   runs/t3
 
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <map>
 #include <optional>
@@ -18,6 +16,7 @@
 #include "cvslam/coop/cc_team_filter.h"
 #include "cvslam/io/cli.h"
 #include "cvslam/io/config_node.h"
+#include "cvslam/io/process_shell.h"
 #include "cvslam/lcm/ground_station_node.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/simrun/scenario_calibration.h"
@@ -58,14 +57,9 @@ options:
   -h, --help              this text
 )";
 
-std::atomic<bool> g_stop{false};
-void onSignal(int) {
-  g_stop = true;
-}
-
+const cvslam::cli::ProcessShell shell("cvslam_ground_station");
 int fail(const std::string& message) {
-  std::fprintf(stderr, "cvslam_ground_station: %s\n", message.c_str());
-  return 2;
+  return shell.fail(message);
 }
 
 struct Args {
@@ -189,12 +183,11 @@ int main(int argc, char** argv) {
     if (!key.ok()) return fail(key.status().message());
     node.auth_key = std::make_shared<const cvslam::transport::TeamKey>(std::move(*key));
   }
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  shell.stopOnSignals();
   auto gs = cvslam::transport::GroundStationNode::create(node, filter, std::move(*agents), info);
   if (!gs.ok()) return fail(gs.status().message());
   if (args.verbose) std::fprintf(stderr, "cvslam_ground_station: listening\n");
-  Status s = (*gs)->run(g_stop);
+  Status s = (*gs)->run(shell.stopFlag());
   std::printf("cvslam_ground_station: %s\n", (*gs)->report().c_str());
   if (!s.ok()) return fail(s.message());
   return 0;

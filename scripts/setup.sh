@@ -9,7 +9,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless libjchart2d-java
-  libeigen3-dev libopencv-dev libceres-dev libyaml-cpp-dev
+  clang libeigen3-dev libopencv-dev libceres-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libboost-math-dev clang-tidy
   python3-matplotlib python3-numpy

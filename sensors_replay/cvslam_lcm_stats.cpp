@@ -5,13 +5,13 @@
 //   cvslam_lcm_stats --lcm-url 'udpm://239.255.76.67:7667?ttl=0' --duration 70 --json s.json
 
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <string>
 #include <thread>
 
 #include "cvslam/io/cli.h"
 #include "cvslam/io/json_file.h"
+#include "cvslam/io/process_shell.h"
 #include "cvslam/lcm/channel_monitor.h"
 #include "cvslam/lcm/lcm_bus.h"
 
@@ -35,14 +35,10 @@ options:
 )";
 
 // The only mutable global: set by SIGINT/SIGTERM.
-volatile std::sig_atomic_t g_stop = 0;
-void onSignal(int) {
-  g_stop = 1;
-}
 
+const cvslam::cli::ProcessShell shell("cvslam_lcm_stats");
 int fail(const std::string& message) {
-  std::fprintf(stderr, "cvslam_lcm_stats: %s\n", message.c_str());
-  return 2;
+  return shell.fail(message);
 }
 
 }  // namespace
@@ -57,8 +53,7 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path);
   app.add_flag("--quiet", quiet);
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return *exit_code;
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  shell.stopOnSignals();
 
   auto monitor = cvslam::transport::ChannelMonitor::create(url);
   if (!monitor.ok()) return fail(monitor.status().message());
@@ -67,7 +62,7 @@ int main(int argc, char** argv) {
   // Subscribed: say so, so that scripts and tests can start publishing on this event.
   std::fprintf(stderr, "cvslam_lcm_stats: listening on %s for %g s\n", url.c_str(), duration);
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration);
-  while (!g_stop && std::chrono::steady_clock::now() < end)
+  while (!shell.stopping() && std::chrono::steady_clock::now() < end)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   (*monitor)->stop();
 

@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <mutex>
@@ -20,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "cvslam/io/process_shell.h"
 #include "cvslam/lcm/channels.h"
 #include "cvslam/lcm/lcm_bus.h"
 #include "cvslam/lcm/lcm_log_sensor_stream.h"
@@ -36,15 +36,10 @@ namespace {
 using cvslam::Status;
 using Clock = std::chrono::steady_clock;
 
-// The only mutable global: set by SIGINT/SIGTERM, polled by the publishing loop.
-volatile std::sig_atomic_t g_stop = 0;
-void onSignal(int) {
-  g_stop = 1;
-}
-
+// Its stop flag (SIGINT/SIGTERM) is polled by the publishing loop.
+const cvslam::cli::ProcessShell shell("cvslam_replay");
 int fail(const std::string& message) {
-  std::fprintf(stderr, "cvslam_replay: %s\n", message.c_str());
-  return 2;
+  return shell.fail(message);
 }
 
 cvslam::Expected<cvslam::MergedSensorSource> makeSource(const cvslam::replay::Args& a,
@@ -112,7 +107,7 @@ Status waitForAcks(Lockstep& lock, double timeout_s) {
   std::unique_lock<std::mutex> guard(lock.mutex);
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
   while (!lock.tracker->ready()) {
-    if (g_stop) return Status::Ok();
+    if (shell.stopping()) return Status::Ok();
     if (Clock::now() > deadline) {
       std::string who;
       for (int id : lock.tracker->waitingFor())
@@ -152,8 +147,7 @@ Status startLockstep(cvslam::transport::LcmBus& bus, const cvslam::replay::Args&
 int main(int argc, char** argv) {
   cvslam::replay::Args args;
   if (auto exit_code = cvslam::replay::parseArgs(argc, argv, args)) return *exit_code;
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  shell.stopOnSignals();
 
   auto source = makeSource(args, !args.quiet);
   if (!source.ok()) return fail(source.status().message());
@@ -186,11 +180,11 @@ int main(int argc, char** argv) {
     const auto begin = std::chrono::system_clock::time_point(
         std::chrono::duration_cast<std::chrono::system_clock::duration>(
             std::chrono::duration<double>(args.start_at)));
-    while (!g_stop && std::chrono::system_clock::now() < begin)
+    while (!shell.stopping() && std::chrono::system_clock::now() < begin)
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   cvslam::SensorEvent e;
-  while (!g_stop && source->next(e)) {
+  while (!shell.stopping() && source->next(e)) {
     if (lockstep.tracker) {
       bool wait = false;
       {
@@ -215,10 +209,10 @@ int main(int argc, char** argv) {
           wall0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
                       static_cast<double>(e.play_us - play0) * 1e-6 / args.rate));
       // Sleep in slices so that Ctrl-C is honoured promptly.
-      while (!g_stop && Clock::now() < target)
+      while (!shell.stopping() && Clock::now() < target)
         std::this_thread::sleep_until(
             std::min(target, Clock::now() + std::chrono::milliseconds(100)));
-      if (g_stop) break;
+      if (shell.stopping()) break;
       // Rendering or decoding slower than the requested rate shows up here.
       max_lag_s = std::max(max_lag_s, std::chrono::duration<double>(Clock::now() - target).count());
     }
@@ -237,7 +231,7 @@ int main(int argc, char** argv) {
     }
   }
   if (!source->status().ok()) return fail(source->status().message());
-  if (lockstep.tracker && !g_stop && !first) {
+  if (lockstep.tracker && !shell.stopping() && !first) {
     // The last epoch: wait for it too, so that a lockstep run ends fully processed.
     {
       std::lock_guard<std::mutex> guard(lockstep.mutex);
@@ -250,7 +244,7 @@ int main(int argc, char** argv) {
   if (!args.quiet) {
     std::fprintf(
         stderr, "%scvslam_replay: %s %lld messages, %.1f MB in %.2f s (%.0f msgs/s, %.2f MB/s)%s\n",
-        tty ? "\n" : "", g_stop ? "stopped after" : "published",
+        tty ? "\n" : "", shell.stopping() ? "stopped after" : "published",
         static_cast<long long>(publisher.messages()), static_cast<double>(publisher.bytes()) / 1e6,
         wall, wall > 0 ? static_cast<double>(publisher.messages()) / wall : 0.0,
         wall > 0 ? static_cast<double>(publisher.bytes()) / 1e6 / wall : 0.0,

@@ -15,7 +15,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -24,6 +23,7 @@
 #include <vector>
 
 #include "cvslam/io/cli.h"
+#include "cvslam/io/process_shell.h"
 #include "link_shaper/link_impairment.h"
 
 namespace {
@@ -50,11 +50,6 @@ without netem (scripts/netns_team.sh uses it there). Runs until SIGINT/SIGTERM, 
   --stats-json F     write the counters to F at exit
   -h, --help         this text
 )";
-
-volatile std::sig_atomic_t g_stop = 0;
-void onSignal(int) {
-  g_stop = 1;
-}
 
 using Clock = std::chrono::steady_clock;
 double nowS() {
@@ -123,9 +118,9 @@ int onPacket(nfq_q_handle*, nfgenmsg*, nfq_data* data, void* user) {
   return 0;
 }
 
+const cvslam::cli::ProcessShell shell("cvslam_link_shaper");
 int fail(const std::string& message) {
-  std::fprintf(stderr, "cvslam_link_shaper: %s\n", message.c_str());
-  return 2;
+  return shell.fail(message);
 }
 
 }  // namespace
@@ -172,14 +167,13 @@ int main(int argc, char** argv) {
   constexpr unsigned kSocketBuffer = 8u << 20;
   nfnl_rcvbufsiz(nfq_nfnlh(handle), kSocketBuffer);
   const int fd = nfq_fd(handle);
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  shell.stopOnSignals();
   if (!ready_file.empty() && !std::ofstream(ready_file)) {
     return fail("cannot write " + ready_file);
   }
 
   std::vector<char> buffer(kCopyBytes + 4096);
-  while (g_stop == 0) {
+  while (!shell.stopping()) {
     const double now_s = nowS();
     shaper.releaseDue(now_s);
     int timeout_ms = 200;  // wake to notice a signal even when idle

@@ -8,10 +8,8 @@
 //   cvslam_view                       live, http://127.0.0.1:8088/
 //   cvslam_view --run runs/t3         a finished run
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -19,6 +17,7 @@
 
 #include "cvslam/io/cli.h"
 #include "cvslam/io/config_node.h"
+#include "cvslam/io/process_shell.h"
 #include "cvslam/lcm/view_node.h"
 #include "cvslam/view/run_view.h"
 #include "view_http_server.h"
@@ -51,14 +50,9 @@ options:
   -h, --help          this text
 )";
 
-std::atomic<bool> g_stop{false};
-void onSignal(int) {
-  g_stop = true;
-}
-
+const cvslam::cli::ProcessShell shell("cvslam_view");
 int fail(const std::string& message) {
-  std::fprintf(stderr, "cvslam_view: %s\n", message.c_str());
-  return 2;
+  return shell.fail(message);
 }
 
 struct Args {
@@ -145,8 +139,7 @@ int main(int argc, char** argv) {
   if (node) {
     if (Status s = node->start(); !s.ok()) return fail(s.message());
   }
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  shell.stopOnSignals();
   std::printf("cvslam_view: http://%s:%d/ (%s)\n",
               args.host == "0.0.0.0" ? "127.0.0.1" : args.host.c_str(), web->port(),
               args.run.empty() ? "live" : args.run.c_str());
@@ -154,7 +147,7 @@ int main(int argc, char** argv) {
   std::thread serving([&] { web->serve(); });
   const auto start = std::chrono::steady_clock::now();
   auto last_status = start;
-  while (!g_stop) {
+  while (!shell.stopping()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     const auto now = std::chrono::steady_clock::now();
     if (args.duration > 0 && std::chrono::duration<double>(now - start).count() >= args.duration)

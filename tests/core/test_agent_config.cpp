@@ -11,6 +11,7 @@
 #include "cvslam/coop/cc_team_filter.h"
 #include "cvslam/io/build_info.h"
 #include "cvslam/io/effective_config.h"
+#include "cvslam/io/options_description.h"
 #include "cvslam/io/run_reader.h"
 #include "cvslam/io/run_writer.h"
 #include "euroc_test_folder.h"
@@ -274,6 +275,38 @@ TEST(AgentConfig, RunJsonRecordsWhatRepeatsTheRun) {
   EXPECT_FALSE(bare->seed.has_value());
   EXPECT_FALSE(bare->duration_s.has_value());
   EXPECT_TRUE(bare->agents.empty());
+}
+
+TEST(AgentConfig, ItsDescriptionLoadsBackToTheSameOptions) {
+  // The shipped file, one override and a --set: what cvslam_agent --verbose prints is a
+  // complete configuration that --config reads back to exactly the same options.
+  AgentConfigArgs args;
+  args.config = shippedConfig();
+  args.filter = "nhinf";
+  args.set = {"map.max_landmarks=123"};
+  auto config = AgentConfig::load(args, "", skipAgent);
+  ASSERT_TRUE(config.ok()) << config.status().message();
+  const std::string text = formatOptionValues(config->values());
+  EXPECT_NE(text.find("max_landmarks: 123"), std::string::npos) << text;
+
+  test::TempFolder tmp;
+  const std::string path = tmp.path() + "/described.yaml";
+  std::ofstream(path) << text;
+  AgentConfigArgs again;
+  again.config = path;
+  auto back = AgentConfig::load(again, "", skipAgent);
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_TRUE(sameOptions(back->slam, config->slam));
+  EXPECT_TRUE(sameOptions(back->frontend, config->frontend));
+  EXPECT_TRUE(sameOptions(back->coop, config->coop));
+  EXPECT_EQ(back->filterName(), "nhinf");
+  // ...and differs where the options differ.
+  AgentConfigArgs other = again;
+  other.set = {"coop.both_ways=false"};
+  auto changed = AgentConfig::load(other, "", skipAgent);
+  ASSERT_TRUE(changed.ok()) << changed.status().message();
+  EXPECT_TRUE(sameOptions(changed->slam, config->slam));
+  EXPECT_FALSE(sameOptions(changed->coop, config->coop));
 }
 
 }  // namespace

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+
+#include "cvslam/io/options_description.h"
 
 namespace cvslam {
 namespace {
@@ -120,6 +123,71 @@ TEST(ConfigNode, BadFilesGiveClearErrors) {
   ASSERT_TRUE(empty.ok());
   EXPECT_TRUE(empty->finish().ok());
   std::remove(path.c_str());
+}
+
+TEST(OptionsDescription, PrintsEveryKeyTheLoaderReadsAsYamlThatLoadsBack) {
+  DemoOptions o;
+  o.gamma = 0.1;  // not exactly representable: the text must still give the same double
+  o.k = -3;
+  o.flag = true;
+  o.name = "with: colon";
+  o.kind = Kind::kB;
+  o.v = Eigen::Vector3d(1.5, -2, 1e-12);
+  o.m << 1, 2, 3, 4;
+  const std::string text = describeOptions(o);
+  for (const char* key : {"gamma:", "k: -3", "flag: true", "kind: b", "v:", "m:"})
+    EXPECT_NE(text.find(key), std::string::npos) << key << " missing from\n" << text;
+
+  auto back = ConfigNode::fromString(text, "described");
+  ASSERT_TRUE(back.ok()) << back.status().message() << "\n" << text;
+  DemoOptions read;
+  ASSERT_TRUE(read.load(*back).ok()) << back->status().message();
+  EXPECT_TRUE(back->finish().ok()) << back->finish().message();
+  EXPECT_EQ(read.gamma, o.gamma);
+  EXPECT_EQ(read.k, o.k);
+  EXPECT_EQ(read.name, o.name);
+  EXPECT_EQ(read.kind, o.kind);
+  EXPECT_EQ(read.v, o.v);
+  EXPECT_EQ(read.m, o.m);
+  EXPECT_TRUE(sameOptions(read, o));
+}
+
+TEST(OptionsDescription, EqualityIsEveryValueExactly) {
+  DemoOptions a, b;
+  EXPECT_TRUE(sameOptions(a, b));
+  b.gamma = std::nextafter(a.gamma, 2.0);  // one ulp
+  EXPECT_FALSE(sameOptions(a, b));
+  b = a;
+  b.m(1, 0) = 5.0;
+  EXPECT_FALSE(sameOptions(a, b));
+  b = a;
+  b.kind = Kind::kB;
+  EXPECT_FALSE(sameOptions(a, b));
+}
+
+TEST(OptionsDescription, SectionsAndListsNest) {
+  auto cfg = ConfigNode::fromString("outer: {inner: {k: 4}, items: [{k: 1}, {k: 2}]}", "t.yaml");
+  ASSERT_TRUE(cfg.ok());
+  DemoOptions inner;
+  inner.load(cfg->child("outer").child("inner"));
+  for (const ConfigNode& item : cfg->child("outer").sequence("items")) {
+    DemoOptions o;
+    o.load(item);
+  }
+  const std::string text = formatOptionValues(cfg->values());
+  auto back = ConfigNode::fromString(text, "described");
+  ASSERT_TRUE(back.ok()) << text;
+  int k_inner = 0;
+  back->child("outer").child("inner").get("k", k_inner);
+  EXPECT_EQ(k_inner, 4);
+  const std::vector<ConfigNode> items = back->child("outer").sequence("items");
+  ASSERT_EQ(items.size(), 2u) << text;
+  int k1 = 0;
+  items[1].get("k", k1);
+  EXPECT_EQ(k1, 2);
+  const std::vector<ConfigNode::Value> sectioned = inSection(optionValues(inner), "top");
+  ASSERT_FALSE(sectioned.empty());
+  EXPECT_EQ(sectioned.front().path, "top.gamma");
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "cvslam/io/cli.h"
+#include "cvslam/io/options_description.h"
 
 namespace cvslam {
 namespace {
@@ -101,6 +102,14 @@ Expected<AgentConfig> AgentConfig::load(
     *name = absolute;
   }
   return c;
+}
+
+std::vector<ConfigNode::Value> AgentConfig::values() const {
+  std::vector<ConfigNode::Value> all = optionValues(slam);
+  for (auto part :
+       {inSection(optionValues(frontend), "frontend"), inSection(optionValues(coop), "coop")})
+    all.insert(all.end(), part.begin(), part.end());
+  return all;
 }
 
 std::string AgentConfig::filterName() const {

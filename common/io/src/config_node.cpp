@@ -60,6 +60,19 @@ YAML::Node ConfigNode::lookup(const std::string& key) const {
   return n[key];
 }
 
+void ConfigNode::recordValue(const std::string& key, std::string text) const {
+  std::string path = keyPath(key);
+  const auto [it, added] = shared_->value_index.emplace(path, shared_->values.size());
+  if (added)
+    shared_->values.push_back({std::move(path), std::move(text)});
+  else
+    shared_->values[it->second].text = std::move(text);
+}
+
+std::vector<ConfigNode::Value> ConfigNode::values() const {
+  return shared_->values;
+}
+
 bool ConfigNode::has(const std::string& key) const {
   YAML::Node n = lookup(key);
   return n && !n.IsNull();

@@ -12,7 +12,7 @@ namespace {
 
 using Matrix4x12d = Eigen::Matrix<double, 4, 12>;
 using Matrix12d = Eigen::Matrix<double, 12, 12>;
-using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using AttitudeOffsetMatrix = Eigen::Matrix<double, 6, 6>;  // (attitude, landmark − vehicle)
 
 /// [∂z/∂pose ∂z/∂p_L] at the pose moved by d (its first 9 entries, in the pose's coordinates)
 /// and the landmark moved by the last 3.
@@ -45,15 +45,15 @@ Matrix4x12d jacobianAt(const StereoCamera& camera, const EstimatedPose& pose,
 /// In additive coordinates the same heading uncertainty lies along straight lines
 /// p̂ + α e3 × p̂, whose curvature in h reads as a mean that grows with the heading's σ².
 Eigen::Vector4d invariantMean(const StereoCamera& camera, const EstimatedPose& pose,
-                              const Eigen::Vector3d& p_LinN, const Matrix6d& C,
-                              const std::array<Matrix6d, 4>& hessian) {
+                              const Eigen::Vector3d& p_LinN, const AttitudeOffsetMatrix& C,
+                              const std::array<AttitudeOffsetMatrix, 4>& hessian) {
   // C is the covariance of the additive (δa, δl − δp); the invariant (ξθ, Δ) is B times them:
   // ξθ = M δa, Δ = δl − δp + (l̂ − p̂) × ξθ (slam_state.h's ξ in the additive errors δ).
   const Eigen::Matrix3d M = vehicle_model::navRotationPerAttitude(pose);
-  Matrix6d B = Matrix6d::Identity();
+  AttitudeOffsetMatrix B = AttitudeOffsetMatrix::Identity();
   B.topLeftCorner<3, 3>() = M;
   B.bottomLeftCorner<3, 3>() = so3::skew<double>(p_LinN - pose.p_BinN) * M;
-  const Matrix6d C_xi = B * C * B.transpose();
+  const AttitudeOffsetMatrix C_xi = B * C * B.transpose();
   const Eigen::Matrix3d C_dd = C_xi.bottomRightCorner<3, 3>();
   const Eigen::Matrix3d C_td = C_xi.topRightCorner<3, 3>();
   // E[ξθ × Δ]_i = ε_ijk C_θΔ(j, k).
@@ -84,7 +84,7 @@ StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const 
   // against rounding.
   constexpr double kStep = 1e-5;
   constexpr int kLandmark = 9;
-  std::array<Matrix6d, 4> hessian;
+  std::array<AttitudeOffsetMatrix, 4> hessian;
   for (int k = 0; k < 6; ++k) {
     Eigen::Matrix<double, 12, 1> d = Eigen::Matrix<double, 12, 1>::Zero();
     d(k < 3 ? vehicle::kAttitude + k : kLandmark + k - 3) = kStep;
@@ -101,11 +101,11 @@ StereoSecondOrderTerms stereoSecondOrderTerms(const StereoCamera& camera, const 
   T.block<3, 3>(0, vehicle::kAttitude).setIdentity();
   T.block<3, 3>(3, vehicle::kPosition) = -Eigen::Matrix3d::Identity();
   T.block<3, 3>(3, kLandmark).setIdentity();
-  const Matrix6d C = T * P * T.transpose();
+  const AttitudeOffsetMatrix C = T * P * T.transpose();
   // Symmetrised: the error-state attitude's Hessian of the Jacobian carries an antisymmetric
   // part (Exp(d + δ) ≠ Exp(d) Exp(δ)) that a quadratic form does not see.
   StereoSecondOrderTerms terms;
-  std::array<Matrix6d, 4> GC;
+  std::array<AttitudeOffsetMatrix, 4> GC;
   for (std::size_t i = 0; i < 4; ++i) {
     hessian[i] = 0.5 * (hessian[i] + hessian[i].transpose()).eval();
     GC[i] = hessian[i] * C;

@@ -51,6 +51,9 @@ struct AgentConfig {
   static Expected<AgentConfig> load(const AgentConfigArgs& args, const std::string& default_config,
                                     const std::function<void(const ConfigNode&)>& tool_sections);
 
+  /// Every option the filter, the front end and the cooperation run with (defaults included),
+  /// as one YAML document in the file's layout (options_description.h).
+  std::vector<ConfigNode::Value> values() const;
   std::string filterName() const;  ///< ekf | nhinf
   std::string mapName() const;     ///< knearest | full
 };

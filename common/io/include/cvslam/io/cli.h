@@ -22,8 +22,7 @@ namespace cvslam::cli {
 /// Parses argv into `app`. Returns nullopt when the program should go on; otherwise the exit
 /// status main should return (0 after --help, 2 after an error, whose line is printed).
 /// `usage`: the program's hand-written help text; nullptr prints CLI11's generated help.
-inline std::optional<int> parse(CLI::App& app, int argc, char** argv,
-                                const char* usage = nullptr) {
+inline std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* usage = nullptr) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {

@@ -7,6 +7,8 @@
 // the file, the key path and the reason, e.g.
 //   "config/agent.yaml: filter.gamma: must be > 0 (got -2)".
 // Keys nobody read are reported by `ConfigNode::finish()` as unknown (catches typos).
+// Every key a load reads is recorded with the value it holds afterwards (read or default):
+// `values()`, which options_description.h turns into a struct's printout and equality.
 
 #include <yaml-cpp/yaml.h>
 
@@ -22,6 +24,7 @@
 #include <vector>
 
 #include "cvslam/core/status.h"
+#include "cvslam/io/number_format.h"
 
 namespace cvslam {
 
@@ -66,6 +69,15 @@ class ConfigNode {
   /// status(), plus an error for every key of a visited section that nobody read.
   Status finish() const;
 
+  /// One option read by a load, with its value after the read, as YAML text.
+  struct Value {
+    std::string path;  ///< "a.b.key" (a list element: "a.list[2].key")
+    std::string text;  ///< "0.25", "true", "ekf", "[1, 0, 0]"
+  };
+  /// Every key read with get/require/getEnum anywhere in this file, in the order read (a key
+  /// read twice: its last value).
+  std::vector<Value> values() const;
+
   /// "file: a.b.key" — the location used in messages.
   std::string where(const std::string& key) const;
   const std::string& source() const { return shared_->source; }
@@ -77,6 +89,8 @@ class ConfigNode {
     std::vector<std::string> errors;
     std::map<std::string, std::set<std::string>> read_keys;  // section path -> keys read
     std::map<std::string, YAML::Node> sections;              // visited sections
+    std::vector<Value> values;                               // every option read, in order
+    std::map<std::string, std::size_t> value_index;          // path -> its entry in values
   };
   ConfigNode(YAML::Node node, std::shared_ptr<Shared> shared, std::string path);
   std::string keyPath(const std::string& key) const;
@@ -86,6 +100,9 @@ class ConfigNode {
 
   template <typename T>
   bool convert(const YAML::Node& n, const std::string& key, T& value) const;
+  template <typename T>
+  static std::string text(const T& value);
+  void recordValue(const std::string& key, std::string text) const;
 
   YAML::Node node_;
   std::shared_ptr<Shared> shared_;
@@ -154,11 +171,38 @@ bool ConfigNode::convert(const YAML::Node& n, const std::string& key, T& value) 
 }
 
 template <typename T>
+std::string ConfigNode::text(const T& value) {
+  if constexpr (std::is_base_of_v<Eigen::MatrixBase<T>, T>) {
+    std::string out = "[";
+    for (int i = 0; i < T::SizeAtCompileTime; ++i)  // row-major, as convert() reads it
+      out += (i > 0 ? ", " : "") +
+             formatShortest(value(i / T::ColsAtCompileTime, i % T::ColsAtCompileTime));
+    return out + "]";
+  } else if constexpr (std::is_same_v<T, std::vector<double>> ||
+                       std::is_same_v<T, std::vector<int>> ||
+                       std::is_same_v<T, std::vector<std::string>>) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < value.size(); ++i) out += (i > 0 ? ", " : "") + text(value[i]);
+    return out + "]";
+  } else if constexpr (std::is_same_v<T, bool>) {
+    return value ? "true" : "false";
+  } else if constexpr (std::is_floating_point_v<T>) {
+    return formatShortest(static_cast<double>(value));
+  } else if constexpr (std::is_integral_v<T>) {
+    return std::to_string(value);
+  } else {
+    YAML::Emitter e;  // quoted when YAML needs it
+    e << value;
+    return e.c_str();
+  }
+}
+
+template <typename T>
 void ConfigNode::get(const std::string& key, T& value) const {
   markRead(key);
   YAML::Node n = lookup(key);
-  if (!n || n.IsNull()) return;
-  convert(n, key, value);
+  if (n && !n.IsNull()) convert(n, key, value);
+  recordValue(key, text(value));
 }
 
 template <typename T>
@@ -170,6 +214,7 @@ void ConfigNode::require(const std::string& key, T& value) const {
     return;
   }
   convert(n, key, value);
+  recordValue(key, text(value));
 }
 
 template <typename E>
