@@ -81,7 +81,7 @@ options:
   --seed N                scenario: overrides its seed (as given to cvslam_replay)
   --duration S            scenario: simulate only the first S seconds (as cvslam_replay)
   --idle-exit S           exit after S seconds without sensor data (default: never)
-  --verbose               more messages on stderr
+  --verbose               more messages on stderr, the effective configuration first
   -h, --help              this text
 )";
 
@@ -213,11 +213,9 @@ int main(int argc, char** argv) {
   node.filter_name = config->filterName();
   if (!args.url.empty()) node.url = args.url;
   node.coop_url = args.coop_url;
-  if (!args.auth_key.empty()) {
-    auto key = cvslam::transport::TeamKey::readFile(args.auth_key);
-    if (!key.ok()) return fail(key.status().message());
-    node.auth_key = std::make_shared<const cvslam::transport::TeamKey>(std::move(*key));
-  }
+  auto key = cvslam::transport::TeamKey::forOption(args.auth_key);
+  if (!key.ok()) return fail(key.status().message());
+  node.auth_key = *key;
   std::random_device entropy;
   node.boot_id = (static_cast<int64_t>(entropy()) << 31) ^ static_cast<int64_t>(entropy()) ^
                  static_cast<int64_t>(getpid());

@@ -16,6 +16,7 @@
 #include "cvslam/coop/cc_team_filter.h"
 #include "cvslam/io/cli.h"
 #include "cvslam/io/config_node.h"
+#include "cvslam/io/options_description.h"
 #include "cvslam/io/process_shell.h"
 #include "cvslam/lcm/ground_station_node.h"
 #include "cvslam/sim/scenario.h"
@@ -53,7 +54,7 @@ options:
   --seed N                scenario: overrides its seed
   --duration S            scenario: only the first S seconds
   --idle-exit S           exit after S seconds without agent messages (default: never)
-  --verbose               more messages on stderr
+  --verbose               more messages on stderr, the effective configuration first
   -h, --help              this text
 )";
 
@@ -178,15 +179,20 @@ int main(int argc, char** argv) {
   node.verbose = args.verbose;
   node.filter_name = info.filter;
   if (!args.url.empty()) node.url = args.url;
-  if (!args.auth_key.empty()) {
-    auto key = cvslam::transport::TeamKey::readFile(args.auth_key);
-    if (!key.ok()) return fail(key.status().message());
-    node.auth_key = std::make_shared<const cvslam::transport::TeamKey>(std::move(*key));
-  }
+  auto key = cvslam::transport::TeamKey::forOption(args.auth_key);
+  if (!key.ok()) return fail(key.status().message());
+  node.auth_key = *key;
   shell.stopOnSignals();
   auto gs = cvslam::transport::GroundStationNode::create(node, filter, std::move(*agents), info);
   if (!gs.ok()) return fail(gs.status().message());
-  if (args.verbose) std::fprintf(stderr, "cvslam_ground_station: listening\n");
+  if (args.verbose) {
+    std::vector<cvslam::ConfigNode::Value> values = cvslam::optionValues(filter);
+    const auto node_section = cvslam::inSection(cvslam::optionValues(node), "ground_station");
+    values.insert(values.end(), node_section.begin(), node_section.end());
+    std::fprintf(stderr, "cvslam_ground_station: effective configuration\n%s",
+                 cvslam::formatOptionValues(values).c_str());
+    std::fprintf(stderr, "cvslam_ground_station: listening\n");
+  }
   Status s = (*gs)->run(shell.stopFlag());
   std::printf("cvslam_ground_station: %s\n", (*gs)->report().c_str());
   if (!s.ok()) return fail(s.message());

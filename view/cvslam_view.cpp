@@ -121,11 +121,9 @@ int main(int argc, char** argv) {
     if (!args.url.empty()) o.url = args.url;
     if (Status s = cvslam::transport::checkLcmUrl(o.url); !s.ok()) return fail(s.message());
     o.max_agent_id = args.max_agent_id;
-    if (!args.auth_key.empty()) {
-      auto key = cvslam::transport::TeamKey::readFile(args.auth_key);
-      if (!key.ok()) return fail(key.status().message());
-      o.auth_key = std::make_shared<const cvslam::transport::TeamKey>(std::move(*key));
-    }
+    auto key = cvslam::transport::TeamKey::forOption(args.auth_key);
+    if (!key.ok()) return fail(key.status().message());
+    o.auth_key = *key;
     o.latency = !args.no_latency;
     o.view = model;
     auto created = cvslam::transport::ViewNode::create(o);

@@ -1,5 +1,7 @@
 #include "cvslam/lcm/agent_node.h"
 
+#include <type_traits>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <thread>
+#include <type_traits>
 
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/config_node.h"
@@ -73,7 +76,8 @@ Expected<std::unique_ptr<AgentNode>> AgentNode::create(const AgentNodeOptions& o
   return node;
 }
 
-void AgentNode::push(SensorEvent&& event, const std::string& channel, std::size_t capacity) {
+void AgentNode::push(SensorEvent&& event, const std::string& channel, std::size_t capacity,
+                     std::shared_ptr<const cvslam::stereo_image_t> image) {
   {
     std::lock_guard<std::mutex> lock(inbox_mutex_);
     std::size_t& n = inbox_count_[channel];
@@ -84,7 +88,7 @@ void AgentNode::push(SensorEvent&& event, const std::string& channel, std::size_
     ++n;
     const double t = now();
     last_arrival_s_ = t;
-    inbox_.push_back(Inbound{std::move(event), t});
+    inbox_.push_back(Inbound{std::move(event), t, std::move(image)});
   }
   inbox_cv_.notify_one();
 }
@@ -99,13 +103,20 @@ Status AgentNode::subscribe() {
     return false;
   };
   // One subscription per sensor stream: from the replay only, converted to a SensorEvent
-  // (sensor_convert.h), queued with the stream's capacity; an image pair that does not decode
-  // is rejected.
+  // (sensor_convert.h), queued with the stream's capacity; an image pair is queued as it came
+  // and decoded by order(), which rejects a pair that does not decode.
   auto sensor = [&](const std::string& channel, std::size_t capacity, auto typed) -> Status {
     using Msg = typename decltype(typed)::type;
     return bus_->subscribe<Msg>(channel, [=](const Msg& m) {
       if (!fromReplay(m.header.agent_id, channel)) return;
       SensorEvent e;
+      if constexpr (std::is_same_v<Msg, cvslam::stereo_image_t>) {
+        e.type = SensorEventType::kStereoImage;
+        e.agent_id = id;
+        e.t_us = m.header.utime;
+        push(std::move(e), channel, capacity, std::make_shared<const cvslam::stereo_image_t>(m));
+        return;
+      }
       if (!toSensorEvent(m, id, &e)) {
         std::lock_guard<std::mutex> lock(inbox_mutex_);
         ++rejected_[channel];
@@ -398,6 +409,18 @@ Status AgentNode::flushRecord(bool final) {
   return final ? recorder_.close() : recorder_.flush();
 }
 
+void AgentNode::order(std::vector<Inbound>& batch) {
+  for (Inbound& in : batch) {
+    if (in.image != nullptr && !fromStereoMessage(*in.image, in.event.left, in.event.right).ok()) {
+      std::lock_guard<std::mutex> lock(inbox_mutex_);
+      ++rejected_[channels::stereo(o_.id)];
+      continue;
+    }
+    if (!orderer_.push(std::move(in.event), in.arrival_s)) ++late_;
+  }
+  batch.clear();
+}
+
 Status AgentNode::run(const std::atomic<bool>& stop) {
   if (Status s = bus_->start(); !s.ok()) return s;
   if (coop_bus_)
@@ -417,9 +440,7 @@ Status AgentNode::run(const std::atomic<bool>& stop) {
     // Cooperation after the sensor inbox: whatever arrived before these sensor messages is
     // handed over now (lockstep: the peers' outboxes of the previous epoch).
     if (coop_) coop_->drainInbound();
-    for (Inbound& in : batch)
-      if (!orderer_.push(std::move(in.event), in.arrival_s)) ++late_;
-    batch.clear();
+    order(batch);
     bool progressed = false;
     double arrival = 0.0;
     while (orderer_.pop(now(), false, &event, &arrival)) {
@@ -464,8 +485,7 @@ Status AgentNode::run(const std::atomic<bool>& stop) {
     batch.swap(inbox_);
   }
   if (coop_) coop_->drainInbound();
-  for (Inbound& in : batch)
-    if (!orderer_.push(std::move(in.event), in.arrival_s)) ++late_;
+  order(batch);
   double arrival = 0.0;
   while (orderer_.pop(now(), true, &event, &arrival)) handle(event, arrival);
   if (Status s = publishStatus(); !s.ok()) return s;

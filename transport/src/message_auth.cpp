@@ -72,6 +72,13 @@ Expected<TeamKey> TeamKey::readFile(const std::string& path) {
   return key;
 }
 
+Expected<std::shared_ptr<const TeamKey>> TeamKey::forOption(const std::string& path) {
+  if (path.empty()) return std::shared_ptr<const TeamKey>();
+  Expected<TeamKey> key = readFile(path);
+  if (!key.ok()) return key.status();
+  return std::make_shared<const TeamKey>(std::move(*key));
+}
+
 std::vector<uint8_t> MessageSigner::sign(const std::string& channel, const void* encoding,
                                          std::size_t size) {
   uint64_t counter;

@@ -136,10 +136,16 @@ class AgentNode {
   struct Inbound {
     SensorEvent event;
     double arrival_s;
+    /// A stereo pair as it arrived: decoded by run()'s thread, so that the receive thread
+    /// only copies bytes (a PNG pair takes milliseconds to decode).
+    std::shared_ptr<const cvslam::stereo_image_t> image;
   };
   AgentNode(const AgentNodeOptions& options, AgentCalibration calibration);
   Status subscribe();
-  void push(SensorEvent&& event, const std::string& channel, std::size_t capacity);
+  void push(SensorEvent&& event, const std::string& channel, std::size_t capacity,
+            std::shared_ptr<const cvslam::stereo_image_t> image = nullptr);
+  /// Decodes the batch's stereo pairs and hands the batch to the orderer (run()'s thread).
+  void order(std::vector<Inbound>& batch);
   Status processEvent(SensorEvent& event, double arrival_s);
   void handle(SensorEvent& event, double arrival_s);
   Status startPipeline(const AgentFilterSetup& setup);
@@ -174,7 +180,7 @@ class AgentNode {
   std::vector<Inbound> inbox_;
   std::map<std::string, std::size_t> inbox_count_;  // per channel, in inbox_
   std::map<std::string, int64_t> dropped_;          // queue full, per channel
-  std::map<std::string, int64_t> rejected_;         // valid LCM, wrong sender, per channel
+  std::map<std::string, int64_t> rejected_;         // wrong sender or undecodable pair
   int64_t late_ = 0;                                // out of order (orderer)
   int64_t before_start_ = 0;                        // IMU / frames before the first pose
   std::optional<ImuSample> pre_start_imu_;

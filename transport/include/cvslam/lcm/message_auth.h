@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -35,6 +36,8 @@ struct TeamKey {
   std::vector<uint8_t> bytes;
   /// Reads a key file: at least kMinTeamKeyBytes bytes (a trailing newline is not part of it).
   static Expected<TeamKey> readFile(const std::string& path);
+  /// The key of a process's --auth-key: readFile(path) shared, or null (unsigned) for "".
+  static Expected<std::shared_ptr<const TeamKey>> forOption(const std::string& path);
 };
 
 /// Signs outgoing messages. Thread-safe.
