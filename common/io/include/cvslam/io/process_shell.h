@@ -25,7 +25,6 @@ class ProcessShell {
   bool stopping() const { return stopFlag().load(); }
   /// The flag itself, for loops that take it (AgentNode::run).
   static std::atomic<bool>& stopFlag();
-  const std::string& program() const { return program_; }
 
  private:
   std::string program_;
