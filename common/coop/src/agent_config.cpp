@@ -48,16 +48,9 @@ Expected<AgentConfig> AgentConfig::load(
   const ConfigNode& root = c.effective.node();
   c.slam.load(root);
   c.frontend.load(root.child("frontend"));
-  {  // the slam options as the front end's overrides leave them, for images
-    SlamOptions with_images = c.slam.slam;
-    with_images.first_estimate_jacobians =
-        c.frontend.first_estimate_jacobians.value_or(with_images.first_estimate_jacobians);
-    with_images.observability_constrained =
-        c.frontend.observability_constrained.value_or(with_images.observability_constrained);
-    if (Status s = with_images.checkChart(); !s.ok()) {
-      return Status::Error("frontend: error_chart: " + s.message());
-    }
-  }
+  // The slam options as the front end's overrides leave them, for images.
+  if (Status s = c.frontend.resolve(c.slam.slam).checkChart(); !s.ok())
+    return Status::Error("frontend: error_chart: " + s.message());
   c.coop.load(root.child("coop"));
   if (tool_sections) tool_sections(root);
   root.skip("lcm");  // read by the LCM tools (lcm-spy), not by an agent

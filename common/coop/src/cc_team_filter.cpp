@@ -119,8 +119,8 @@ Status CcTeamFilter::addVehicle(int agent_id, const StereoCamera& camera, int64_
 void CcTeamFilter::setLinearisationOracle(int agent_id, const LinearisationOracle* oracle) {
   impl_->oracles[agent_id] = oracle;
   // The ideal EKF's Jacobians are at the truth, which an update does not move: its chart is the
-  // additive one whatever the configuration, as in VisualInertialSlam::chart()
-  // (docs/results/ideal_ekf.md). Set before the first vehicle enters, the whole state has it.
+  // additive one whatever the configuration (docs/results/ideal_ekf.md). Set before the first
+  // vehicle enters, the whole state has it.
   const bool any_oracle = std::any_of(impl_->oracles.begin(), impl_->oracles.end(),
                                       [](const auto& o) { return o.second != nullptr; });
   impl_->state.setErrorChart(any_oracle ? ErrorChart::kAdditive : o_.slam.slam.error_chart);

@@ -70,7 +70,8 @@ struct CcTeamFilter::Impl {
   LandmarkArchive archive;
   KNearestMapManager map_manager;
   /// Loop landmarks re-enter by covariance intersection with the whole joint state when
-  /// SlamOptions::reactivation says so (as VisualInertialSlam); bounds set by the constructor.
+  /// SlamOptions::reactivation says so (reactivation_intersection.h); bounds set by the
+  /// constructor.
   ReactivationIntersection reactivation{ReactivationOptions{}};
   UpdatePolicy policy;
   Status policy_status;
@@ -80,7 +81,7 @@ struct CcTeamFilter::Impl {
   std::unordered_map<uint32_t, std::vector<int64_t>> by_index;
   /// Last time two UAVs (lower id first) shared an observed landmark outside a pending loop.
   std::map<std::pair<int, int>, int64_t> contact;
-  int64_t next_fresh_id = int64_t{1} << 40;  // as VisualInertialSlam
+  int64_t next_fresh_id = int64_t{1} << 40;  // ids for landmarks the agents left unnamed
   StereoFrameObservations frame;             // the batch with joint ids (reused)
   MeasurementBatch meet_batch;               // rendezvous updates (reused)
   StereoFrameObservations gate_frame;        // withinGate (reused)

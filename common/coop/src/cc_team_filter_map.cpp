@@ -275,14 +275,9 @@ Status CcTeamFilter::Impl::manageMap(CcVehicle& v, int64_t t_us, const SlamOptio
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager, v.camera, state, v.key, frame);
   v.m_star = m_star;
   reentered.clear();
-  std::vector<int64_t> observed;
-  observed.reserve(frame.observations.size());
-  for (const StereoObservation& obs : frame.observations) {
-    if (obs.landmark_id >= 0) observed.push_back(obs.landmark_id);
-  }
-  std::sort(observed.begin(), observed.end());
+  const std::vector<int64_t> observed = observedLandmarkIds(frame);
   // Candidates: this UAV's active landmarks and the state landmarks it observes now (in state
-  // order), then the archived ones it observes now (as VisualInertialSlam, §5.8).
+  // order), then the archived ones it observes now (§5.8).
   std::vector<MapCandidate> candidates;
   for (const StateVariable& sv : state.variables()) {
     if (sv.key.kind != VariableKey::Kind::kLandmark) continue;

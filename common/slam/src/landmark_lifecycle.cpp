@@ -11,6 +11,15 @@
 
 namespace cvslam {
 
+std::vector<int64_t> observedLandmarkIds(const StereoFrameObservations& frame) {
+  std::vector<int64_t> ids;
+  ids.reserve(frame.observations.size());
+  for (const StereoObservation& obs : frame.observations)
+    if (obs.landmark_id >= 0) ids.push_back(obs.landmark_id);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
 Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const StereoCamera& camera,
                                   const SlamState& state, const VariableKey& vehicle,
                                   const StereoFrameObservations& frame) {

@@ -71,34 +71,18 @@ ErrorChart VisualInertialSlam::chart() const {
   return oracle_ != nullptr ? ErrorChart::kAdditive : o_.slam.error_chart;
 }
 
-// The image front end applies its overrides on every frame: rebuild the models only on a change.
-void VisualInertialSlam::setFirstEstimateJacobians(bool on) {
-  if (o_.slam.first_estimate_jacobians == on) return;
-  o_.slam.first_estimate_jacobians = on;
-  configureModels();
-}
-
-void VisualInertialSlam::setObservabilityConstrained(bool on) {
-  if (o_.slam.observability_constrained == on) return;
-  o_.slam.observability_constrained = on;
-  configureModels();
-}
-
-void VisualInertialSlam::setSecondOrderNoise(bool on) {
-  if (o_.slam.second_order_noise == on) return;
-  o_.slam.second_order_noise = on;
-  configureModels();
-}
-
-void VisualInertialSlam::setSecondOrderMean(bool on) {
-  if (o_.slam.second_order_mean == on) return;
-  o_.slam.second_order_mean = on;
-  configureModels();
-}
-
-void VisualInertialSlam::setPixelSigma(double sigma_px) {
-  if (o_.slam.pixel_sigma == sigma_px) return;
-  o_.slam.pixel_sigma = sigma_px;
+void VisualInertialSlam::setMeasurementModel(const SlamOptions& slam) {
+  SlamOptions& o = o_.slam;
+  if (o.first_estimate_jacobians == slam.first_estimate_jacobians &&
+      o.observability_constrained == slam.observability_constrained &&
+      o.second_order_noise == slam.second_order_noise &&
+      o.second_order_mean == slam.second_order_mean && o.pixel_sigma == slam.pixel_sigma)
+    return;
+  o.first_estimate_jacobians = slam.first_estimate_jacobians;
+  o.observability_constrained = slam.observability_constrained;
+  o.second_order_noise = slam.second_order_noise;
+  o.second_order_mean = slam.second_order_mean;
+  o.pixel_sigma = slam.pixel_sigma;
   configureModels();
 }
 
@@ -188,12 +172,7 @@ const std::vector<uint8_t>* VisualInertialSlam::descriptorOf(int64_t landmark_id
 Status VisualInertialSlam::manageMap(const StereoFrameObservations& frame, FrameReport* report) {
   const Eigen::Vector3d m_star = frameVirtualPoint(map_manager_, camera_, state_, vehicle_, frame);
 
-  std::vector<int64_t> observed;
-  observed.reserve(frame.observations.size());
-  for (const StereoObservation& obs : frame.observations) {
-    if (obs.landmark_id >= 0) observed.push_back(obs.landmark_id);
-  }
-  std::sort(observed.begin(), observed.end());
+  const std::vector<int64_t> observed = observedLandmarkIds(frame);
   std::vector<MapCandidate> candidates;
   for (const StateVariable& v : state_.variables()) {
     if (v.key.kind != VariableKey::Kind::kLandmark) continue;

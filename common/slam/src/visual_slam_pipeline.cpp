@@ -154,6 +154,16 @@ Expected<std::shared_ptr<const vision::Vocabulary>> loadFeatureIndexVocabulary(
   return std::make_shared<const vision::Vocabulary>(std::move(v.value()));
 }
 
+SlamOptions VisualFrontEndOptions::resolve(SlamOptions slam) const {
+  slam.first_estimate_jacobians = first_estimate_jacobians.value_or(slam.first_estimate_jacobians);
+  slam.observability_constrained =
+      observability_constrained.value_or(slam.observability_constrained);
+  slam.second_order_noise = second_order_noise.value_or(slam.second_order_noise);
+  slam.second_order_mean = second_order_mean.value_or(slam.second_order_mean);
+  slam.pixel_sigma = pixel_sigma.value_or(slam.pixel_sigma);
+  return slam;
+}
+
 Expected<VisualSlamPipeline> VisualSlamPipeline::create(
     const VisualFrontEndOptions& options, const StereoCamera& camera,
     std::shared_ptr<const vision::Vocabulary> vocabulary) {
@@ -177,13 +187,11 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
                                    VisualInertialSlam& slam, VisualFrameResult* result) {
   VisualFrameResult& r = *result;
   r = VisualFrameResult();
-  if (o_.first_estimate_jacobians) slam.setFirstEstimateJacobians(*o_.first_estimate_jacobians);
-  if (o_.observability_constrained) {
-    slam.setObservabilityConstrained(*o_.observability_constrained);
+  // The image path's overrides of the measurement model, once, before its first frame.
+  if (!measurement_model_set_) {
+    slam.setMeasurementModel(o_.resolve(slam.options().slam));
+    measurement_model_set_ = true;
   }
-  if (o_.second_order_noise) slam.setSecondOrderNoise(*o_.second_order_noise);
-  if (o_.second_order_mean) slam.setSecondOrderMean(*o_.second_order_mean);
-  if (o_.pixel_sigma) slam.setPixelSigma(*o_.pixel_sigma);
   r.frame.t_us = t_us;
   if (left.empty() || right.empty()) return Status::Error("pipeline: empty image");
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1) {

@@ -123,7 +123,7 @@ struct CcTeamFilterOptions {
   /// A landmark re-activated independently (slam.reactivation / recent_reentry: independent)
   /// re-enters with its archived covariance plus this times the re-activating UAV's position
   /// covariance (the landmark is correlated with the whole team, which an independent re-entry
-  /// would forget); 0: as VisualInertialSlam. Not used by intersection re-entry.
+  /// would forget); 0: the archived covariance alone. Not used by intersection re-entry.
   double reactivation_inflation = 1.0;
   /// Rendezvous: when a UAV whose position 1σ is at least this meets another UAV's map for
   /// the first time (or first after slam.loop_closure_min_age_s) and is much more uncertain
@@ -177,7 +177,7 @@ struct CcStepReport {
   CcRefusal refusal = CcRefusal::kNone;
   std::string defect;              ///< kInvalid: the kind validateBatch named
   std::string reason;              ///< why refused, one line
-  FrameReport frame;               ///< the recipe's report (as VisualInertialSlam::processFrame)
+  FrameReport frame;               ///< the recipe's report (slam/visual_inertial_slam.h)
   int type1 = 0;                   ///< observations of landmarks in this UAV's map (§6.3.1)
   int type2 = 0;                   ///< of landmarks in the joint map from other UAVs only
   int type3 = 0;                   ///< of landmarks new to the joint map

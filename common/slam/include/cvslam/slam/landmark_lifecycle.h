@@ -32,6 +32,10 @@ Eigen::Vector3d frameVirtualPoint(const KNearestMapManager& manager, const Stere
                                   const SlamState& state, const VariableKey& vehicle,
                                   const StereoFrameObservations& frame);
 
+/// The landmark ids the frame's observations name (landmark_id ≥ 0), sorted: what the map
+/// manager counts as observed now (MapCandidate::observed).
+std::vector<int64_t> observedLandmarkIds(const StereoFrameObservations& frame);
+
 /// Moves landmark `id` from the state to the archive at t_us with `record` (its book entry,
 /// already removed from the book(s); none: an empty record). No-op when not in the state.
 /// With held_capacity > 0 the landmark also stays in the state as a held (Schmidt) variable

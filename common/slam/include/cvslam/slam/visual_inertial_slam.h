@@ -170,19 +170,11 @@ class VisualInertialSlam {
   /// Landmarks in the state and in the archive, sorted by id.
   std::vector<MapLandmark> map() const;
   const FilterStatistics& statistics() const { return stats_; }
-  /// Switches first-estimates Jacobians (SlamOptions) from the next update on; the first
-  /// estimates are always recorded, so this is safe at any time. The image path sets it from
-  /// `frontend.first_estimate_jacobians` (visual_slam_pipeline.h).
-  void setFirstEstimateJacobians(bool on);
-  /// The same for the observability-constrained updates (SlamOptions): their bookkeeping is
-  /// always kept, only the projection of the Jacobians is switched.
-  void setObservabilityConstrained(bool on);
-  /// slam.second_order_noise, as setFirstEstimateJacobians (the image front end's override).
-  void setSecondOrderNoise(bool on);
-  /// slam.second_order_mean, likewise.
-  void setSecondOrderMean(bool on);
-  /// slam.pixel_sigma (> 0), likewise (the image front end's override).
-  void setPixelSigma(double sigma_px);
+  /// Takes the measurement-model switches of `slam` (first-estimate Jacobians, observability
+  /// constraint, second-order noise and mean, pixel σ) from the next update on; the first
+  /// estimates and the constraint's bookkeeping are always kept, so this is safe at any time.
+  /// The image path applies its overrides so, once (VisualFrontEndOptions::resolve).
+  void setMeasurementModel(const SlamOptions& slam);
   /// Takes the Jacobians of propagation, stereo update and initialisation at the truth the
   /// oracle gives (linearisation_oracle.h: the ideal EKF, a diagnostic of simulation; null:
   /// off); the loop update's iterated Jacobians too. The oracle must outlive this filter.

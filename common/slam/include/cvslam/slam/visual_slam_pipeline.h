@@ -121,6 +121,9 @@ struct VisualFrontEndOptions {
   std::optional<double> pixel_sigma;
 
   Status load(const ConfigNode& node);
+  /// `slam` as the filter runs it behind this image path: each override above that is set
+  /// replaces its slam key.
+  SlamOptions resolve(SlamOptions slam) const;
 };
 
 /// What one stereo pair did.
@@ -202,7 +205,8 @@ class VisualSlamPipeline {
   std::vector<Eigen::Vector4d> expected_;          // previous_ projected now (expectPrevious)
   std::vector<bool> ahead_;                        // … in front of the camera
   AppearanceLoopDetector loop_detector_;
-  bool feature_index_ = false;  // observations carry visual words (a vocabulary is loaded)
+  bool feature_index_ = false;          // observations carry visual words (a vocabulary is loaded)
+  bool measurement_model_set_ = false;  // the filter took this path's overrides (process)
   int64_t frames_ = 0;
   int64_t next_landmark_id_ = 0;
 };
