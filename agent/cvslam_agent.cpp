@@ -56,6 +56,9 @@ options:
                           rest — from the IMU's first rest period; dynamic — in motion, from
                           the first frames and the IMU; auto — rest if at rest, else dynamic
   --config FILE           agent configuration (default: config/agent.yaml of the source tree)
+  --profile NAME          the filter profile beneath the configuration, in place of the one
+                          it names: invariant_ekf (shipped) | thesis_ekf (chapter 5);
+                          config/profiles/
   --set SECTION.KEY=VALUE one key of the configuration changed, e.g. map.kind=full or
                           frontend.detector.type=orb (repeatable; the rest stays as --config)
   --mode single|dc|cc     single: alone; dc: decentralised cooperation; cc: centralised, with

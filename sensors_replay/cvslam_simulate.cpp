@@ -49,8 +49,8 @@ options:
   --out DIR           output folder; must not hold uav<id>/mav0 already  [required]
   --seed N            overrides the scenario's seed
   --duration S        simulate only the first S seconds
-  --world KIND        aerial | hall (default: hall for TUM-trajectory scenarios,
-                      aerial otherwise)
+  --world KIND        aerial | hall (default: the scenario's render: world, else hall for
+                      TUM-trajectory scenarios and aerial otherwise)
   --as-recorded MAV0  write the folders as a real rig records them: z-up world,
                       IMU in the axes and images with the calibration (unrectified,
                       distorted) of the EuRoC folder MAV0 (its cam0/cam1/sensor.yaml);
@@ -197,7 +197,7 @@ Expected<std::map<int, AgentOutput>> createOutputs(
     o.imu.accelerometer_random_walk = a.imu.accel_random_walk;
     std::optional<cvslam::AsRecordedRig> rig;
     if (rig_calibration) {
-      auto r = cvslam::AsRecordedRig::create(world, *rig_calibration, a.camera);
+      auto r = cvslam::AsRecordedRig::create(world, *rig_calibration, a.camera, scenario.render);
       if (!r.ok()) return r.status();
       rig = std::move(*r);
       o.cameras = {rig->cameraInfo(false, a.camera_rate_hz),

@@ -46,7 +46,8 @@ options:
   --compress            stereo images as PNG
   --no-gt               do not publish UAV<id>/GT
   --sensing KIND        scenario: images (default) | features (no rendering)
-  --world KIND          scenario: aerial | hall (default: hall for TUM trajectories)
+  --world KIND          scenario: aerial | hall (default: the scenario's render: world,
+                        else hall for TUM trajectories and aerial otherwise)
   --seed N              scenario: override the seed
   --quiet               no progress or summary output
   -h, --help            this text

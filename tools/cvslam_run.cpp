@@ -23,6 +23,7 @@
 #include "cvslam/io/run_writer.h"
 #include "cvslam/sim/scenario.h"
 #include "cvslam/simrun/cross_uav_match_audit.h"
+#include "cvslam/simrun/render_world_choice.h"
 #include "cvslam/simrun/rendered_sensing.h"
 #include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/agent_run_recorder.h"
@@ -45,6 +46,9 @@ options:
   --out DIR               output folder (created)                               [required]
   --config FILE           agent configuration (default: config/agent.yaml of the
                           source tree, else built-in defaults)
+  --profile NAME          the filter profile beneath the configuration, in place of the
+                          one it names: invariant_ekf (shipped) | thesis_ekf (chapter 5) |
+                          ideal_ekf (with --linearise-at-truth); config/profiles/
   --set SECTION.KEY=VALUE one key of the configuration changed, e.g. map.kind=full or
                           frontend.detector.type=orb (repeatable; the rest stays as --config)
   --mode single|dc|cc     single: every UAV alone; dc: decentralised cooperation
@@ -70,9 +74,10 @@ options:
   --coop-loss-seed N      dc: seed of the loss draws (default 1): one seed, one pattern
   --sensing KIND          features: feature-level simulation with true landmark ids;
                           images: stereo pairs rendered at the true pose (the scenario's
-                          `render:` world, default aerial) through the real front end and
-                          map association (configuration section `frontend:`)
-  --world aerial|hall     images: overrides the scenario's render world kind
+                          `render:` world, else hall for TUM-trajectory scenarios and aerial
+                          otherwise; the same images cvslam_replay publishes) through the
+                          real front end and map association (configuration `frontend:`)
+  --world aerial|hall     images: overrides the render world's kind
   --detector NAME         images: overrides frontend.detector.type (adaptive_sift |
                           fast_sift | sift | orb)
   --filter ekf|nhinf      overrides filter.type of the configuration
@@ -176,11 +181,6 @@ Status applyScenarioArgs(const Args& args, cvslam::sim::Scenario* scenario) {
     for (cvslam::sim::AgentSpec& agent : scenario->agents) agent.pixel_noise.load(*cfg);
     if (!cfg->status().ok()) return cfg->status();
   }
-  if (!args.world.empty()) {
-    auto cfg = cvslam::ConfigNode::fromString("kind: " + args.world, "--world");
-    scenario->render_world.load(*cfg);
-    if (!cfg->status().ok()) return cfg->status();
-  }
   return Status::Ok();
 }
 
@@ -191,7 +191,10 @@ cvslam::Expected<cvslam::SimulatedTeamRun::SensingFactory> makeSensing(
   // The feature index needs a vocabulary of the detector's descriptor type (§6.6.3).
   auto vocabulary = cvslam::loadFeatureIndexVocabulary(config.frontend, config.effective.dir());
   if (!vocabulary.ok()) return vocabulary.status();
-  return cvslam::makeRenderedSensingFactory(scenario, config.frontend, *vocabulary);
+  // The world the agent processes see through cvslam_replay (render_world_choice.h).
+  auto world = cvslam::chooseRenderWorld(scenario, args.world);
+  if (!world.ok()) return world.status();
+  return cvslam::makeRenderedSensingFactory(scenario, world->options, config.frontend, *vocabulary);
 }
 
 /// Per-UAV counters for the closing summary.

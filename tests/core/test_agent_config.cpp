@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "cvslam/coop/agent_config.h"
@@ -307,6 +308,106 @@ TEST(AgentConfig, ItsDescriptionLoadsBackToTheSameOptions) {
   ASSERT_TRUE(changed.ok()) << changed.status().message();
   EXPECT_TRUE(sameOptions(changed->slam, config->slam));
   EXPECT_FALSE(sameOptions(changed->coop, config->coop));
+}
+
+TEST(AgentConfig, TheShippedFileHoldsWhatAUserSetsAndItsProfileTheRest) {
+  // config/agent.yaml: at most 60 keys; the algorithm's switches come from its profile.
+  auto file = EffectiveConfig::load(shippedConfig());
+  ASSERT_TRUE(file.ok()) << file.status().message();
+  const YAML::Node tree = YAML::Load(file->yaml());
+  std::function<int(const YAML::Node&)> leaves = [&](const YAML::Node& n) {
+    if (!n.IsMap()) return 1;
+    int count = 0;
+    for (const auto& entry : n) count += leaves(entry.second);
+    return count;
+  };
+  EXPECT_LE(leaves(tree) - 1, 60);  // `profile:` itself is not a setting
+  EXPECT_EQ(tree["profile"].as<std::string>(), "invariant_ekf");
+  EXPECT_FALSE(tree["slam"]["error_chart"]);
+
+  AgentConfigArgs args;
+  args.config = shippedConfig();
+  auto shipped = AgentConfig::load(args, "", skipAgent);
+  ASSERT_TRUE(shipped.ok()) << shipped.status().message();
+  EXPECT_EQ(shipped->effective.profiles(), std::vector<std::string>{"invariant_ekf"});
+  EXPECT_EQ(shipped->slam.slam.error_chart, ErrorChart::kRightInvariant);
+  EXPECT_EQ(shipped->slam.slam.held_landmarks, 100);
+  EXPECT_EQ(shipped->frontend.front_end.detector.fast_sift.describe_budget, 150);
+  // The record holds every key, without the profile: it loads back alone.
+  const std::string used = shipped->effective.yaml();
+  EXPECT_EQ(used.find("profile:"), std::string::npos) << used;
+  test::TempFolder tmp;
+  std::ofstream(tmp / "used.yaml") << used;
+  AgentConfigArgs again;
+  again.config = tmp / "used.yaml";
+  auto back = AgentConfig::load(again, "", skipAgent);
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_TRUE(back->effective.profiles().empty());
+  EXPECT_TRUE(sameOptions(back->slam, shipped->slam));
+  EXPECT_TRUE(sameOptions(back->frontend, shipped->frontend));
+  EXPECT_TRUE(sameOptions(back->coop, shipped->coop));
+
+  // Every key of the profile is a key of the configuration: set in the file, it wins.
+  args.set = {"slam.held_landmarks=7", "frontend.loop_detection.min_inliers=9"};
+  auto set = AgentConfig::load(args, "", skipAgent);
+  ASSERT_TRUE(set.ok()) << set.status().message();
+  EXPECT_EQ(set->slam.slam.held_landmarks, 7);
+  EXPECT_EQ(set->frontend.loop_detection.min_inliers, 9);
+}
+
+TEST(AgentConfig, AProfileSetsTheFiltersVariantInOneWord) {
+  AgentConfigArgs args;
+  args.config = shippedConfig();
+  args.profile = "thesis_ekf";
+  auto thesis = AgentConfig::load(args, "", skipAgent);
+  ASSERT_TRUE(thesis.ok()) << thesis.status().message();
+  EXPECT_EQ(thesis->effective.profiles(),
+            (std::vector<std::string>{"thesis_ekf", "invariant_ekf"}));
+  EXPECT_EQ(thesis->slam.slam.error_chart, ErrorChart::kAdditive);
+  EXPECT_EQ(thesis->slam.ins.attitude, vehicle::Attitude::kEuler);
+  EXPECT_EQ(thesis->slam.slam.held_landmarks, 0);
+  EXPECT_FALSE(thesis->coop.both_ways);
+  // What the profile leaves open is the shipped profile's, and the file's keys stay.
+  EXPECT_EQ(thesis->slam.slam.loop_closure_passes, 3);
+  EXPECT_EQ(thesis->slam.map.k, 20);
+  args.profile = "ideal_ekf";
+  auto ideal = AgentConfig::load(args, "", skipAgent);
+  ASSERT_TRUE(ideal.ok()) << ideal.status().message();
+  EXPECT_EQ(ideal->slam.slam.error_chart, ErrorChart::kAdditive);
+  EXPECT_TRUE(ideal->slam.slam.second_order_mean);
+}
+
+TEST(AgentConfig, MisspeltKeysAndProfilesAreRefusedInOneLine) {
+  test::TempFolder tmp;
+  auto load = [&](const std::string& text) {
+    std::ofstream(tmp / "c.yaml") << text;
+    AgentConfigArgs args;
+    args.config = tmp / "c.yaml";
+    return AgentConfig::load(args, shippedConfig(), skipAgent);
+  };
+  // A key of the profile, misspelt in the user's file.
+  auto typo = load("profile: invariant_ekf\nslam: {held_landmark: 5}\n");
+  ASSERT_FALSE(typo.ok());
+  EXPECT_NE(typo.status().message().find("held_landmark"), std::string::npos);
+  EXPECT_EQ(typo.status().message().find('\n'), std::string::npos) << typo.status().message();
+  // An unknown profile names the known ones (the shipped folder, beside the default file).
+  auto unknown = load("profile: invarant_ekf\n");
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_NE(unknown.status().message().find("unknown profile 'invarant_ekf'"), std::string::npos)
+      << unknown.status().message();
+  EXPECT_NE(unknown.status().message().find("thesis_ekf"), std::string::npos);
+  // A profile beside the user's file is found first; one that names itself is refused.
+  std::filesystem::create_directories(tmp / "profiles");
+  std::ofstream(tmp / "profiles/loop.yaml") << "profile: loop\n";
+  auto cycle = load("profile: loop\n");
+  ASSERT_FALSE(cycle.ok());
+  EXPECT_NE(cycle.status().message().find("names itself"), std::string::npos)
+      << cycle.status().message();
+  std::ofstream(tmp / "profiles/mine.yaml") << "profile: invariant_ekf\nmap: {k: 12}\n";
+  auto mine = load("profile: mine\n");
+  ASSERT_TRUE(mine.ok()) << mine.status().message();
+  EXPECT_EQ(mine->slam.map.k, 12);
+  EXPECT_EQ(mine->slam.slam.held_landmarks, 100);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // finite differences for both attitude parametrisations, and a UAV that starts 4 m off,
 // flies with GPS, loses it for 10 s and gets it back.
 #include "cvslam/slam/gps_updater.h"
+#include "shipped_config.h"
 
 #include <gtest/gtest.h>
 
@@ -80,7 +81,7 @@ struct GpsRun {
 /// The shipped configuration (config/agent.yaml) with GPS updates on or off.
 VisualInertialSlamOptions shippedOptions(bool gps) {
   VisualInertialSlamOptions o;
-  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  auto shipped = test::shippedAgentConfig();
   EXPECT_TRUE(shipped.ok()) << shipped.status().message();
   if (shipped.ok()) {
     const Status st = o.load(*shipped);

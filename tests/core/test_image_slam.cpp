@@ -17,6 +17,7 @@
 #include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/map_prediction.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
+#include "shipped_config.h"
 
 namespace cvslam {
 namespace {
@@ -56,12 +57,12 @@ void runImages(const sim::Scenario& scenario, vision::DetectorType detector, Ima
   // The shipped configuration (config/agent.yaml), detector as asked.
   VisualInertialSlamOptions options;
   VisualFrontEndOptions fe;
-  auto cfg = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  auto cfg = test::shippedAgentConfig();
   ASSERT_TRUE(cfg.ok());
   ASSERT_TRUE(options.load(*cfg).ok());
   ASSERT_TRUE(fe.load(cfg->child("frontend")).ok()) << cfg->status().message();
   fe.front_end.detector.type = detector;
-  auto factory = makeRenderedSensingFactory(scenario, fe, nullptr);
+  auto factory = makeRenderedSensingFactory(scenario, scenario.render_world, fe, nullptr);
   EXPECT_TRUE(factory.ok()) << factory.status().message();
   if (!factory.ok()) return;
   auto run = SimulatedTeamRun::create(scenario, options, *factory);
@@ -218,7 +219,8 @@ TEST_F(MapPredictionTest, PredictsStateAndArchivedLandmarksWithCovariance) {
 
   std::vector<PredictedObservation> preds;
   MapPredictionOptions o;
-  ASSERT_TRUE(predictMapObservations(*slam_, 100000, o, &preds).ok());
+  ASSERT_TRUE(slam_->propagateTo(100000).ok());
+  ASSERT_TRUE(predictMapObservations(*slam_, o, &preds).ok());
   ASSERT_EQ(preds.size(), 2u);
   EXPECT_EQ(preds[0].landmark_id, 7);
   EXPECT_FALSE(preds[0].archived);
@@ -254,10 +256,12 @@ TEST_F(MapPredictionTest, PredictsStateAndArchivedLandmarksWithCovariance) {
 
   // Without the archive only the state landmark; behind a far range nothing.
   o.include_archived = false;
-  ASSERT_TRUE(predictMapObservations(*slam_, 100000, o, &preds).ok());
+  ASSERT_TRUE(slam_->propagateTo(100000).ok());
+  ASSERT_TRUE(predictMapObservations(*slam_, o, &preds).ok());
   EXPECT_EQ(preds.size(), 1u);
   o.max_range_m = 1.0;
-  ASSERT_TRUE(predictMapObservations(*slam_, 100000, o, &preds).ok());
+  ASSERT_TRUE(slam_->propagateTo(100000).ok());
+  ASSERT_TRUE(predictMapObservations(*slam_, o, &preds).ok());
   EXPECT_TRUE(preds.empty());
 }
 
@@ -303,7 +307,8 @@ TEST_P(MapPredictionArchive, SkipsArchivedLandmarksUntilTheyMayBeReactivated) {
   std::vector<PredictedObservation> preds;
   auto predictedIds = [&](int64_t t_us) {
     std::vector<int64_t> ids;
-    EXPECT_TRUE(predictMapObservations(slam, t_us, MapPredictionOptions(), &preds).ok());
+    EXPECT_TRUE(slam.propagateTo(t_us).ok());
+    EXPECT_TRUE(predictMapObservations(slam, MapPredictionOptions(), &preds).ok());
     for (const PredictedObservation& p : preds) ids.push_back(p.landmark_id);
     return ids;
   };
@@ -333,10 +338,10 @@ TEST_F(MapPredictionTest, Errors) {
     ASSERT_TRUE(slam_->addImu(imu).ok());
   }
   ASSERT_TRUE(slam_->propagateTo(200000).ok());
-  EXPECT_FALSE(predictMapObservations(*slam_, 100000, {}, &preds).ok());
+  EXPECT_FALSE(slam_->propagateTo(100000).ok());
   // An uninitialised filter.
   VisualInertialSlam fresh(VisualInertialSlamOptions(), camera_);
-  EXPECT_FALSE(predictMapObservations(fresh, 0, {}, &preds).ok());
+  EXPECT_FALSE(predictMapObservations(fresh, {}, &preds).ok());
 }
 
 TEST(VisualSlamPipeline, RejectsBadImagesAndOptions) {
@@ -414,7 +419,7 @@ TEST(ImageSlam, ScenarioRenderSectionErrors) {
 }
 
 TEST(ImageSlam, ShippedFrontendConfigLoads) {
-  auto cfg = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  auto cfg = test::shippedAgentConfig();
   ASSERT_TRUE(cfg.ok());
   VisualFrontEndOptions o;
   EXPECT_TRUE(o.load(cfg->child("frontend")).ok()) << cfg->status().message();
@@ -440,7 +445,7 @@ TEST(ImageSlam, ShippedFrontendConfigLoads) {
 // vocabulary of the other type is an error, not a silent feature index 0.
 TEST(ImageSlam, ShippedVocabulariesFitTheirDetectors) {
   const std::string config_dir = std::string(CVSLAM_SOURCE_DIR) + "/config";
-  auto cfg = ConfigNode::loadFile(config_dir + "/agent.yaml");
+  auto cfg = test::shippedAgentConfig();
   ASSERT_TRUE(cfg.ok());
   VisualFrontEndOptions o;
   ASSERT_TRUE(o.load(cfg->child("frontend")).ok());

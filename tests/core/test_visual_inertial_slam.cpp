@@ -3,6 +3,7 @@
 // θ → 0, and input errors.
 
 #include "cvslam/slam/visual_inertial_slam.h"
+#include "shipped_config.h"
 
 #include <gtest/gtest.h>
 
@@ -77,7 +78,7 @@ const std::string kHallScenario =
 
 /// The options of the shipped config/agent.yaml.
 bool loadShippedOptions(VisualInertialSlamOptions* o) {
-  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  auto shipped = test::shippedAgentConfig();
   EXPECT_TRUE(shipped.ok()) << shipped.status().message();
   if (!shipped.ok()) return false;
   const Status s = o->load(*shipped);
@@ -386,7 +387,7 @@ TEST(VisualInertialSlam, OptionsLoadAndValidate) {
   EXPECT_NE(s.message().find("recorded_accel_bias_sigma"), std::string::npos) << s.message();
   // The shipped configuration loads with no unknown keys (with the image front end's
   // section, visual_slam_pipeline.h, and cooperation's, coop/dc_cooperation.h).
-  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  auto shipped = test::shippedAgentConfig();
   ASSERT_TRUE(shipped.ok()) << shipped.status().message();
   ASSERT_TRUE(VisualInertialSlamOptions().load(*shipped).ok());
   ASSERT_TRUE(VisualFrontEndOptions().load(shipped->child("frontend")).ok());

@@ -12,6 +12,7 @@
 #include "cvslam/lcm/lcm_bus.h"
 #include "lcm_test_util.h"
 #include "sample_messages.h"
+#include "shipped_config.h"
 
 namespace cvslam::transport {
 namespace {
@@ -67,7 +68,7 @@ TEST(AgentChannels, PatternSubscriptionHearsEveryAgentAndCountsBytes) {
 }
 
 TEST(AgentNodeOptions, ShippedSectionLoadsAndBadValuesFail) {
-  auto shipped = ConfigNode::loadFile(std::string(CVSLAM_SOURCE_DIR) + "/config/agent.yaml");
+  auto shipped = test::shippedAgentConfig();
   ASSERT_TRUE(shipped.ok());
   AgentNodeOptions o;
   ASSERT_TRUE(o.load(shipped->child("agent")).ok()) << shipped->status().message();

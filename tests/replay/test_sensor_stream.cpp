@@ -217,13 +217,31 @@ TEST(RenderWorldChoice, OutdoorScenariosGoAerialTumScenariosGoToTheHall) {
   auto choice = chooseRenderWorld(*hall, "");
   ASSERT_TRUE(choice.ok());
   EXPECT_EQ(choice->options.kind, render::WorldKind::kHall);
-  EXPECT_EQ(choice->options.seed, hall->seed);
+  EXPECT_EQ(choice->options.seed, render::WorldOptions().seed);  // one world for every seed
   auto forced = chooseRenderWorld(*hall, "aerial");
   ASSERT_TRUE(forced.ok());
   EXPECT_EQ(forced->options.kind, render::WorldKind::kAerial);
   auto bad = chooseRenderWorld(*hall, "moon");
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("moon"), std::string::npos);
+}
+
+TEST(RenderWorldChoice, TheScenariosOwnRenderWorldIsHonoured) {
+  // euroc_recorded_mh.yaml gives `render: world: {kind: hall, seed: 2102}`.
+  auto mh = sim::Scenario::loadFile(test::sourceDir() + "/config/scenarios/euroc_recorded_mh.yaml");
+  ASSERT_TRUE(mh.ok()) << mh.status().message();
+  ASSERT_TRUE(mh->render_world_given);
+  ASSERT_NE(mh->render_world.seed, render::WorldOptions().seed);
+  auto choice = chooseRenderWorld(*mh, "");
+  ASSERT_TRUE(choice.ok());
+  EXPECT_EQ(choice->options.kind, render::WorldKind::kHall);
+  EXPECT_EQ(choice->options.seed, mh->render_world.seed);
+  EXPECT_NE(choice->reason.find("scenario"), std::string::npos) << choice->reason;
+  // A request changes the kind and keeps the rest of the scenario's world.
+  auto aerial = chooseRenderWorld(*mh, "aerial");
+  ASSERT_TRUE(aerial.ok());
+  EXPECT_EQ(aerial->options.kind, render::WorldKind::kAerial);
+  EXPECT_EQ(aerial->options.seed, mh->render_world.seed);
 }
 
 }  // namespace

@@ -15,22 +15,11 @@
 set(seeds 41 42)
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
-file(READ ${SOURCE}/config/agent.yaml config)
-string(REGEX REPLACE "vocabulary: ([a-z_]+\\.cvoc)" "vocabulary: ${SOURCE}/config/\\1" config
-       "${config}")
-string(REGEX REPLACE "vocabulary_orb: ([a-z_]+\\.cvoc)" "vocabulary_orb: ${SOURCE}/config/\\1"
-       config "${config}")
-string(REGEX REPLACE "map_shared_landmarks: true" "map_shared_landmarks: false" thesis
-       "${config}")
-string(REGEX REPLACE "offer_archived: true" "offer_archived: false" thesis "${thesis}")
-if(thesis STREQUAL config)
-  message(FATAL_ERROR "config/agent.yaml: map_shared_landmarks / offer_archived not found")
-endif()
-file(WRITE ${OUT}/confirmation.yaml "${thesis}")
-string(REPLACE "new_landmark_order: confirmation" "new_landmark_order: response" response
-       "${thesis}")
-file(WRITE ${OUT}/response.yaml "${response}")
-file(WRITE ${OUT}/shipped.yaml "${config}")
+# The three exchanges as --set on the shipped configuration.
+set(thesis_exchange --set coop.map_shared_landmarks=false --set coop.offer_archived=false)
+set(sets_confirmation ${thesis_exchange})
+set(sets_response ${thesis_exchange} --set frontend.new_landmark_order=response)
+set(sets_shipped)
 foreach(run confirmation response shipped)
   set(twins_${run} 0)
   set(fused_${run} 0)
@@ -41,7 +30,8 @@ foreach(seed ${seeds})
   foreach(run confirmation response shipped)
     execute_process(COMMAND ${RUN} --scenario ${SOURCE}/config/scenarios/team3_aerial.yaml
                             --mode dc --sensing images --seed ${seed} --duration 40 --quiet
-                            --config ${OUT}/${run}.yaml --out ${OUT}/${run}_${seed}
+                            --config ${SOURCE}/config/agent.yaml ${sets_${run}}
+                            --out ${OUT}/${run}_${seed}
                     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     if(NOT rc EQUAL 0)
       message(FATAL_ERROR "cvslam_run (${run}, seed ${seed}) failed (${rc}): ${err}")

@@ -19,6 +19,7 @@ std::string resolved(const std::string& name, const std::string& dir) {
 
 void AgentConfigArgs::addTo(CLI::App& app) {
   app.add_option("--config", config);
+  app.add_option("--profile", profile);
   app.add_option("--set", set)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_option("--filter", filter);
   app.add_option("--map", map);
@@ -44,6 +45,13 @@ Expected<AgentConfig> AgentConfig::load(
   Expected<EffectiveConfig> file = EffectiveConfig::load(path);
   if (!file.ok()) return file.status();
   if (Status s = file->assign(args.set, "--set"); !s.ok()) return s;
+  if (!args.profile.empty()) file->set({}, "profile", args.profile);
+  // Profiles beside the file, then the shipped ones (a file of the user's own elsewhere).
+  std::vector<std::string> profile_dirs = {file->dir() + "/profiles"};
+  if (!default_config.empty())
+    profile_dirs.push_back(
+        (std::filesystem::path(default_config).parent_path() / "profiles").string());
+  if (Status s = file->applyProfiles(profile_dirs); !s.ok()) return s;
   AgentConfig c{{}, {}, {}, std::move(*file)};
   const ConfigNode& root = c.effective.node();
   c.slam.load(root);

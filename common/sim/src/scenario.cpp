@@ -49,9 +49,11 @@ Status Scenario::load(const ConfigNode& node, const std::string& base_dir) {
   node.get("duration", duration);
   node.check(duration > 0.0, "duration", "must be > 0 s");
   world.load(node.child("world"));
+  render_world_given = false;
   if (node.has("render")) {
     const ConfigNode r = node.child("render");
-    render_world.load(r.child("world"));
+    render_world_given = r.has("world");
+    if (render_world_given) render_world.load(r.child("world"));
     render.load(r.child("options"));
   }
   agents.clear();

@@ -4,22 +4,28 @@ namespace cvslam {
 
 Expected<RenderWorldChoice> chooseRenderWorld(const sim::Scenario& scenario,
                                               const std::string& requested) {
+  if (!requested.empty() && requested != "aerial" && requested != "hall")
+    return Status::Error("unknown world '" + requested + "' (use aerial or hall)");
   RenderWorldChoice choice;
-  choice.options.seed = scenario.seed;
-  if (requested == "aerial" || requested == "hall") {
+  if (scenario.render_world_given) {
+    choice.options = scenario.render_world;
+    choice.reason = "(the scenario's render: world)";
+  } else {
+    bool indoor = !scenario.agents.empty();
+    for (const auto& agent : scenario.agents)
+      indoor = indoor && agent.trajectory.kind == sim::TrajectoryKind::kTum;
+    choice.options.kind = indoor ? render::WorldKind::kHall : render::WorldKind::kAerial;
+    choice.reason =
+        indoor ? "(every agent flies a recorded TUM trajectory: indoor)" : "(outdoor scenario)";
+  }
+  if (!requested.empty()) {
     choice.options.kind =
         requested == "hall" ? render::WorldKind::kHall : render::WorldKind::kAerial;
-    choice.reason = requested + " (requested)";
-    return choice;
+    choice.reason = "(requested)";
   }
-  if (!requested.empty())
-    return Status::Error("unknown world '" + requested + "' (use aerial or hall)");
-  bool indoor = !scenario.agents.empty();
-  for (const auto& agent : scenario.agents)
-    indoor = indoor && agent.trajectory.kind == sim::TrajectoryKind::kTum;
-  choice.options.kind = indoor ? render::WorldKind::kHall : render::WorldKind::kAerial;
-  choice.reason = indoor ? "hall (every agent flies a recorded TUM trajectory: indoor)"
-                         : "aerial (outdoor scenario)";
+  choice.reason =
+      std::string(choice.options.kind == render::WorldKind::kHall ? "hall " : "aerial ") +
+      choice.reason;
   return choice;
 }
 

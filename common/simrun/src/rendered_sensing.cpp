@@ -64,7 +64,8 @@ Status RenderedSensing::processFrame(const sim::SimEvent& event, VisualInertialS
                                      FrameReport* report) {
   // Render at the true pose (the simulated camera), then the agent's own image path.
   const auto t0 = std::chrono::steady_clock::now();
-  rendering_ = renderer_.render(event.truth.p_BinN, event.truth.euler, frame_index_++);
+  rendering_ = renderer_.render(event.truth.p_BinN, event.truth.euler,
+                                render::StereoRenderer::frameIndexAt(event.t_us));
   stats_.render_ms +=
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (Status s = pipeline_.process(event.t_us, rendering_.left.image, rendering_.right.image, slam,
@@ -137,12 +138,13 @@ bool RenderedSensing::landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN
 }
 
 Expected<std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>>
-makeRenderedSensingFactory(const sim::Scenario& scenario, const VisualFrontEndOptions& front_end,
+makeRenderedSensingFactory(const sim::Scenario& scenario, const render::WorldOptions& world,
+                           const VisualFrontEndOptions& front_end,
                            std::shared_ptr<const vision::Vocabulary> vocabulary,
                            const RenderedSensingOptions& options) {
-  auto world = render::World::create(scenario.render_world);
-  if (!world.ok()) return world.status();
-  std::shared_ptr<const render::World> shared = *world;
+  auto created = render::World::create(world);
+  if (!created.ok()) return created.status();
+  std::shared_ptr<const render::World> shared = *created;
   const render::RenderOptions render = scenario.render;
   return std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>(
       [shared, render, front_end, vocabulary,

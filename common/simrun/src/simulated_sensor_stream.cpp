@@ -51,8 +51,8 @@ class SimulatedAgentStream final : public AgentSensorStream {
         }
       } else if (renderer_) {
         event.type = SensorEventType::kStereoImage;
-        render::StereoRendering r =
-            renderer_->render(e.truth.p_BinN, e.truth.euler, static_cast<uint64_t>(e.t_us / 1000));
+        render::StereoRendering r = renderer_->render(e.truth.p_BinN, e.truth.euler,
+                                                      render::StereoRenderer::frameIndexAt(e.t_us));
         event.left = r.left.image;
         event.right = r.right.image;
       } else {
@@ -104,7 +104,7 @@ Expected<SimulatedTeam> simulateTeam(const sim::Scenario& scenario,
     std::shared_ptr<const render::StereoRenderer> renderer;
     if (options.render) {
       renderer = std::make_shared<render::StereoRenderer>(
-          team.render_world, team.simulator->agent(i).camera(), options.rendering);
+          team.render_world, team.simulator->agent(i).camera(), scenario.render);
     }
     team.streams.push_back(std::make_unique<SimulatedAgentStream>(
         team.simulator, i, std::move(renderer), options.ground_truth, start_us));

@@ -29,11 +29,9 @@ bool mayBeInImage(const StereoCameraOptions& c, const Eigen::Vector4d& z, const 
 
 }  // namespace
 
-Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
-                              const MapPredictionOptions& options,
+Status predictMapObservations(const VisualInertialSlam& slam, const MapPredictionOptions& options,
                               std::vector<PredictedObservation>* predictions) {
   predictions->clear();
-  if (Status s = slam.propagateTo(t_us); !s.ok()) return s;
   const SlamState& state = slam.state();
   const StereoCamera& camera = slam.camera();
   const StateVariable* veh = state.find(VariableKey::vehicle(0));
@@ -83,7 +81,8 @@ Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
     // landmark that was in the state a moment ago. Only the ones the filter can re-activate
     // are predicted.
     for (const auto& [id, a] : slam.archive().all()) {
-      if (isHeld(state, id) || !mayReenter(state, id, a, t_us, slam.options().slam)) continue;
+      if (isHeld(state, id) || !mayReenter(state, id, a, slam.time(), slam.options().slam))
+        continue;
       predict(id, a.p_LinN, a.covariance, nullptr, true);
     }
   }

@@ -204,13 +204,13 @@ Status VisualSlamPipeline::process(int64_t t_us, const cv::Mat& left, const cv::
                          std::to_string(c.width) + "×" + std::to_string(c.height));
   }
 
-  // 1. Predicted observations of the map at t_us (propagates the filter to t_us). They come
-  // first so that the front end, when it keeps only max_observations, keeps the keypoints the
-  // association and the confirmation will look for.
+  // 1. The filter propagated to the frame (the recipe's first step: its update then finds it
+  // there), and the map's observations predicted at that time. They come first so that the
+  // front end, when it keeps only max_observations, keeps the keypoints the association and
+  // the confirmation will look for.
   auto t0 = std::chrono::steady_clock::now();
-  if (Status s = predictMapObservations(slam, t_us, o_.prediction, &predicted_); !s.ok()) {
-    return s;
-  }
+  if (Status s = slam.propagateTo(t_us); !s.ok()) return s;
+  if (Status s = predictMapObservations(slam, o_.prediction, &predicted_); !s.ok()) return s;
   gated_.clear();
   for (const PredictedObservation& p : predicted_) {
     if (p.descriptor == nullptr || p.descriptor->empty()) continue;

@@ -23,6 +23,9 @@ namespace cvslam {
 /// The shared command-line options (each empty / 0 / false: not given).
 struct AgentConfigArgs {
   std::string config;  ///< --config FILE ("" : default_config when it exists, else defaults)
+  /// --profile NAME: the filter profile (config/profiles/NAME.yaml) beneath the file, in place of
+  /// the one it names.
+  std::string profile;
   std::string filter, map, detector, ci, attitude;
   int passes = 0;
   bool both_ways = false, one_way = false;
@@ -30,7 +33,7 @@ struct AgentConfigArgs {
   /// read, so unknown keys and bad values are reported as the file's would be.
   std::vector<std::string> set;
 
-  /// Adds --config, --set, --filter, --map, --attitude, --passes, --detector, --ci,
+  /// Adds --config, --profile, --set, --filter, --map, --attitude, --passes, --detector, --ci,
   /// --both-ways and --one-way to `app` (help texts: the tool's usage text).
   void addTo(CLI::App& app);
   /// The options that need cooperation (--ci, --both-ways, --one-way) were given.
@@ -44,8 +47,10 @@ struct AgentConfig {
   EffectiveConfig effective;  ///< the file + overrides, for config_used.yaml
 
   /// Loads `args.config` (or `default_config` when no --config was given and it exists, else
-  /// built-in defaults), lets `tool_sections` read the sections only the tool knows (others
-  /// are reported as unknown keys), applies the overrides and checks the filter's options.
+  /// built-in defaults) with the profile it names (looked up in `profiles/` beside it, then
+  /// beside `default_config`), lets `tool_sections` read the sections only the tool knows
+  /// (others are reported as unknown keys), applies the overrides and checks the filter's
+  /// options.
   /// Relative vocabulary names are resolved against the file's folder, so that
   /// config_used.yaml works from the run folder.
   static Expected<AgentConfig> load(const AgentConfigArgs& args, const std::string& default_config,

@@ -12,6 +12,9 @@
 //   options.load(cfg->node());
 //   cfg->override(options.filter, {"filter"}, "type", "nhinf", "--filter");
 //   cfg->write(run_dir + "/agent_1/config_used.yaml");
+//
+// A configuration may name a profile (`profile: invariant_ekf`): a file of the keys a user
+// does not set, merged beneath it (applyProfiles).
 
 #include <yaml-cpp/yaml.h>
 
@@ -50,6 +53,15 @@ class EffectiveConfig {
   /// a bad value is reported as the file's own would be; messages name the file "with `option`".
   Status assign(const std::vector<std::string>& assignments, const std::string& option);
 
+  /// Merges the profiles the configuration names beneath it: while its root has `profile:
+  /// NAME`, the file NAME.yaml in the first of `dirs` that holds one goes under the
+  /// configuration, whose own keys win (a profile may name another, which goes under it in
+  /// turn). The key is consumed: yaml() holds every key of every profile, so that a run's
+  /// config_used.yaml is given back with --config without the profiles.
+  Status applyProfiles(const std::vector<std::string>& dirs);
+  /// The profiles applyProfiles merged, the configuration's own first.
+  const std::vector<std::string>& profiles() const { return profiles_; }
+
   /// The configuration with every override, as YAML that ConfigNode (and --config) reads.
   std::string yaml() const;
   /// Writes yaml() to `path`, after a comment line saying what it is.
@@ -62,6 +74,7 @@ class EffectiveConfig {
   ConfigNode node_;
   YAML::Node tree_;  // the file's content plus the overrides
   std::string path_;
+  std::vector<std::string> profiles_;
 };
 
 template <typename T>

@@ -53,6 +53,11 @@ class StereoRenderer {
   StereoRenderer(std::shared_ptr<const World> world, const StereoCamera& camera,
                  const RenderOptions& options = {});
 
+  /// The noise index of the frame taken at t_us: its time in ms. Every program that renders a
+  /// simulated flight (cvslam_run in process, cvslam_replay and cvslam_simulate for the agent
+  /// processes) indexes frames by time, so that all of them draw the same images.
+  static uint64_t frameIndexAt(int64_t t_us) { return static_cast<uint64_t>(t_us / 1000); }
+
   /// Both images at vehicle pose (p_BinN, euler = [φ θ ψ]); `frame_index` seeds the noise.
   StereoRendering render(const Eigen::Vector3d& p_BinN, const Eigen::Vector3d& euler,
                          uint64_t frame_index = 0) const;

@@ -58,9 +58,12 @@ struct Scenario {
   double duration = 60.0;  ///< simulated time [s]
   WorldOptions world;
   /// Section `render:` — the textured world and renderer options for image sensing
-  /// (`cvslam_run --sensing images`): `render: {world: {kind: aerial, ...}, options: {...}}`
-  /// (cvslam/render/world.h, stereo_renderer.h). Defaults: the `aerial` world, seed 1.
+  /// (`cvslam_run --sensing images`, `cvslam_replay`, `cvslam_simulate`):
+  /// `render: {world: {kind: aerial, ...}, options: {...}}` (cvslam/render/world.h,
+  /// stereo_renderer.h). Without `render: world:` the world is chosen from the trajectories
+  /// (simrun/render_world_choice.h).
   render::WorldOptions render_world;
+  bool render_world_given = false;  ///< the scenario has a `render: world:` section
   render::RenderOptions render;
   std::vector<AgentSpec> agents;
   /// The horizontal area the feature-level world is laid out around (World, plus world.margin).

@@ -1,10 +1,14 @@
 #pragma once
-// Which textured world (render/world.h) a scenario is rendered in. Scenarios describe the
-// feature-level world only, so the choice is made here, once, for cvslam_simulate and
-// cvslam_replay alike: a scenario whose agents fly TUM trajectories (EuRoC machine-hall
-// recordings, indoor, forward-looking cameras) goes to `hall`; every other scenario
-// (circles, figures of eight, surveys above terrain, downward cameras) to `aerial`.
-// An explicit request ("aerial" | "hall") overrides the choice.
+// Which textured world (render/world.h) a scenario is rendered in, chosen here once for every
+// program that renders a simulated flight (cvslam_run in process, cvslam_replay and
+// cvslam_simulate for agent processes), so that all of them draw the same images:
+//  - the scenario's own `render: world:` section when it has one;
+//  - otherwise, from the trajectories: a scenario whose agents all fly TUM trajectories
+//    (EuRoC recordings: indoor, forward-looking cameras) goes to `hall`, every other scenario
+//    (circles, figures of eight, surveys above terrain, downward cameras) to `aerial`, both
+//    with WorldOptions' default seed: the runs of a Monte Carlo over scenario seeds fly
+//    through one world.
+// An explicit request ("aerial" | "hall") overrides the kind only.
 #include <string>
 #include "cvslam/core/status.h"
 #include "cvslam/render/world.h"
@@ -13,11 +17,11 @@
 namespace cvslam {
 
 struct RenderWorldChoice {
-  render::WorldOptions options;  ///< kind chosen, seed = the scenario's seed
+  render::WorldOptions options;  ///< the world to create
   std::string reason;            ///< one line for the user, e.g. "aerial (outdoor scenario)"
 };
 
-/// `requested`: "" (choose), "aerial" or "hall"; anything else is an error.
+/// `requested`: "" (the scenario's or chosen), "aerial" or "hall"; anything else is an error.
 Expected<RenderWorldChoice> chooseRenderWorld(const sim::Scenario& scenario,
                                               const std::string& requested);
 

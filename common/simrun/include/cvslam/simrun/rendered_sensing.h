@@ -91,14 +91,14 @@ class RenderedSensing : public FrameSensing {
   render::StereoRendering rendering_;
   VisualFrameResult result_;
   std::unordered_map<int64_t, Eigen::Vector3d> truth_;  // landmark id -> true p_LinN
-  uint64_t frame_index_ = 0;
 };
 
 /// A SimulatedTeamRun sensing factory (SimulatedTeamRun::SensingFactory) that gives every
-/// agent a RenderedSensing of the scenario's `render:` world (built once, shared), with the
-/// agent's camera and its own pipeline.
+/// agent a RenderedSensing of `world` (chooseRenderWorld; built once, shared) with the
+/// scenario's renderer options, the agent's camera and its own pipeline.
 Expected<std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>>
-makeRenderedSensingFactory(const sim::Scenario& scenario, const VisualFrontEndOptions& front_end,
+makeRenderedSensingFactory(const sim::Scenario& scenario, const render::WorldOptions& world,
+                           const VisualFrontEndOptions& front_end,
                            std::shared_ptr<const vision::Vocabulary> vocabulary,
                            const RenderedSensingOptions& options = {});
 

@@ -15,8 +15,8 @@ namespace cvslam {
 
 struct SimulatedSensorOptions {
   bool render = true;                 ///< true: rendered images; false: feature observations
-  render::WorldOptions render_world;  ///< the textured world the images show (aerial | hall)
-  render::RenderOptions rendering;    ///< renderer options (clipping, effects)
+  render::WorldOptions render_world;  ///< the textured world (chooseRenderWorld); the renderer
+                                      ///< options are the scenario's `render: options:`
   bool ground_truth = true;           ///< emit ground truth at every IMU sample
   double start = 0.0;                 ///< skip (without rendering) everything before this [s]
 };

@@ -40,10 +40,10 @@ struct PredictedObservation {
   bool archived = false;
 };
 
-/// Propagates `slam` to t_us (VisualInertialSlam::propagateTo) and predicts the observations
-/// of its map there, ordered by landmark id. Landmarks behind the camera are skipped.
-Status predictMapObservations(VisualInertialSlam& slam, int64_t t_us,
-                              const MapPredictionOptions& options,
+/// The observations of the map of `slam` at its present time (the frame's: the caller
+/// propagated it, VisualInertialSlam::propagateTo), ordered by landmark id. Landmarks behind
+/// the camera are skipped. The filter is not changed.
+Status predictMapObservations(const VisualInertialSlam& slam, const MapPredictionOptions& options,
                               std::vector<PredictedObservation>* predictions);
 
 }  // namespace cvslam
