@@ -327,6 +327,27 @@ coop::CcObservationBatch restBatch(int agent, int64_t t_us) {
   return b;
 }
 
+TEST(CcTeamFilter, ImageLandmarkIdsUnderTrueIdAssociationAreRefusedWithWhatToDo) {
+  // An image agent's batch (local landmark ids, visual-word indices) at a ground station left
+  // at true_ids would join unrelated landmarks of different UAVs: refused, counted, explained.
+  coop::CcTeamFilter gs = oneRestingVehicle();
+  ASSERT_EQ(gs.options().association, coop::CcAssociation::kTrueIds);
+  ASSERT_TRUE(gs.processBatch(restBatch(1, 100000)).ok());  // feature level: id = index
+  const VehicleEstimate before = *gs.estimate(1);
+  coop::CcObservationBatch images = restBatch(1, 200000);
+  images.frame.observations[0].landmark_id = 3;  // the agent's own id; index 7: its word
+  coop::CcStepReport report;
+  const Status s = gs.processBatch(images, &report);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("local_ids"), std::string::npos) << s.message();
+  EXPECT_EQ(gs.statistics().agents.at(1).refused.at("invalid_local_ids"), 1);
+  EXPECT_EQ(gs.estimate(1)->x_v, before.x_v);
+  // Unnamed observations (landmark id −1) are not evidence either way.
+  coop::CcObservationBatch unnamed = restBatch(1, 200000);
+  unnamed.frame.observations[0].landmark_id = -1;
+  EXPECT_TRUE(gs.processBatch(unnamed).ok());
+}
+
 TEST(CcTeamFilter, BadBatchesAreCountedAndChangeNothing) {
   coop::CcTeamFilter gs = oneRestingVehicle();
   ASSERT_TRUE(gs.processBatch(restBatch(1, 100000)).ok());

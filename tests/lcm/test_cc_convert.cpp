@@ -169,6 +169,7 @@ std::vector<uint8_t> mutated(const Msg& valid_msg, std::mt19937& rng) {
 
 TEST(CcFuzz, MutatedBatchesNeverReachTheFilterUnchecked) {
   coop::CcTeamFilterOptions options;
+  options.association = coop::CcAssociation::kLocalIds;  // sampleBatch: an image agent's ids
   coop::CcTeamFilter filter(options);
   const int dim = options.slam.ins.estimate_imu_bias ? 15 : 9;
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(dim);

@@ -249,6 +249,12 @@ Status GroundStationNode::step(coop::CcEvent& e) {
     if (Status s = recorder_.addStep(filter_, report, truthAt(e.agent_id, e.t_us)); !s.ok())
       return s;
   if (!report.accepted) {
+    // Each kind of refusal once per UAV, with its reason (the rest are counted in STATUS).
+    const std::string key = coop::refusalKey(report.refusal, report.defect);
+    if (refusals_told_.insert({e.agent_id, key}).second)
+      std::fprintf(stderr, "cvslam_ground_station: UAV%d batch at t = %.3f s refused (%s): %s\n",
+                   e.agent_id, static_cast<double>(e.t_us) * 1e-6, key.c_str(),
+                   report.reason.c_str());
     // The vehicle's IMU cannot reach the frame (a gap longer than cc.max_imu_gap_s): it
     // restarts from the agent's next POSE, as after a timeout. Other refusals leave a vehicle
     // that takes the next batch.

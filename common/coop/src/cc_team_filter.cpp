@@ -286,6 +286,21 @@ Status CcTeamFilter::processBatch(const CcObservationBatch& batch, CcStepReport*
   if (batch.t_us < v.propagation.time() || (v.has_batch && batch.t_us <= v.last_batch_us)) {
     return refuse(&stats_, &r, CcRefusal::kStale, "not after the vehicle's last batch");
   }
+  // A feature-level agent names each landmark by its true id, its feature index; an image
+  // agent by its own local ids. Taken for true ids, those would join unrelated landmarks of
+  // different UAVs, silently: refused instead, with what to do.
+  if (o_.association == CcAssociation::kTrueIds) {
+    for (const StereoObservation& obs : batch.frame.observations) {
+      if (obs.landmark_id >= 0 && obs.landmark_id != obs.index) {
+        return refuse(&stats_, &r, CcRefusal::kInvalid,
+                      "landmark " + std::to_string(obs.landmark_id) + " has feature index " +
+                          std::to_string(obs.index) +
+                          ": the agent names its landmarks by its own ids (images), the ground "
+                          "station by true ids (--association local_ids, cc.association)",
+                      "local_ids");
+      }
+    }
+  }
   // 1. Propagate (samples the vehicle's buffer already covers are older than its state:
   // the first batch after a (re-)initialisation may repeat them). A gap before the batch's
   // first new sample is what a batch lost on the way leaves: bridged when short, checked

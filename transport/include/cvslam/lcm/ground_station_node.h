@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -132,6 +133,7 @@ class GroundStationNode {
   double start_s_ = 0.0;
   int64_t last_map_us_ = -1;
   int64_t restarts_ = 0, timeouts_ = 0, resets_ = 0, starts_ = 0, published_states_ = 0;
+  std::set<std::pair<int, std::string>> refusals_told_;  // (UAV, reason) said once on stderr
 };
 
 }  // namespace cvslam::transport

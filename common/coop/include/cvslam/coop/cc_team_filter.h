@@ -158,7 +158,8 @@ enum class CcRefusal {
   kNone,          ///< accepted
   kUnknownAgent,  ///< no vehicle with that agent id (not started, or removed)
   kStale,         ///< not after the vehicle's last batch or its start time
-  kInvalid,       ///< validateBatch failed (CcStepReport::defect names the kind)
+  kInvalid,       ///< validateBatch failed, or local landmark ids under true-id association
+                  ///< (CcStepReport::defect names the kind; local_ids for the latter)
   kPropagation,   ///< the vehicle's IMU cannot take it to the frame time (a gap longer than
                   ///< cc.max_imu_gap_s, or a non-finite INS step); the vehicle needs a restart
   kUpdate,        ///< the recipe after the propagation failed (association, map management,
