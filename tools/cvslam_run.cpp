@@ -275,9 +275,9 @@ cvslam::Expected<cvslam::coop::CcTeamFilterOptions> groundStationOptions(
                                              : cvslam::coop::CcAssociation::kLocalIds;
   // With images, the agents' front-end overrides of the second-order term and the pixel σ
   // (local_ids applies them).
-  o.image_second_order_noise =
-      config.frontend.second_order_noise.value_or(config.slam.slam.second_order_noise);
-  o.image_pixel_sigma = config.frontend.pixel_sigma.value_or(config.slam.slam.pixel_sigma);
+  const cvslam::SlamOptions images = config.frontend.resolve(config.slam.slam);
+  o.image_second_order_noise = images.second_order_noise;
+  o.image_pixel_sigma = images.pixel_sigma;
   return o;
 }
 

@@ -36,10 +36,10 @@ std::string estimatedColumns(const std::string& csv) {
   std::istringstream in(csv);
   std::string line, out;
   while (std::getline(in, line)) {
-    std::size_t end = 0;
-    for (int comma = 0; comma < 7 && end != std::string::npos; ++comma)
-      end = line.find(',', end == 0 ? 0 : end + 1);
-    out += line.substr(0, end) + "\n";
+    // Up to the 7th comma: id, x, y, z, var_x, var_y, var_z.
+    std::size_t cut = 0;
+    for (int commas = 0; cut < line.size() && !(line[cut] == ',' && ++commas == 7);) ++cut;
+    out += line.substr(0, cut) + "\n";
   }
   return out;
 }
