@@ -273,11 +273,9 @@ cvslam::Expected<cvslam::coop::CcTeamFilterOptions> groundStationOptions(
   o.useAgentOptions(config.slam);
   o.association = args.sensing == "features" ? cvslam::coop::CcAssociation::kTrueIds
                                              : cvslam::coop::CcAssociation::kLocalIds;
-  // With images, the agents' front-end overrides of the second-order term and the pixel σ
-  // (local_ids applies them).
-  const cvslam::SlamOptions images = config.frontend.resolve(config.slam.slam);
-  o.image_second_order_noise = images.second_order_noise;
-  o.image_pixel_sigma = images.pixel_sigma;
+  // With images, the agents' front-end overrides of the measurement model (local_ids applies
+  // them).
+  o.useAgentImageModel(config.frontend.resolve(config.slam.slam));
   return o;
 }
 

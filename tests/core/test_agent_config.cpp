@@ -153,6 +153,16 @@ TEST(AgentConfig, TheSecondOrderTermIsOnForFeaturesAndOffForImages) {
   auto d = AgentConfig::load(args, shippedConfig(), skipAgent);
   ASSERT_TRUE(d.ok()) << d.status().message();
   EXPECT_TRUE(*d->frontend.second_order_noise);
+  // The in-process ground station models image keypoints as the agents' image path does:
+  // every override, the mean's too.
+  args.set = {"frontend.second_order_mean=true", "frontend.pixel_sigma=0.4"};
+  auto e = AgentConfig::load(args, shippedConfig(), skipAgent);
+  ASSERT_TRUE(e.ok()) << e.status().message();
+  coop::CcTeamFilterOptions images;
+  images.useAgentImageModel(e->frontend.resolve(e->slam.slam));
+  EXPECT_FALSE(images.image_second_order_noise);
+  EXPECT_TRUE(images.image_second_order_mean);
+  EXPECT_EQ(images.image_pixel_sigma, 0.4);
 }
 
 // Detected keypoints are assumed tighter than the feature-level simulator's pixel noise, and the

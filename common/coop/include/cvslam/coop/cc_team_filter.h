@@ -89,6 +89,13 @@ struct CcTeamFilterOptions {
     slam = agent;
     setJointEstimator();
   }
+  /// The image keypoints' measurement model below (image_*) from the agents' slam options as
+  /// their image path runs them (VisualFrontEndOptions::resolve).
+  void useAgentImageModel(const SlamOptions& images) {
+    image_second_order_noise = images.second_order_noise;
+    image_second_order_mean = images.second_order_mean;
+    image_pixel_sigma = images.pixel_sigma;
+  }
   /// The recipe's options, sections `filter:`, `ins:`, `map:`, `slam:` as in agent.yaml (the
   /// per-vehicle IMU noise may be given to addVehicle).
   VisualInertialSlamOptions slam;
