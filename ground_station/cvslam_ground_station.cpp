@@ -19,8 +19,8 @@
 #include "cvslam/io/options_description.h"
 #include "cvslam/io/process_shell.h"
 #include "cvslam/lcm/ground_station_node.h"
-#include "cvslam/sim/scenario.h"
-#include "cvslam/simrun/scenario_calibration.h"
+#include "cvslam/scenario/scenario.h"
+#include "cvslam/scenario_setup/scenario_calibration.h"
 #include "cvslam/slam/agent_calibration.h"
 
 namespace {

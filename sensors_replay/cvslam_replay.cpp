@@ -58,6 +58,7 @@ cvslam::Expected<cvslam::MergedSensorSource> makeSource(const cvslam::replay::Ar
       auto world = cvslam::chooseRenderWorld(*scenario, a.world);
       if (!world.ok()) return world.status();
       o.render_world = world->options;
+      o.render_options = world->render;
       if (verbose)
         std::fprintf(stderr, "cvslam_replay: rendering world %s\n", world->reason.c_str());
     } else if (verbose) {

@@ -21,10 +21,10 @@
 #include "cvslam/camera/euroc_calibration.h"
 #include "cvslam/dataset/euroc_dataset_writer.h"
 #include "cvslam/io/cli.h"
+#include "cvslam/scenario/resting_start.h"
+#include "cvslam/scenario/scenario.h"
+#include "cvslam/scenario/tum_trajectory.h"
 #include "cvslam/sensors/merged_sensor_source.h"
-#include "cvslam/sim/resting_start.h"
-#include "cvslam/sim/scenario.h"
-#include "cvslam/sim/tum_trajectory.h"
 #include "cvslam/simrun/as_recorded_rig.h"
 #include "cvslam/simrun/render_world_choice.h"
 #include "cvslam/simrun/simulated_sensor_stream.h"
@@ -177,7 +177,8 @@ int64_t recordingEpochNs(const cvslam::sim::AgentSimulator& agent) {
 
 Expected<std::map<int, AgentOutput>> createOutputs(
     const Args& args, const cvslam::sim::Scenario& scenario,
-    const cvslam::sim::Simulator& simulator, std::shared_ptr<const cvslam::render::World> world) {
+    const cvslam::render::RenderOptions& render_options, const cvslam::sim::Simulator& simulator,
+    std::shared_ptr<const cvslam::render::World> world) {
   std::optional<cvslam::EurocStereoCalibration> rig_calibration;
   if (!args.as_recorded.empty()) {
     auto c = cvslam::loadEurocStereoCalibration(args.as_recorded);
@@ -197,7 +198,7 @@ Expected<std::map<int, AgentOutput>> createOutputs(
     o.imu.accelerometer_random_walk = a.imu.accel_random_walk;
     std::optional<cvslam::AsRecordedRig> rig;
     if (rig_calibration) {
-      auto r = cvslam::AsRecordedRig::create(world, *rig_calibration, a.camera, scenario.render);
+      auto r = cvslam::AsRecordedRig::create(world, *rig_calibration, a.camera, render_options);
       if (!r.ok()) return r.status();
       rig = std::move(*r);
       o.cameras = {rig->cameraInfo(false, a.camera_rate_hz),
@@ -275,6 +276,7 @@ int main(int argc, char** argv) {
   if (!world.ok()) return fail(world.status().message());
   cvslam::SimulatedSensorOptions sim_options;
   sim_options.render_world = world->options;
+  sim_options.render_options = world->render;
   // As recorded, the rig renders its own (distorted) images; the stream only times the frames.
   sim_options.render = args.as_recorded.empty();
   auto team = cvslam::simulateTeam(*scenario, sim_options);
@@ -292,7 +294,7 @@ int main(int argc, char** argv) {
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (ec) return fail("cannot create " + args.out + ": " + ec.message());
-  auto outputs = createOutputs(args, *scenario, *team->simulator, render_world);
+  auto outputs = createOutputs(args, *scenario, world->render, *team->simulator, render_world);
   if (!outputs.ok()) return fail(outputs.status().message());
 
   cvslam::MergedSensorSource source(std::move(team->streams));

@@ -21,7 +21,8 @@
 #include "cvslam/mosaic/mosaic_config.h"
 #include "cvslam/render/ground_texture.h"
 #include "cvslam/render/stereo_renderer.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
+#include "cvslam/simrun/scenario_rendering.h"
 
 namespace {
 
@@ -246,13 +247,17 @@ int run(const Args& a) {
   if (!info.ok()) return fail(info.status().message());
   // The world the run rendered: the scenario's `render:` world with cvslam_run's --world
   // override of its kind (run.json), as cvslam_run builds it.
+  auto rendering = cvslam::ScenarioRendering::parse(*scenario);
+  if (!rendering.ok()) return fail(rendering.status().message());
+  cvslam::render::WorldOptions world_options =
+      rendering->world.value_or(cvslam::render::WorldOptions());
   const std::string kind = a.world.empty() ? info->world : a.world;
   if (!kind.empty()) {
     auto node = cvslam::ConfigNode::fromString("kind: " + kind, "--world");
     if (!node.ok()) return fail(node.status().message());
-    if (auto s = scenario->render_world.load(*node); !s.ok()) return fail(s.message());
+    if (auto s = world_options.load(*node); !s.ok()) return fail(s.message());
   }
-  auto world = cvslam::render::World::create(scenario->render_world);
+  auto world = cvslam::render::World::create(world_options);
   if (!world.ok()) return fail(world.status().message());
   std::vector<int> ids = a.agents;
   if (ids.empty()) {
@@ -267,7 +272,7 @@ int run(const Args& a) {
                              [id](const auto& s) { return s.id == id; });
     if (spec == scenario->agents.end())
       return fail("agent " + std::to_string(id) + " is not in " + a.scenario);
-    if (auto s = agentFrames(a, *spec, *world, scenario->render, cfg->evaluation, cfg->mosaic,
+    if (auto s = agentFrames(a, *spec, *world, rendering->options, cfg->evaluation, cfg->mosaic,
                              &order, &in);
         !s.ok())
       return fail(s.message());
@@ -310,7 +315,7 @@ int run(const Args& a) {
                   id, e.aligned.median, e.aligned.p90, e.raw.median);
     }
   printRegistration("pose prior only   ", mosaic::registrationError(builder.grid(), prior));
-  superResolution(a, *cfg, builder, *placements, **world, scenario->render.effects.exposure,
+  superResolution(a, *cfg, builder, *placements, **world, rendering->options.effects.exposure,
                   placed);
   return writeOutputs(a, builder);
 }

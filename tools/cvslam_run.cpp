@@ -21,7 +21,7 @@
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/json_file.h"
 #include "cvslam/io/run_writer.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 #include "cvslam/simrun/cross_uav_match_audit.h"
 #include "cvslam/simrun/render_world_choice.h"
 #include "cvslam/simrun/rendered_sensing.h"
@@ -187,14 +187,15 @@ Status applyScenarioArgs(const Args& args, cvslam::sim::Scenario* scenario) {
 /// The agents' sensing: feature-level (empty factory) or rendered images.
 cvslam::Expected<cvslam::SimulatedTeamRun::SensingFactory> makeSensing(
     const Args& args, const cvslam::sim::Scenario& scenario, const cvslam::AgentConfig& config) {
+  // The world the agent processes see through cvslam_replay (render_world_choice.h); chosen
+  // for a feature-level run too, so that a scenario's `render:` typo is refused either way.
+  auto world = cvslam::chooseRenderWorld(scenario, args.world);
+  if (!world.ok()) return world.status();
   if (args.sensing != "images") return cvslam::SimulatedTeamRun::SensingFactory{};
   // The feature index needs a vocabulary of the detector's descriptor type (§6.6.3).
   auto vocabulary = cvslam::loadFeatureIndexVocabulary(config.frontend, config.effective.dir());
   if (!vocabulary.ok()) return vocabulary.status();
-  // The world the agent processes see through cvslam_replay (render_world_choice.h).
-  auto world = cvslam::chooseRenderWorld(scenario, args.world);
-  if (!world.ok()) return world.status();
-  return cvslam::makeRenderedSensingFactory(scenario, world->options, config.frontend, *vocabulary);
+  return cvslam::makeRenderedSensingFactory(*world, config.frontend, *vocabulary);
 }
 
 /// Per-UAV counters for the closing summary.

@@ -14,7 +14,7 @@
 
 #include "cvslam/coop/cc_batch_builder.h"
 #include "cvslam/coop/cc_team_filter.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 #include "cvslam/simrun/simulated_team_run.h"
 
 namespace cvslam {

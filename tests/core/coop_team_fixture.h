@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "cvslam/coop/dc_cooperation.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 #include "cvslam/simrun/simulated_team_run.h"
 
 namespace cvslam::cooptest {

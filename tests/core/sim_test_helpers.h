@@ -6,10 +6,10 @@
 #include <functional>
 #include <memory>
 
-#include "cvslam/sim/flight_trajectory.h"
+#include "cvslam/scenario/flight_trajectory.h"
+#include "cvslam/scenario/position_path.h"
+#include "cvslam/scenario/trajectory.h"
 #include "cvslam/sim/imu_simulator.h"
-#include "cvslam/sim/position_path.h"
-#include "cvslam/sim/trajectory.h"
 
 namespace cvslam::sim::simtest {
 

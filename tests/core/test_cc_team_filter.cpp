@@ -19,7 +19,7 @@
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/ins/vehicle_state_layout.h"
 #include "cvslam/io/config_node.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 #include "cvslam/simrun/simulated_team_run.h"
 #include "nees_band.h"
 

@@ -12,8 +12,9 @@
 #include <utility>
 
 #include "cvslam/io/config_node.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 #include "cvslam/simrun/rendered_sensing.h"
+#include "cvslam/simrun/scenario_rendering.h"
 #include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/map_prediction.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
@@ -62,7 +63,9 @@ void runImages(const sim::Scenario& scenario, vision::DetectorType detector, Ima
   ASSERT_TRUE(options.load(*cfg).ok());
   ASSERT_TRUE(fe.load(cfg->child("frontend")).ok()) << cfg->status().message();
   fe.front_end.detector.type = detector;
-  auto factory = makeRenderedSensingFactory(scenario, scenario.render_world, fe, nullptr);
+  auto rendering = chooseRenderWorld(scenario, "");
+  ASSERT_TRUE(rendering.ok()) << rendering.status().message();
+  auto factory = makeRenderedSensingFactory(*rendering, fe, nullptr);
   EXPECT_TRUE(factory.ok()) << factory.status().message();
   if (!factory.ok()) return;
   auto run = SimulatedTeamRun::create(scenario, options, *factory);
@@ -409,13 +412,27 @@ TEST(ImageSlam, ScenarioRenderSectionErrors) {
   const std::string agents =
       "agents:\n  - id: 1\n    trajectory: {kind: circle, radius: 25.0, altitude: 10.0, "
       "speed: 3.0}\n";
-  EXPECT_TRUE(sim::Scenario::fromString("render: {world: {kind: hall}}\n" + agents, "t.yaml").ok());
-  EXPECT_FALSE(
-      sim::Scenario::fromString("render: {world: {kind: moon}}\n" + agents, "t.yaml").ok());
-  EXPECT_FALSE(sim::Scenario::fromString("render: {wrld: {}}\n" + agents, "t.yaml").ok());
-  auto hall = sim::Scenario::fromString("render: {world: {kind: hall}}\n" + agents, "t.yaml");
-  ASSERT_TRUE(hall.ok());
-  EXPECT_EQ(hall->render_world.kind, render::WorldKind::kHall);
+  // The scenario keeps the section as text (it loads without the renderer); every program that
+  // renders parses it, and refuses what does not parse, naming the file.
+  auto rendering = [&](const std::string& section) -> Expected<ScenarioRendering> {
+    auto scenario = sim::Scenario::fromString(section + agents, "t.yaml");
+    if (!scenario.ok()) return scenario.status();
+    return ScenarioRendering::parse(*scenario);
+  };
+  auto moon = rendering("render: {world: {kind: moon}}\n");
+  ASSERT_FALSE(moon.ok());
+  EXPECT_NE(moon.status().message().find("t.yaml"), std::string::npos) << moon.status().message();
+  EXPECT_NE(moon.status().message().find("moon"), std::string::npos) << moon.status().message();
+  EXPECT_FALSE(rendering("render: {wrld: {}}\n").ok());
+  EXPECT_FALSE(rendering("render: {options: {far: -1}}\n").ok());
+  EXPECT_FALSE(sim::Scenario::fromString("render: 3\n" + agents, "t.yaml").ok());
+  auto hall = rendering("render: {world: {kind: hall}}\n");
+  ASSERT_TRUE(hall.ok()) << hall.status().message();
+  ASSERT_TRUE(hall->world.has_value());
+  EXPECT_EQ(hall->world->kind, render::WorldKind::kHall);
+  auto none = rendering("");
+  ASSERT_TRUE(none.ok());
+  EXPECT_FALSE(none->world.has_value());
 }
 
 TEST(ImageSlam, ShippedFrontendConfigLoads) {

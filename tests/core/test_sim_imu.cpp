@@ -9,9 +9,9 @@
 #include <sstream>
 #include <string>
 
+#include "cvslam/scenario/position_path.h"
+#include "cvslam/scenario/tum_trajectory.h"
 #include "cvslam/sim/imu_simulator.h"
-#include "cvslam/sim/position_path.h"
-#include "cvslam/sim/tum_trajectory.h"
 #include "sim_test_helpers.h"
 #include "test_paths.h"
 

@@ -1,4 +1,4 @@
-// World and stereo observation simulation (cvslam/sim/world.h, observation_simulator.h;
+// World and stereo observation simulation (cvslam/scenario/world.h, observation_simulator.h;
 // thesis §5.4 eq. 5.20, §5.9 noise kinds): visibility, noise statistics per kind, outliers,
 // feature cap, determinism.
 
@@ -9,9 +9,9 @@
 #include <map>
 #include <memory>
 
+#include "cvslam/scenario/position_path.h"
+#include "cvslam/scenario/world.h"
 #include "cvslam/sim/observation_simulator.h"
-#include "cvslam/sim/position_path.h"
-#include "cvslam/sim/world.h"
 #include "sim_test_helpers.h"
 
 namespace cvslam::sim {

@@ -1,4 +1,4 @@
-// Scenario files and the simulator (cvslam/sim/scenario.h, simulator.h): loader errors, the
+// Scenario files and the simulator (cvslam/scenario/scenario.h, simulator.h): loader errors, the
 // shipped scenarios, thesis §6.4 geometry (Fig. 6.5), stream order, determinism, speed.
 
 #include <gtest/gtest.h>
@@ -8,9 +8,9 @@
 #include <cmath>
 
 #include "cvslam/ins/vehicle_state_layout.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
+#include "cvslam/scenario_setup/scenario_calibration.h"
 #include "cvslam/sim/simulator.h"
-#include "cvslam/simrun/scenario_calibration.h"
 #include "test_paths.h"
 
 namespace cvslam::sim {
@@ -286,12 +286,12 @@ TEST(SimSimulator, PerturbedBiasesAreDrawnFromTheFiltersStatedSigma) {
     sc->agents[0].initial.perturb_biases = false;
     auto plain = Simulator::create(*sc);
     ASSERT_TRUE(plain.ok());
-    const AgentFilterSetup p = simulatedAgentSetup(plain->agent(0), options);
+    const AgentFilterSetup p = simulatedAgentSetup(plain->agent(0).scenarioAgent(), options);
     EXPECT_TRUE(p.x0.segment<6>(vehicle::kAccelBias).isZero());
     sc->agents[0].initial.perturb_biases = true;
     auto drawn = Simulator::create(*sc);
     ASSERT_TRUE(drawn.ok());
-    const AgentFilterSetup d = simulatedAgentSetup(drawn->agent(0), options);
+    const AgentFilterSetup d = simulatedAgentSetup(drawn->agent(0).scenarioAgent(), options);
     EXPECT_EQ(d.x0.head<9>(), p.x0.head<9>());  // the same pose draws
     const Eigen::Vector3d ea = d.x0.segment<3>(vehicle::kAccelBias) - sc->agents[0].imu.accel_bias;
     const Eigen::Vector3d eg = d.x0.segment<3>(vehicle::kGyroBias);  // true gyro bias 0

@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "cvslam/geometry/euler.h"
-#include "cvslam/sim/flight_trajectory.h"
-#include "cvslam/sim/position_path.h"
-#include "cvslam/sim/resting_start.h"
-#include "cvslam/sim/tum_trajectory.h"
+#include "cvslam/scenario/flight_trajectory.h"
+#include "cvslam/scenario/position_path.h"
+#include "cvslam/scenario/resting_start.h"
+#include "cvslam/scenario/tum_trajectory.h"
 #include "sim_test_helpers.h"
 #include "test_paths.h"
 

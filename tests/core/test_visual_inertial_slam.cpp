@@ -13,7 +13,7 @@
 
 #include "cvslam/coop/dc_cooperation.h"
 #include "cvslam/io/config_node.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 #include "cvslam/simrun/simulated_team_run.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
 #include "nees_band.h"

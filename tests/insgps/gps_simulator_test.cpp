@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "cvslam/io/config_node.h"
-#include "cvslam/sim/flight_trajectory.h"
+#include "cvslam/scenario/flight_trajectory.h"
+#include "cvslam/scenario/trajectory_spec.h"
 #include "cvslam/sim/gps_simulator.h"
-#include "cvslam/sim/trajectory_spec.h"
 
 namespace cvslam::sim {
 namespace {

@@ -11,10 +11,10 @@
 #include "cvslam/ins/imu_noise_monitor.h"
 #include "cvslam/ins/ins_propagator.h"
 #include "cvslam/ins/vehicle_state_layout.h"
-#include "cvslam/sim/imu_recording.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/imu_recording.h"
+#include "cvslam/scenario/scenario.h"
+#include "cvslam/scenario_setup/scenario_calibration.h"
 #include "cvslam/sim/simulator.h"
-#include "cvslam/simrun/scenario_calibration.h"
 #include "euroc_test_folder.h"
 #include "test_paths.h"
 
@@ -105,7 +105,7 @@ TEST(ImuRecording, KnownPoseStartMeasuresTheTurnOnGyroBiasAtRest) {
 
   VisualInertialSlamOptions options;
   options.ins.estimate_imu_bias = true;
-  const AgentFilterSetup uav3 = simulatedAgentSetup(sim->agent(2), options);
+  const AgentFilterSetup uav3 = simulatedAgentSetup(sim->agent(2).scenarioAgent(), options);
   const Eigen::Vector3d bias = uav3.x0.segment<3>(vehicle::kGyroBias);
   // The recording's mean rate over its first second, rotated S → body (x_B = z_S, z_B = −x_S).
   double sum_x = 0.0;
@@ -123,7 +123,7 @@ TEST(ImuRecording, KnownPoseStartMeasuresTheTurnOnGyroBiasAtRest) {
   EXPECT_LT(sigma, 0.01);
   // A synthesised IMU's filter starts at a draw from the configured prior σ around the IMU's
   // true turn-on bias (perturb_biases, the default), not at a bias measured at rest.
-  const AgentFilterSetup uav1 = simulatedAgentSetup(sim->agent(0), options);
+  const AgentFilterSetup uav1 = simulatedAgentSetup(sim->agent(0).scenarioAgent(), options);
   const Eigen::Vector3d drawn =
       uav1.x0.segment<3>(vehicle::kGyroBias) - sim->agent(0).initialEstimate().state.gyro_bias;
   EXPECT_FALSE(drawn.isZero());
@@ -152,8 +152,8 @@ TEST(ImuRecording, TheRealImuInFlightIsTensOfTimesNoisierThanItsDatasheet) {
   // what the filter of a recording assumes (ins.measure_noise_density).
   Eigen::Matrix3d R_StoB;
   R_StoB << 0, 0, 1, 0, 1, 0, -1, 0, 0;
-  auto recording = ImuRecording::load(
-      test::sharedDataDir() + "/euroc/imu/MH_03_medium_imu0.csv", R_StoB);
+  auto recording =
+      ImuRecording::load(test::sharedDataDir() + "/euroc/imu/MH_03_medium_imu0.csv", R_StoB);
   ASSERT_TRUE(recording.ok()) << recording.status().message();
   const auto measure = [&](double from_s, double to_s) {
     ImuNoiseMonitor monitor;

@@ -11,6 +11,7 @@
 #include "cvslam/sensors/euroc_sensor_stream.h"
 #include "cvslam/sensors/merged_sensor_source.h"
 #include "cvslam/simrun/render_world_choice.h"
+#include "cvslam/simrun/scenario_rendering.h"
 #include "cvslam/simrun/simulated_sensor_stream.h"
 #include "euroc_test_folder.h"
 #include "small_scenario.h"
@@ -230,18 +231,20 @@ TEST(RenderWorldChoice, TheScenariosOwnRenderWorldIsHonoured) {
   // euroc_recorded_mh.yaml gives `render: world: {kind: hall, seed: 2102}`.
   auto mh = sim::Scenario::loadFile(test::sourceDir() + "/config/scenarios/euroc_recorded_mh.yaml");
   ASSERT_TRUE(mh.ok()) << mh.status().message();
-  ASSERT_TRUE(mh->render_world_given);
-  ASSERT_NE(mh->render_world.seed, render::WorldOptions().seed);
+  auto rendering = ScenarioRendering::parse(*mh);
+  ASSERT_TRUE(rendering.ok() && rendering->world.has_value());
+  const uint64_t seed = rendering->world->seed;
+  ASSERT_NE(seed, render::WorldOptions().seed);
   auto choice = chooseRenderWorld(*mh, "");
   ASSERT_TRUE(choice.ok());
   EXPECT_EQ(choice->options.kind, render::WorldKind::kHall);
-  EXPECT_EQ(choice->options.seed, mh->render_world.seed);
+  EXPECT_EQ(choice->options.seed, seed);
   EXPECT_NE(choice->reason.find("scenario"), std::string::npos) << choice->reason;
   // A request changes the kind and keeps the rest of the scenario's world.
   auto aerial = chooseRenderWorld(*mh, "aerial");
   ASSERT_TRUE(aerial.ok());
   EXPECT_EQ(aerial->options.kind, render::WorldKind::kAerial);
-  EXPECT_EQ(aerial->options.seed, mh->render_world.seed);
+  EXPECT_EQ(aerial->options.seed, seed);
 }
 
 }  // namespace

@@ -11,8 +11,8 @@
 
 #include "core/sim_test_helpers.h"
 #include "cvslam/dataset/euroc_dataset.h"
+#include "cvslam/scenario/imu_recording.h"
 #include "cvslam/sensors/merged_sensor_source.h"
-#include "cvslam/sim/imu_recording.h"
 #include "cvslam/simrun/render_world_choice.h"
 #include "cvslam/simrun/simulated_sensor_stream.h"
 #include "euroc_test_folder.h"
@@ -39,7 +39,9 @@ TEST(SimulateProcess, ReadBackEqualsTheSimulation) {
   auto sc = sim::Scenario::loadFile(scenario);
   ASSERT_TRUE(sc.ok());
   SimulatedSensorOptions o;
-  o.render_world = chooseRenderWorld(*sc, "")->options;
+  const auto choice = chooseRenderWorld(*sc, "");
+  o.render_world = choice->options;
+  o.render_options = choice->render;
   auto team = simulateTeam(*sc, o);
   ASSERT_TRUE(team.ok());
   MergedSensorSource source(std::move(team->streams));

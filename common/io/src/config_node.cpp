@@ -96,6 +96,19 @@ ConfigNode ConfigNode::child(const std::string& key) const {
   return ConfigNode(n, shared_, keyPath(key));
 }
 
+std::string ConfigNode::sectionText(const std::string& key) const {
+  markRead(key);
+  const YAML::Node n = lookup(key);
+  if (!n || n.IsNull()) return "";
+  if (!n.IsMap()) {
+    recordError(key, "expected a section (a map of keys)");
+    return "";
+  }
+  YAML::Emitter out;
+  out << n;
+  return out.c_str();
+}
+
 std::vector<ConfigNode> ConfigNode::sequence(const std::string& key) const {
   markRead(key);
   std::vector<ConfigNode> out;

@@ -1,14 +1,19 @@
 #include "cvslam/simrun/render_world_choice.h"
 
+#include "cvslam/simrun/scenario_rendering.h"
+
 namespace cvslam {
 
 Expected<RenderWorldChoice> chooseRenderWorld(const sim::Scenario& scenario,
                                               const std::string& requested) {
   if (!requested.empty() && requested != "aerial" && requested != "hall")
     return Status::Error("unknown world '" + requested + "' (use aerial or hall)");
+  auto rendering = ScenarioRendering::parse(scenario);
+  if (!rendering.ok()) return rendering.status();
   RenderWorldChoice choice;
-  if (scenario.render_world_given) {
-    choice.options = scenario.render_world;
+  choice.render = rendering->options;
+  if (rendering->world) {
+    choice.options = *rendering->world;
     choice.reason = "(the scenario's render: world)";
   } else {
     bool indoor = !scenario.agents.empty();

@@ -138,14 +138,14 @@ bool RenderedSensing::landmarkTruth(int64_t landmark_id, Eigen::Vector3d* p_LinN
 }
 
 Expected<std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>>
-makeRenderedSensingFactory(const sim::Scenario& scenario, const render::WorldOptions& world,
+makeRenderedSensingFactory(const RenderWorldChoice& rendering,
                            const VisualFrontEndOptions& front_end,
                            std::shared_ptr<const vision::Vocabulary> vocabulary,
                            const RenderedSensingOptions& options) {
-  auto created = render::World::create(world);
+  auto created = render::World::create(rendering.options);
   if (!created.ok()) return created.status();
   std::shared_ptr<const render::World> shared = *created;
-  const render::RenderOptions render = scenario.render;
+  const render::RenderOptions render = rendering.render;
   return std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>(
       [shared, render, front_end, vocabulary,
        options](const sim::AgentSimulator& agent) -> Expected<std::unique_ptr<FrameSensing>> {

@@ -104,7 +104,7 @@ Expected<SimulatedTeam> simulateTeam(const sim::Scenario& scenario,
     std::shared_ptr<const render::StereoRenderer> renderer;
     if (options.render) {
       renderer = std::make_shared<render::StereoRenderer>(
-          team.render_world, team.simulator->agent(i).camera(), scenario.render);
+          team.render_world, team.simulator->agent(i).camera(), options.render_options);
     }
     team.streams.push_back(std::make_unique<SimulatedAgentStream>(
         team.simulator, i, std::move(renderer), options.ground_truth, start_us));

@@ -1,5 +1,6 @@
 #include "cvslam/simrun/simulated_team_run.h"
-#include "cvslam/simrun/scenario_calibration.h"
+#include "cvslam/scenario_setup/scenario_calibration.h"
+#include "cvslam/sim/gps_simulator.h"
 
 #include "cvslam/slam/agent_setup.h"
 
@@ -25,7 +26,7 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
     } else {
       agent_sensing = std::make_unique<FeatureSensing>(&run->simulator_.landmarks());
     }
-    AgentFilterSetup setup = simulatedAgentSetup(as, options);
+    AgentFilterSetup setup = simulatedAgentSetup(as.scenarioAgent(), options);
     auto pipeline = AgentPipeline::create(as.id(), setup, as.camera());
     if (!pipeline.ok()) return pipeline.status();
     Agent a{as.id(), std::move(pipeline.value()), std::move(agent_sensing), std::move(setup), {},

@@ -44,6 +44,10 @@ class ConfigNode {
   /// Marks `key` as read without looking inside: a section another program reads (e.g.
   /// cvslam_run skips cvslam_agent's `agent:`), so finish() does not call it unknown.
   void skip(const std::string& key) const { markRead(key); }
+  /// The section at `key` as YAML text ("" when absent), marked read: a section that a module
+  /// this one does not link parses later (a scenario's `render:`, read by the renderer's
+  /// drivers only). A key that is not a map is an error.
+  std::string sectionText(const std::string& key) const;
   bool has(const std::string& key) const;
   /// Keys present in this map, in file order.
   std::vector<std::string> keys() const;

@@ -13,9 +13,9 @@
 #include "cvslam/core/status.h"
 #include "cvslam/ins/gps_fix.h"
 #include "cvslam/ins/imu_sample.h"
+#include "cvslam/scenario/trajectory_spec.h"
 #include "cvslam/sim/gps_simulator.h"
 #include "cvslam/sim/imu_simulator.h"
-#include "cvslam/sim/trajectory_spec.h"
 
 namespace cvslam {
 class ConfigNode;

@@ -19,32 +19,18 @@
 
 #include "cvslam/camera/stereo_camera.h"
 #include "cvslam/camera/stereo_observation.h"
-#include "cvslam/core/status.h"
-#include "cvslam/sim/noise_model.h"
 #include "cvslam/core/random.h"
-#include "cvslam/sim/trajectory.h"
-#include "cvslam/sim/world.h"
+#include "cvslam/core/status.h"
+#include "cvslam/scenario/noise_model.h"
+#include "cvslam/scenario/pixel_noise_options.h"
+#include "cvslam/scenario/trajectory.h"
+#include "cvslam/scenario/world.h"
 
 namespace cvslam {
 class ConfigNode;
 }
 
 namespace cvslam::sim {
-
-enum class FeatureCap : uint8_t { kNearest, kRandom };
-
-struct PixelNoiseOptions {
-  NoiseKind kind = NoiseKind::kGaussian;  ///< gaussian | non_gaussian_centred | non_centred
-  NonGaussianShape shape = NonGaussianShape::kUniform;            ///< uniform | mixture
-  double sigma_px = 0.5;                                          ///< σ per pixel coordinate [px]
-  Eigen::Vector4d bias_px = Eigen::Vector4d(0.5, 0.5, 0.0, 0.5);  ///< non_centred offset [px]
-  double outlier_rate = 0.0;              ///< probability that an observation is a wrong match
-  int max_features = 0;                   ///< at most this many observations per frame (0: no cap)
-  FeatureCap cap = FeatureCap::kNearest;  ///< nearest | random
-  double max_range = 150.0;  ///< landmarks farther than this from the camera are unseen [m]
-
-  Status load(const ConfigNode& node);
-};
 
 class ObservationSimulator {
  public:

@@ -19,43 +19,14 @@
 #include "cvslam/core/sensor_event_type.h"
 #include "cvslam/core/status.h"
 #include "cvslam/ins/imu_sample.h"
+#include "cvslam/scenario/scenario.h"
+#include "cvslam/scenario/scenario_agent.h"
+#include "cvslam/scenario/trajectory.h"
+#include "cvslam/scenario/world.h"
 #include "cvslam/sim/imu_simulator.h"
 #include "cvslam/sim/observation_simulator.h"
-#include "cvslam/sim/scenario.h"
-#include "cvslam/sim/trajectory.h"
-#include "cvslam/sim/world.h"
 
 namespace cvslam::sim {
-
-/// True vehicle state in the filter's terms (thesis §2.3: [X Y Z U V W φ θ ψ]).
-struct GroundTruth {
-  int64_t t_us = 0;
-  Eigen::Vector3d p_BinN = Eigen::Vector3d::Zero();      ///< [m] NED
-  Eigen::Vector3d v_B = Eigen::Vector3d::Zero();         ///< body velocity [m/s]
-  Eigen::Vector3d euler = Eigen::Vector3d::Zero();       ///< [φ θ ψ] [rad]
-  Eigen::Vector3d v_N = Eigen::Vector3d::Zero();         ///< [m/s] NED
-  Eigen::Vector3d omega_B = Eigen::Vector3d::Zero();     ///< body rates [rad/s]
-  Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();   ///< IMU gyro bias now [rad/s]
-  Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();  ///< IMU accel bias now [m/s²]
-  /// false when the IMU plays a recording: its biases are unknown (the two above read zero).
-  bool biases_known = true;
-
-  /// The filter's Euler layout [p_BinN, v_B, φ θ ψ] (ins/vehicle_state_layout.h).
-  Eigen::Matrix<double, 9, 1> eulerLayout() const {
-    Eigen::Matrix<double, 9, 1> x;
-    x << p_BinN, v_B, euler;
-    return x;
-  }
-};
-
-/// Initial state for an estimator: the truth, or a sample around it (InitialUncertainty).
-struct InitialEstimate {
-  GroundTruth state;         ///< p_BinN, v_B, euler filled in (biases: the initial truth)
-  InitialUncertainty sigma;  ///< the 1σ to initialise the covariance with
-  /// sigma.perturb and sigma.perturb_biases: standard normal draws for the accelerometer (head)
-  /// and gyro (tail) bias errors, which the filter set-up scales by its stated bias σ; else 0.
-  Eigen::Matrix<double, 6, 1> bias_draw = Eigen::Matrix<double, 6, 1>::Zero();
-};
 
 struct SimEvent {
   SensorEventType type = SensorEventType::kImu;
@@ -68,21 +39,20 @@ struct SimEvent {
 
 class AgentSimulator {
  public:
-  AgentSimulator(const AgentSpec& spec, std::shared_ptr<const Trajectory> trajectory,
-                 std::shared_ptr<const World> world, uint64_t scenario_seed, double duration);
+  /// Simulates the sensors of `agent` (its IMU plays the agent's recording if it has one).
+  AgentSimulator(const ScenarioAgent& agent, std::shared_ptr<const World> world,
+                 uint64_t scenario_seed, double duration);
 
-  int id() const { return spec_.id; }
-  const AgentSpec& spec() const { return spec_; }
+  int id() const { return agent_.spec().id; }
+  const AgentSpec& spec() const { return agent_.spec(); }
+  /// What the scenario says of this agent without simulating it (scenario_agent.h).
+  const ScenarioAgent& scenarioAgent() const { return agent_; }
   const Trajectory& trajectory() const { return *trajectory_; }
   std::shared_ptr<const Trajectory> sharedTrajectory() const { return trajectory_; }
   const StereoCamera& camera() const { return observer_.camera(); }
 
-  /// Plays a recorded IMU instead of synthesising one (ImuOptions::recording).
-  void useImuRecording(std::shared_ptr<const ImuRecording> recording, double file_time_at_zero) {
-    imu_.useRecording(std::move(recording), file_time_at_zero);
-  }
-  /// A recorded IMU's samples from before the flight (ImuSimulator::recordedBeforeStart).
-  std::vector<ImuSample> imuBeforeStart() const { return imu_.recordedBeforeStart(); }
+  /// A recorded IMU's samples from before the flight (ScenarioAgent::imuBeforeStart).
+  std::vector<ImuSample> imuBeforeStart() const { return agent_.imuBeforeStart(); }
 
   /// Time of the next event, or INT64_MAX when the stream is over.
   int64_t peekTime() const;
@@ -92,15 +62,14 @@ class AgentSimulator {
   /// True state at dataset time t_us (biases: as of the last IMU sample).
   GroundTruth truth(int64_t t_us) const;
   /// Initial state for the estimator (sampled once, from its own RNG stream).
-  const InitialEstimate& initialEstimate() const { return initial_; }
+  const InitialEstimate& initialEstimate() const { return agent_.initialEstimate(); }
 
  private:
-  AgentSpec spec_;
+  ScenarioAgent agent_;
   std::shared_ptr<const Trajectory> trajectory_;
   std::shared_ptr<const World> world_;
   ImuSimulator imu_;
   ObservationSimulator observer_;
-  InitialEstimate initial_;
   int64_t end_us_ = 0;
   int64_t imu_period_us_ = 5000;
   int64_t cam_period_us_ = 100000;

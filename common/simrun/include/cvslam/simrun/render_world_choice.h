@@ -11,17 +11,20 @@
 // An explicit request ("aerial" | "hall") overrides the kind only.
 #include <string>
 #include "cvslam/core/status.h"
+#include "cvslam/render/stereo_renderer.h"
 #include "cvslam/render/world.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 
 namespace cvslam {
 
 struct RenderWorldChoice {
   render::WorldOptions options;  ///< the world to create
+  render::RenderOptions render;  ///< the renderer's options (the scenario's `render: options:`)
   std::string reason;            ///< one line for the user, e.g. "aerial (outdoor scenario)"
 };
 
-/// `requested`: "" (the scenario's or chosen), "aerial" or "hall"; anything else is an error.
+/// `requested`: "" (the scenario's or chosen), "aerial" or "hall"; anything else is an error,
+/// as is a `render:` section that does not parse (scenario_rendering.h).
 Expected<RenderWorldChoice> chooseRenderWorld(const sim::Scenario& scenario,
                                               const std::string& requested);
 

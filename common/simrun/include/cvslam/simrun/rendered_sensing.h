@@ -18,8 +18,9 @@
 #include <unordered_map>
 
 #include "cvslam/render/stereo_renderer.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 #include "cvslam/simrun/frame_sensing.h"
+#include "cvslam/simrun/render_world_choice.h"
 #include "cvslam/slam/visual_slam_pipeline.h"
 
 namespace cvslam {
@@ -94,10 +95,10 @@ class RenderedSensing : public FrameSensing {
 };
 
 /// A SimulatedTeamRun sensing factory (SimulatedTeamRun::SensingFactory) that gives every
-/// agent a RenderedSensing of `world` (chooseRenderWorld; built once, shared) with the
+/// agent a RenderedSensing of the chosen world (chooseRenderWorld; built once, shared) with the
 /// scenario's renderer options, the agent's camera and its own pipeline.
 Expected<std::function<Expected<std::unique_ptr<FrameSensing>>(const sim::AgentSimulator&)>>
-makeRenderedSensingFactory(const sim::Scenario& scenario, const render::WorldOptions& world,
+makeRenderedSensingFactory(const RenderWorldChoice& rendering,
                            const VisualFrontEndOptions& front_end,
                            std::shared_ptr<const vision::Vocabulary> vocabulary,
                            const RenderedSensingOptions& options = {});

@@ -7,18 +7,18 @@
 #include <vector>
 #include "cvslam/render/stereo_renderer.h"
 #include "cvslam/render/world.h"
+#include "cvslam/scenario/scenario.h"
 #include "cvslam/sensors/sensor_stream.h"
-#include "cvslam/sim/scenario.h"
 #include "cvslam/sim/simulator.h"
 
 namespace cvslam {
 
 struct SimulatedSensorOptions {
-  bool render = true;                 ///< true: rendered images; false: feature observations
-  render::WorldOptions render_world;  ///< the textured world (chooseRenderWorld); the renderer
-                                      ///< options are the scenario's `render: options:`
-  bool ground_truth = true;           ///< emit ground truth at every IMU sample
-  double start = 0.0;                 ///< skip (without rendering) everything before this [s]
+  bool render = true;                    ///< true: rendered images; false: feature observations
+  render::WorldOptions render_world;     ///< the textured world (chooseRenderWorld)
+  render::RenderOptions render_options;  ///< the renderer's (RenderWorldChoice::render)
+  bool ground_truth = true;              ///< emit ground truth at every IMU sample
+  double start = 0.0;                    ///< skip (without rendering) everything before this [s]
 };
 
 /// A simulated team: the simulator (ground-truth landmarks), the rendered world (if any) and

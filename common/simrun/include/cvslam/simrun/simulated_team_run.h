@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "cvslam/core/status.h"
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 #include "cvslam/sim/simulator.h"
 #include "cvslam/simrun/frame_sensing.h"
 #include "cvslam/simrun/simulation_truth_oracle.h"

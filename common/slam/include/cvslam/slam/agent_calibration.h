@@ -1,6 +1,6 @@
 #pragma once
 // Where an agent process gets its calibration (cvslam_agent):
-//  - a simulated scenario file (simrun/scenario_calibration.h, which needs the simulator):
+//  - a simulated scenario file (scenario_setup/scenario_calibration.h, no simulator needed):
 //    the agent's camera and IMU noise and the initial estimate, built exactly as
 //    SimulatedTeamRun builds them, plus the world's true landmarks (feature-level truth for
 //    landmarks.csv);

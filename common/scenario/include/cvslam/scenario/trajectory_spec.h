@@ -22,11 +22,11 @@
 #include <vector>
 
 #include "cvslam/core/status.h"
-#include "cvslam/sim/flight_trajectory.h"
-#include "cvslam/sim/position_path.h"
-#include "cvslam/sim/resting_start.h"
-#include "cvslam/sim/trajectory.h"
-#include "cvslam/sim/tum_trajectory.h"
+#include "cvslam/scenario/flight_trajectory.h"
+#include "cvslam/scenario/position_path.h"
+#include "cvslam/scenario/resting_start.h"
+#include "cvslam/scenario/trajectory.h"
+#include "cvslam/scenario/tum_trajectory.h"
 
 namespace cvslam {
 class ConfigNode;

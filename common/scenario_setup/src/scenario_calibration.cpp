@@ -1,13 +1,14 @@
-#include "cvslam/simrun/scenario_calibration.h"
+#include "cvslam/scenario_setup/scenario_calibration.h"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "cvslam/ins/vehicle_state_layout.h"
 
 namespace cvslam {
 
-AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
+AgentFilterSetup simulatedAgentSetup(const sim::ScenarioAgent& agent,
                                      const VisualInertialSlamOptions& options) {
   VisualInertialSlamOptions agent_options = options;
   const sim::ImuOptions& imu = agent.spec().imu;
@@ -56,20 +57,24 @@ AgentFilterSetup simulatedAgentSetup(const sim::AgentSimulator& agent,
 
 Expected<AgentCalibration> calibrationFromScenario(const sim::Scenario& scenario, int agent_id,
                                                    const VisualInertialSlamOptions& options) {
-  auto simulator = sim::Simulator::create(scenario);
-  if (!simulator.ok()) return simulator.status();
-  auto shared = std::make_shared<const sim::Simulator>(std::move(*simulator));
-  const sim::AgentSimulator* agent = shared->agentById(agent_id);
-  if (agent == nullptr) {
+  const sim::AgentSpec* spec = nullptr;
+  for (const sim::AgentSpec& a : scenario.agents)
+    if (a.id == agent_id) spec = &a;
+  if (spec == nullptr) {
     return Status::Error("scenario " + scenario.source + " has no agent with id " +
                          std::to_string(agent_id));
   }
+  auto agent = sim::ScenarioAgent::create(scenario, *spec);
+  if (!agent.ok()) return agent.status();
+  auto world = scenario.generateWorld();
+  if (!world.ok()) return world.status();
   AgentCalibration c;
   c.source = scenario.source + " (agent " + std::to_string(agent_id) + ")";
   c.camera = agent->camera();
   c.setup = simulatedAgentSetup(*agent, options);
   c.options = c.setup->options;
-  // Feature-level frames name their landmarks by true id: the simulated world knows them.
+  // Feature-level frames name their landmarks by true id: the scenario's world knows them.
+  auto shared = std::make_shared<const sim::World>(std::move(*world));
   c.landmark_truth = [shared](int64_t id, Eigen::Vector3d* p) {
     const auto& landmarks = shared->landmarks();
     if (id < 0 || id >= static_cast<int64_t>(landmarks.size())) return false;

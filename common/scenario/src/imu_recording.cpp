@@ -1,4 +1,4 @@
-#include "cvslam/sim/imu_recording.h"
+#include "cvslam/scenario/imu_recording.h"
 
 #include <algorithm>
 #include <cmath>

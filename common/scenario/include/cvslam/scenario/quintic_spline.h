@@ -20,7 +20,7 @@
 #include <cmath>
 #include <vector>
 
-#include "cvslam/sim/cubic_spline.h"
+#include "cvslam/scenario/cubic_spline.h"
 
 namespace cvslam::sim {
 

@@ -1,4 +1,4 @@
-#include "cvslam/sim/resting_start.h"
+#include "cvslam/scenario/resting_start.h"
 
 #include <utility>
 

@@ -13,13 +13,11 @@
 #include "cvslam/camera/stereo_camera.h"
 #include "cvslam/core/status.h"
 #include "cvslam/ins/initial_uncertainty.h"
-#include "cvslam/render/stereo_renderer.h"
-#include "cvslam/render/world.h"
-#include "cvslam/sim/gps_simulator.h"
-#include "cvslam/sim/imu_simulator.h"
-#include "cvslam/sim/observation_simulator.h"
-#include "cvslam/sim/trajectory_spec.h"
-#include "cvslam/sim/world.h"
+#include "cvslam/scenario/gps_options.h"
+#include "cvslam/scenario/imu_options.h"
+#include "cvslam/scenario/pixel_noise_options.h"
+#include "cvslam/scenario/trajectory_spec.h"
+#include "cvslam/scenario/world.h"
 
 namespace cvslam {
 class ConfigNode;
@@ -57,14 +55,11 @@ struct Scenario {
   uint64_t seed = 1;       ///< master seed: world and every agent stream derive from it
   double duration = 60.0;  ///< simulated time [s]
   WorldOptions world;
-  /// Section `render:` — the textured world and renderer options for image sensing
-  /// (`cvslam_run --sensing images`, `cvslam_replay`, `cvslam_simulate`):
-  /// `render: {world: {kind: aerial, ...}, options: {...}}` (cvslam/render/world.h,
-  /// stereo_renderer.h). Without `render: world:` the world is chosen from the trajectories
-  /// (simrun/render_world_choice.h).
-  render::WorldOptions render_world;
-  bool render_world_given = false;  ///< the scenario has a `render: world:` section
-  render::RenderOptions render;
+  /// Section `render:` as YAML text ("" if the scenario has none): the textured world and the
+  /// renderer's options for image sensing, `render: {world: {kind: aerial, ...}, options:
+  /// {...}}`, parsed by simrun/scenario_rendering.h. Kept as text so that the programs that
+  /// only estimate (cvslam_agent, the ground station) read a scenario without the renderer.
+  std::string render_yaml;
   std::vector<AgentSpec> agents;
   /// The horizontal area the feature-level world is laid out around (World, plus world.margin).
   /// load() sets it to the area the whole team flies over the whole duration, so that a run of
@@ -72,6 +67,11 @@ struct Scenario {
   /// world as the full run, not in another landmark layout. Empty: the simulator takes the
   /// area `agents` fly over `duration`.
   Eigen::AlignedBox2d world_region;
+
+  /// The feature-level world of the scenario (World::generate over world_region, or the area
+  /// the agents fly, plus world.margin), the same for the simulator and for an agent that only
+  /// needs its true landmarks.
+  Expected<World> generateWorld() const;
 
   /// Loads and validates a scenario file (also checks that open trajectories last long enough).
   static Expected<Scenario> loadFile(const std::string& path);

@@ -13,7 +13,7 @@
 
 #include <memory>
 
-#include "cvslam/sim/trajectory.h"
+#include "cvslam/scenario/trajectory.h"
 
 namespace cvslam::sim {
 

@@ -1,4 +1,4 @@
-#include "cvslam/sim/noise_model.h"
+#include "cvslam/scenario/noise_model.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "cvslam/sim/scenario.h"
+#include "cvslam/scenario/scenario.h"
 
 #include <algorithm>
 
@@ -49,13 +49,7 @@ Status Scenario::load(const ConfigNode& node, const std::string& base_dir) {
   node.get("duration", duration);
   node.check(duration > 0.0, "duration", "must be > 0 s");
   world.load(node.child("world"));
-  render_world_given = false;
-  if (node.has("render")) {
-    const ConfigNode r = node.child("render");
-    render_world_given = r.has("world");
-    if (render_world_given) render_world.load(r.child("world"));
-    render.load(r.child("options"));
-  }
+  render_yaml = node.sectionText("render");
   agents.clear();
   const auto items = node.sequence("agents");
   if (!node.has("agents")) {
@@ -86,6 +80,24 @@ Status Scenario::load(const ConfigNode& node, const std::string& base_dir) {
     extendByFlight(**traj, agents[i].trajectory.time_offset, duration, &world_region);
   }
   return node.finish();
+}
+
+Expected<World> Scenario::generateWorld() const {
+  // The area the world is laid out around: the whole team's (world_region), else these agents'.
+  Eigen::AlignedBox2d region = world_region;
+  if (region.isEmpty()) {
+    for (const AgentSpec& a : agents) {
+      auto traj = a.trajectory.build();
+      if (!traj.ok()) return traj.status();
+      extendByFlight(**traj, a.trajectory.time_offset, duration, &region);
+    }
+  }
+  if (region.isEmpty()) return Status::Error(source + ": no agents");
+  region.min().array() -= world.margin + 1.0;
+  region.max().array() += world.margin + 1.0;
+  auto generated = World::generate(world, region, deriveSeed(seed, 0, RngStream::kWorld));
+  if (!generated.ok()) return Status::Error(source + ": " + generated.status().message());
+  return generated;
 }
 
 Expected<Scenario> Scenario::fromString(const std::string& yaml, const std::string& source,

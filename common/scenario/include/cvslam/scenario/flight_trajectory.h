@@ -12,8 +12,8 @@
 
 #include <memory>
 
-#include "cvslam/sim/position_path.h"
-#include "cvslam/sim/trajectory.h"
+#include "cvslam/scenario/position_path.h"
+#include "cvslam/scenario/trajectory.h"
 
 namespace cvslam::sim {
 

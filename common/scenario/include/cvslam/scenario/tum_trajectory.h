@@ -22,8 +22,8 @@
 #include <string>
 
 #include "cvslam/core/status.h"
-#include "cvslam/sim/cubic_spline.h"
-#include "cvslam/sim/trajectory.h"
+#include "cvslam/scenario/cubic_spline.h"
+#include "cvslam/scenario/trajectory.h"
 
 namespace cvslam::sim {
 

@@ -1,4 +1,4 @@
-#include "cvslam/sim/flight_trajectory.h"
+#include "cvslam/scenario/flight_trajectory.h"
 
 #include <cmath>
 #include <tuple>

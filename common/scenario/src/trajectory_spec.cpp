@@ -1,4 +1,4 @@
-#include "cvslam/sim/trajectory_spec.h"
+#include "cvslam/scenario/trajectory_spec.h"
 
 #include <cmath>
 

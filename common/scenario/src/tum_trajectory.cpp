@@ -1,4 +1,4 @@
-#include "cvslam/sim/tum_trajectory.h"
+#include "cvslam/scenario/tum_trajectory.h"
 
 #include <cmath>
 #include <vector>

@@ -15,8 +15,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "cvslam/core/status.h"
 #include "cvslam/core/random.h"
+#include "cvslam/core/status.h"
 
 namespace cvslam {
 class ConfigNode;

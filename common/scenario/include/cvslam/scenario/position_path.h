@@ -7,8 +7,8 @@
 #include <Eigen/Core>
 #include <limits>
 
-#include "cvslam/sim/cubic_spline.h"
-#include "cvslam/sim/quintic_spline.h"
+#include "cvslam/scenario/cubic_spline.h"
+#include "cvslam/scenario/quintic_spline.h"
 
 namespace cvslam::sim {
 

@@ -1,4 +1,4 @@
-#include "cvslam/sim/world.h"
+#include "cvslam/scenario/world.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "cvslam/sim/position_path.h"
+#include "cvslam/scenario/position_path.h"
 
 #include <cmath>
 
