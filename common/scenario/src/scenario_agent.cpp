@@ -62,14 +62,8 @@ Expected<ScenarioAgent> ScenarioAgent::create(const Scenario& scenario, const Ag
   // The truth at time 0, with the IMU's turn-on biases, then the draws around it.
   InitialEstimate& init = a.initial_;
   init.sigma = spec.initial;
-  const TrajectoryState truth = a.trajectory_->state(spec.trajectory.time_offset);
+  init.state = a.motionAt(0);
   GroundTruth& g = init.state;
-  g.t_us = 0;
-  g.p_BinN = truth.p_BinN;
-  g.v_B = truth.v_B();
-  g.euler = truth.euler;
-  g.v_N = truth.v_N;
-  g.omega_B = truth.omega_B;
   g.gyro_bias = a.turnOnGyroBias();
   g.accel_bias = a.turnOnAccelBias();
   g.biases_known = a.recording_ == nullptr;
@@ -84,6 +78,19 @@ Expected<ScenarioAgent> ScenarioAgent::create(const Scenario& scenario, const Ag
     }
   }
   return a;
+}
+
+GroundTruth ScenarioAgent::motionAt(int64_t t_us) const {
+  const TrajectoryState s =
+      trajectory_->state(1e-6 * static_cast<double>(t_us) + spec_.trajectory.time_offset);
+  GroundTruth g;
+  g.t_us = t_us;
+  g.p_BinN = s.p_BinN;
+  g.v_B = s.v_B();
+  g.euler = s.euler;
+  g.v_N = s.v_N;
+  g.omega_B = s.omega_B;
+  return g;
 }
 
 std::vector<ImuSample> ScenarioAgent::imuBeforeStart() const {

@@ -32,15 +32,7 @@ AgentSimulator::AgentSimulator(const ScenarioAgent& agent, std::shared_ptr<const
 }
 
 GroundTruth AgentSimulator::truth(int64_t t_us) const {
-  const TrajectoryState s =
-      trajectory_->state(1e-6 * static_cast<double>(t_us) + agent_.spec().trajectory.time_offset);
-  GroundTruth g;
-  g.t_us = t_us;
-  g.p_BinN = s.p_BinN;
-  g.v_B = s.v_B();
-  g.euler = s.euler;
-  g.v_N = s.v_N;
-  g.omega_B = s.omega_B;
+  GroundTruth g = agent_.motionAt(t_us);
   g.gyro_bias = imu_.gyroBias();
   g.accel_bias = imu_.accelBias();
   g.biases_known = !imu_.playsRecording();

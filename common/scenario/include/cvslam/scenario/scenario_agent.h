@@ -69,6 +69,10 @@ class ScenarioAgent {
   /// IMU measured while the vehicle waited for the flight; empty otherwise.
   std::vector<ImuSample> imuBeforeStart() const;
 
+  /// The true motion at dataset time t_us (trajectory time t_us·1e−6 + the time offset); the
+  /// biases are left for the caller (the simulator's IMU knows them as they walk).
+  GroundTruth motionAt(int64_t t_us) const;
+
   /// The IMU's turn-on biases: the configured ones for a noisy synthesised IMU, else zero.
   Eigen::Vector3d turnOnGyroBias() const;
   Eigen::Vector3d turnOnAccelBias() const;
