@@ -375,18 +375,26 @@ int main(int argc, char** argv) {
   auto scenario = cvslam::sim::Scenario::loadFile(args.scenario);
   if (!scenario.ok()) return fail(scenario.status().message());
   if (Status s = applyScenarioArgs(args, &*scenario); !s.ok()) return fail(s.message());
+  for (const cvslam::sim::AgentSpec& a : scenario->agents)
+    if (!a.start_known && args.mode == "cc")
+      return fail("--mode cc needs every start known (agent " + std::to_string(a.id) +
+                  " starts unknown); teams that start apart run --mode dc or single");
   auto config = cvslam::AgentConfig::load(args.config, CVSLAM_CONFIG_DIR "/agent.yaml",
                                           [](const cvslam::ConfigNode& root) {
                                             root.skip("agent");  // cvslam_agent's section
                                           });
   if (!config.ok()) return fail(config.status().message());
   config->coop.true_ids = args.sensing == "features";
+  // One agent that starts unknown puts the whole team in estimated frames (docs/merge.md).
+  for (const cvslam::sim::AgentSpec& a : scenario->agents)
+    config->coop.frames_given = config->coop.frames_given && a.start_known;
   auto sensing = makeSensing(args, *scenario, *config);
   if (!sensing.ok()) return fail(sensing.status().message());
   auto team = cvslam::SimulatedTeamRun::create(*scenario, config->slam, *sensing);
   if (!team.ok()) return fail(team.status().message());
   cvslam::SimulatedTeamRun& run = **team;
-  if (args.linearise_at_truth) run.lineariseAtTruth();
+  if (args.linearise_at_truth)
+    if (Status s = run.lineariseAtTruth(); !s.ok()) return fail(s.message());
 
   std::map<int, cvslam::AgentRunRecorder> recorders;
   std::unique_ptr<cvslam::DcTeamLink> dc;
@@ -418,6 +426,14 @@ int main(int argc, char** argv) {
               !s.ok())
             return s;
           auditMatches(run, index_of, *dc, f.agent_id, f.t_us, &match_audit, &audited);
+          if (const cvslam::coop::TeamFrame team = dc->agent(f.agent_id).teamFrame();
+              !config->coop.frames_given && team.merged) {
+            const Eigen::VectorXd x = f.slam->vehicleState();
+            if (Status s = recorder.writer().addTeamState(static_cast<double>(f.t_us) * 1e-6,
+                                                          team.root, team.apply(x.head<9>()));
+                !s.ok())
+              return s;
+          }
         }
         const double t = static_cast<double>(f.t_us) * 1e-6;
         AgentCounters& c = counters[f.agent_id];
@@ -454,8 +470,11 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < run.agentCount(); ++i) {
     cvslam::AgentRunRecorder& recorder = recorders[run.agentId(i)];
     const cvslam::FrameSensing& agent_sensing = run.sensing(i);
+    const cvslam::sim::ScenarioAgent& scenario_agent = run.scenarioAgent(i);
     Status s = recorder.writeMap(run.slam(i), [&](int64_t id, Eigen::Vector3d* p) {
-      return agent_sensing.landmarkTruth(id, p);
+      if (!agent_sensing.landmarkTruth(id, p)) return false;
+      *p = scenario_agent.toOwnFrame(*p);  // the map is in the agent's own frame
+      return true;
     });
     if (s.ok()) s = recorder.close();
     if (!s.ok()) return fail(s.message());

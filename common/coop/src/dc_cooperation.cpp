@@ -7,6 +7,7 @@
 
 #include "cvslam/filter/chi_square.h"
 #include "cvslam/filter/covariance_helper.h"
+#include "cvslam/geometry/euler.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 
 namespace cvslam::coop {
@@ -34,7 +35,43 @@ std::vector<StateLandmark> observedNow(const std::vector<StateLandmark>& in_stat
 }  // namespace
 
 DcCooperation::DcCooperation(int self_id, const DcCooperationOptions& options, int64_t boot_id)
-    : self_(self_id), o_(options), boot_id_(boot_id), informed_by_{self_id} {}
+    : self_(self_id),
+      o_(options),
+      boot_id_(boot_id),
+      informed_by_{self_id},
+      aligner_(options.aligner),
+      relations_(options.relations) {}
+
+std::optional<merge::FrameRelation> DcCooperation::relationOf(int peer) const {
+  if (o_.frames_given) return merge::FrameRelation{};
+  return relations_.relation(peer);
+}
+
+Eigen::Matrix<double, 9, 1> TeamFrame::apply(const Eigen::Matrix<double, 9, 1>& x_own) const {
+  Eigen::Matrix<double, 9, 1> x = x_own;
+  x.head<3>() = own_in_root.apply(x_own.head<3>());
+  x(8) = wrapAngle(x_own(8) + own_in_root.yaw());
+  return x;
+}
+
+TeamFrame DcCooperation::teamFrame() const {
+  TeamFrame f;
+  f.root = self_;
+  std::vector<int> related = relations_.adoptedPeers();
+  if (o_.frames_given) related = peers();
+  for (int j : related) {
+    f.merged = true;
+    f.root = std::min(f.root, j);
+  }
+  if (f.root != self_) f.own_in_root = relationOf(f.root)->inverse();
+  return f;
+}
+
+std::vector<RelationRecord> DcCooperation::takeRelationRecords() {
+  std::vector<RelationRecord> out;
+  out.swap(relation_records_);
+  return out;
+}
 
 bool DcCooperation::independentOf(const std::vector<int>& informed_by) const {
   if (informed_by.empty()) return false;  // unknown provenance
@@ -97,7 +134,11 @@ void DcCooperation::handleSummary(const CoopSummary& m, int64_t now_us) {
     fresh.timeout = RequestTimeout({o_.min_request_timeout_s, o_.request_timeout_s});
     fresh.consistency = PeerConsistency(o_.consistency);
     peers_[j] = fresh;
-    if (restart) ++stats_.peer_restarts;
+    if (restart) {
+      ++stats_.peer_restarts;
+      relations_.forget(j);  // a restarted peer estimates in a new frame
+      last_place_us_.erase(j);
+    }
     CoopEvent e;
     e.t_us = now_us;
     e.kind = restart ? CoopEventKind::kPeerRestarted : CoopEventKind::kPeerJoined;
@@ -116,8 +157,27 @@ void DcCooperation::handleIndex(const FeatureIndexList& m, const VisualInertialS
   ++stats_.indices_received;
   PeerState& p = peers_[m.header.agent_id];
   if (p.request_pending) return;  // one exchange at a time per peer
+  // A peer not yet merged: its INDEX is a place descriptor. The higher id of the two asks (one
+  // exchange per pair; with both_ways each side verifies), and only for landmarks it has
+  // mapped, the ones a verification can use.
+  const bool merged = relationOf(m.header.agent_id).has_value();
   std::vector<uint32_t> sorted = m.indices;
   std::sort(sorted.begin(), sorted.end());
+  if (!merged) {
+    // A place descriptor (the peer's local map): ask for the landmarks of it that this agent
+    // mapped, in its state or its archive (the peer may fly where this agent flew before).
+    std::vector<StateLandmark> known = placeLandmarks(slam);
+    SharedRequest r;
+    for (const StateLandmark& l : known)
+      if (std::binary_search(sorted.begin(), sorted.end(), l.index)) r.indices.push_back(l.index);
+    std::sort(r.indices.begin(), r.indices.end());
+    r.indices.erase(std::unique(r.indices.begin(), r.indices.end()), r.indices.end());
+    if (static_cast<int>(r.indices.size()) < o_.aligner.min_inliers) return;  // cannot verify
+    if (static_cast<int>(r.indices.size()) > o_.max_landmarks_per_message)
+      r.indices.resize(static_cast<std::size_t>(o_.max_landmarks_per_message));
+    sendRequest(m.header.agent_id, std::move(r), now_us, out);
+    return;
+  }
   // Candidates: in-state landmarks with an index the peer observes, most recently seen first;
   // then (map_shared_landmarks) the points observed now and not mapped.
   std::vector<StateLandmark> cand;
@@ -137,14 +197,19 @@ void DcCooperation::handleIndex(const FeatureIndexList& m, const VisualInertialS
   }
   if (cand.empty()) return;
   SharedRequest r;
-  r.header = nextHeader(kRequestStream, now_us);
-  r.to_agent = m.header.agent_id;
   for (const StateLandmark& l : cand) {
     if (static_cast<int>(r.indices.size()) >= o_.max_landmarks_per_message) break;
     r.indices.push_back(l.index);
   }
   std::sort(r.indices.begin(), r.indices.end());
   r.indices.erase(std::unique(r.indices.begin(), r.indices.end()), r.indices.end());
+  sendRequest(m.header.agent_id, std::move(r), now_us, out);
+}
+
+void DcCooperation::sendRequest(int peer, SharedRequest r, int64_t now_us, CoopOutbox* out) {
+  PeerState& p = peers_[peer];
+  r.header = nextHeader(kRequestStream, now_us);
+  r.to_agent = peer;
   p.request_pending = true;
   p.request_sent_us = now_us;
   p.requested = r.indices;
@@ -152,6 +217,30 @@ void DcCooperation::handleIndex(const FeatureIndexList& m, const VisualInertialS
   events_.push_back({now_us, CoopEventKind::kRequestSent, r.to_agent,
                      static_cast<int>(r.indices.size()), 0, 0, 0, 1.0});
   out->requests.push_back(std::move(r));
+}
+
+std::vector<StateLandmark> DcCooperation::placeLandmarks(const VisualInertialSlam& slam) {
+  std::vector<StateLandmark> out = slam.stateLandmarks();
+  std::vector<std::pair<int64_t, const ArchivedLandmark*>> archived;
+  for (const auto& [id, a] : slam.archive().all()) archived.emplace_back(id, &a);
+  std::sort(archived.begin(), archived.end());  // deterministic (the archive is unordered)
+  for (const auto& [id, a] : archived) {
+    StateLandmark l;
+    l.id = id;
+    l.index = a->index;
+    l.p_LinN = a->p_LinN;
+    l.covariance = a->covariance;
+    l.descriptor = a->descriptor;
+    l.last_seen_us = a->last_seen_us;
+    // A held landmark as the state holds it now (a Schmidt variable, with its correlations).
+    if (const StateVariable* v =
+            slam.state().find(VariableKey::heldLandmark(static_cast<uint64_t>(id)))) {
+      l.p_LinN = slam.state().value(*v);
+      l.covariance = slam.state().covarianceOf(*v);
+    }
+    out.push_back(std::move(l));
+  }
+  return out;
 }
 
 void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSlam& slam,
@@ -230,12 +319,225 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
   e.kind = CoopEventKind::kFused;
   e.peer = j;
   e.count = static_cast<int>(m.landmarks.size());
-  const bool independent = o_.use_provenance && independentOf(m.informed_by);
-  const std::vector<ConfirmedPair> pairs = confirm(m, slam, frame, independent, &local, &e);
+  if (o_.frames_given) {
+    const bool independent = o_.use_provenance && independentOf(m.informed_by);
+    const std::vector<ConfirmedPair> pairs = confirm(m, slam, frame, independent, &local, &e);
+    if (!pairs.empty() &&
+        !fuseConfirmed(m, pairs, local, answers_request, independent, slam, now_us, out, &e))
+      return;
+    events_.push_back(e);
+    return;
+  }
+  // Estimated frames: carried with the relation adopted before this message (not yet
+  // refined by it), then verified again.
+  const std::optional<merge::FrameRelation> relation = relations_.relation(j);
+  const std::vector<StateLandmark> place = placeLandmarks(slam);
+  const std::vector<Correspondence> matched = correspondences(m, place);
+  verifyRelation(m, matched, slam, now_us);
+  if (!relation) {
+    ++stats_.skipped_unmerged;
+    if (o_.both_ways && answers_request) returnOwnEstimates(j, matched, nullptr, slam, now_us, out);
+    return;
+  }
+  const SharedLandmarks carried = inOwnFrame(m, *relation);
+  const std::vector<ConfirmedPair> pairs = confirm(carried, slam, frame, false, &local, &e);
   if (!pairs.empty() &&
-      !fuseConfirmed(m, pairs, local, answers_request, independent, slam, now_us, out, &e))
+      !fuseConfirmed(carried, pairs, local, answers_request, false, slam, now_us, out, &e))
     return;
   events_.push_back(e);
+}
+
+std::vector<DcCooperation::Correspondence> DcCooperation::correspondences(
+    const SharedLandmarks& m, const std::vector<StateLandmark>& local) const {
+  std::vector<Correspondence> out;
+  std::vector<bool> used(local.size(), false);
+  for (std::size_t k = 0; k < m.landmarks.size(); ++k) {
+    const SharedLandmark& s = m.landmarks[k];
+    for (std::size_t i = 0; i < local.size(); ++i) {
+      if (used[i] || local[i].index != s.index ||
+          !descriptorsAgree(local[i].descriptor, s.descriptor))
+        continue;
+      used[i] = true;
+      out.push_back({k, &local[i], s.index});
+      break;
+    }
+  }
+  return out;
+}
+
+void DcCooperation::verifyRelation(const SharedLandmarks& m,
+                                   const std::vector<Correspondence>& matched,
+                                   const VisualInertialSlam& slam, int64_t now_us) {
+  const int j = m.header.agent_id;
+  RelationRecord r;
+  r.t_us = now_us;
+  r.peer = j;
+  r.correspondences = static_cast<int>(matched.size());
+  ++stats_.verifications;
+  // The own points with their joint covariance (from the state); the peer's with the sender's
+  // joint covariance, or the bound blockdiag(n·P_i) on it (fuseConfirmed says why).
+  merge::AlignmentPoints points;
+  const auto n = static_cast<Eigen::Index>(matched.size());
+  const bool joint = m.joint_covariance.rows() == 3 * static_cast<Eigen::Index>(m.landmarks.size());
+  points.cov_b = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Correspondence& c = matched[static_cast<std::size_t>(k)];
+    points.a.push_back(c.own->p_LinN);
+    points.b.push_back(m.landmarks[c.peer].p_LinN);
+    for (Eigen::Index l = 0; l < n; ++l) {
+      if (!joint && l != k) continue;
+      const auto row = static_cast<Eigen::Index>(3 * c.peer);
+      const auto col = static_cast<Eigen::Index>(3 * matched[static_cast<std::size_t>(l)].peer);
+      points.cov_b.block<3, 3>(3 * k, 3 * l) =
+          joint ? Eigen::Matrix3d(m.joint_covariance.block<3, 3>(row, col))
+                : Eigen::Matrix3d(static_cast<double>(n) * m.landmarks[c.peer].covariance);
+    }
+  }
+  Expected<merge::FourDofAlignment> a = Status::Error("no landmark in common");
+  if (n > 0) {
+    points.cov_a = ownJointCovariance(matched, slam);
+    a = aligner_.align(points);
+  }
+  if (!a.ok()) {
+    ++stats_.verifications_failed;
+    r.verdict = "failed";
+    r.reason = a.status().message();
+    relation_records_.push_back(std::move(r));
+    return;
+  }
+  r.inliers = static_cast<int>(a->inliers.size());
+  r.candidate = a->relation;
+  const merge::RelationDecision d =
+      relations_.offer(j, {a->relation, static_cast<double>(now_us) / kUsPerS, r.inliers});
+  r.verdict = merge::relationVerdictName(d.verdict);
+  r.reason = d.reason;
+  r.nis = d.nis;
+  if (d.verdict == merge::RelationVerdict::kAdopted) ++stats_.relations_adopted;
+  if (d.verdict == merge::RelationVerdict::kRefined) ++stats_.relations_refined;
+  if (d.verdict == merge::RelationVerdict::kRejected) ++stats_.relations_rejected;
+  relation_records_.push_back(std::move(r));
+}
+
+std::optional<Eigen::MatrixXd> DcCooperation::exactJointCovariance(
+    const std::vector<Correspondence>& own, const VisualInertialSlam& slam) {
+  std::vector<VariableKey> keys;
+  for (const Correspondence& c : own) {
+    const auto id = static_cast<uint64_t>(c.own->id);
+    if (slam.state().find(VariableKey::landmark(id)) != nullptr)
+      keys.push_back(VariableKey::landmark(id));
+    else if (slam.state().find(VariableKey::heldLandmark(id)) != nullptr)
+      keys.push_back(VariableKey::heldLandmark(id));
+    else
+      return std::nullopt;
+  }
+  Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), keys);
+  if (!J.ok()) return std::nullopt;
+  return std::move(J.value());
+}
+
+Eigen::MatrixXd DcCooperation::ownJointCovariance(const std::vector<Correspondence>& own,
+                                                  const VisualInertialSlam& slam) {
+  if (std::optional<Eigen::MatrixXd> J = exactJointCovariance(own, slam)) return std::move(*J);
+  // Archived landmarks keep their marginals only, correlated in unknown ways with each other
+  // and with the state: the landmarks in the state form one group (their joint covariance),
+  // every other landmark its own group, and with g groups blockdiag(g·group) bounds the joint
+  // covariance whatever the correlations (covariance intersection with equal weights).
+  std::vector<std::size_t> in_state;
+  std::vector<VariableKey> keys;
+  for (std::size_t k = 0; k < own.size(); ++k) {
+    const auto id = static_cast<uint64_t>(own[k].own->id);
+    VariableKey key = VariableKey::landmark(id);
+    if (slam.state().find(key) == nullptr) key = VariableKey::heldLandmark(id);
+    if (slam.state().find(key) == nullptr) continue;
+    in_state.push_back(k);
+    keys.push_back(key);
+  }
+  Expected<Eigen::MatrixXd> S = CovarianceHelper::marginalCovariance(slam.state(), keys);
+  if (!S.ok()) in_state.clear();
+  const auto n = static_cast<Eigen::Index>(own.size());
+  const double groups =
+      static_cast<double>(own.size() - in_state.size() + (in_state.empty() ? 0 : 1));
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (Eigen::Index k = 0; k < n; ++k)
+    C.block<3, 3>(3 * k, 3 * k) = groups * own[static_cast<std::size_t>(k)].own->covariance;
+  for (std::size_t a = 0; a < in_state.size(); ++a)
+    for (std::size_t b = 0; b < in_state.size(); ++b)
+      C.block<3, 3>(3 * static_cast<Eigen::Index>(in_state[a]),
+                    3 * static_cast<Eigen::Index>(in_state[b])) =
+          groups *
+          S->block<3, 3>(3 * static_cast<Eigen::Index>(a), 3 * static_cast<Eigen::Index>(b));
+  return C;
+}
+
+SharedLandmarks DcCooperation::inOwnFrame(const SharedLandmarks& m, const merge::FrameRelation& r) {
+  SharedLandmarks out = m;
+  const auto n = static_cast<Eigen::Index>(m.landmarks.size());
+  const Eigen::Matrix3d R = r.rotation();
+  // Stacked Jacobians: every point moves with the one relation, so its uncertainty correlates
+  // them all (J_x P J_xᵀ over the whole set).
+  Eigen::MatrixXd J_x(3 * n, 4);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    SharedLandmark& l = out.landmarks[static_cast<std::size_t>(k)];
+    merge::FrameRelation::Matrix34d J;
+    l.p_LinN = r.apply(m.landmarks[static_cast<std::size_t>(k)].p_LinN, &J);
+    l.covariance = R * l.covariance * R.transpose() + J * r.P * J.transpose();
+    J_x.middleRows<3>(3 * k) = J;
+  }
+  if (m.joint_covariance.rows() == 3 * n) {
+    Eigen::MatrixXd rotated = m.joint_covariance;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      rotated.middleRows<3>(3 * k) = R * rotated.middleRows<3>(3 * k);
+    }
+    for (Eigen::Index k = 0; k < n; ++k) {
+      rotated.middleCols<3>(3 * k) = rotated.middleCols<3>(3 * k) * R.transpose();
+    }
+    out.joint_covariance = rotated + J_x * r.P * J_x.transpose();
+  }
+  return out;
+}
+
+FeatureEllipsoid DcCooperation::inOwnFrame(const FeatureEllipsoid& e,
+                                           const merge::FrameRelation& r) {
+  FeatureEllipsoid out = e;
+  merge::FrameRelation::Matrix34d J;
+  out.mean = r.apply(e.mean, &J);
+  // The axis-aligned ellipsoid with the rotated one's extent along each axis (the overlap
+  // test is axis-aligned), widened by the relation's uncertainty.
+  const Eigen::Matrix3d R = r.rotation();
+  const Eigen::Matrix3d C =
+      R * e.std.array().square().matrix().asDiagonal() * R.transpose() + J * r.P * J.transpose();
+  out.std = C.diagonal().cwiseSqrt();
+  return out;
+}
+
+void DcCooperation::returnOwnEstimates(int peer, const std::vector<Correspondence>& own,
+                                       const Eigen::MatrixXd* joint, const VisualInertialSlam& slam,
+                                       int64_t now_us, CoopOutbox* out) {
+  if (own.empty()) return;
+  SharedLandmarks back;
+  back.header = nextHeader(kSharedStream, now_us);
+  back.to_agent = peer;
+  back.vehicle_cov_trace = vehiclePositionTrace(slam);
+  back.informed_by = informed_by_;
+  std::vector<int64_t> ids;
+  for (const Correspondence& c : own) {
+    back.landmarks.push_back({c.index, c.own->p_LinN, c.own->covariance, c.own->descriptor});
+    ids.push_back(c.own->id);
+  }
+  // Only an exact joint covariance is sent (a bound would fail the receiver's check that its
+  // diagonal blocks are the landmarks' covariances); without one the receiver bounds it.
+  if (own.size() >= 2) {
+    if (joint != nullptr) {
+      back.joint_covariance = *joint;
+    } else if (std::optional<Eigen::MatrixXd> J = exactJointCovariance(own, slam)) {
+      back.joint_covariance = std::move(*J);
+    }
+  }
+  recordSent(back.header.seq, std::move(ids));
+  ++stats_.shared_sent;
+  events_.push_back({now_us, CoopEventKind::kSharedSent, peer,
+                     static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
+  out->shared.push_back(std::move(back));
 }
 
 std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
@@ -360,23 +662,11 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
   // both_ways: return the local (pre-fusion) estimates of the confirmed landmarks, with the
   // pre-fusion provenance.
   if (o_.both_ways && answers_request) {
-    SharedLandmarks back;
-    back.header = nextHeader(kSharedStream, now_us);
-    back.to_agent = j;
-    back.vehicle_cov_trace = vehiclePositionTrace(slam);
-    back.informed_by = informed_by_;
-    if (n >= 2) back.joint_covariance = P1.value();
-    std::vector<int64_t> ids;
-    for (const ConfirmedPair& pr : pairs) {
-      const StateLandmark& l = local[pr.local];
-      back.landmarks.push_back({pr.peer->index, l.p_LinN, l.covariance, l.descriptor});
-      ids.push_back(l.id);
-    }
-    recordSent(back.header.seq, std::move(ids));
-    ++stats_.shared_sent;
-    events_.push_back({now_us, CoopEventKind::kSharedSent, j,
-                       static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
-    out->shared.push_back(std::move(back));
+    std::vector<Correspondence> own;
+    for (const ConfirmedPair& pr : pairs)
+      own.push_back({static_cast<std::size_t>(pr.peer - m.landmarks.data()), &local[pr.local],
+                     pr.peer->index});
+    returnOwnEstimates(j, own, &P1.value(), slam, now_us, out);
   }
   if (e->nis > chiSquareQuantile(o_.gate_probability, e->nis_dof)) {
     ++stats_.rejected_joint_gate;
@@ -497,7 +787,7 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
   // and (offer_archived) the indices of the archived landmarks where a peer looks now.
   if (last_index_us_ >= 0 && seconds(now - last_index_us_) < o_.exchange_period_s)
     return Status::Ok();
-  bool send = false;
+  bool send = false, place = false;
   std::vector<int64_t> offer;
   for (const auto& [j, p] : peers_) {
     if (p.summary.header.agent_id != j) continue;  // no summary accepted yet
@@ -506,6 +796,18 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
     theirs.mean = p.summary.mean;
     theirs.std = p.summary.std;
     theirs.count = p.summary.num_features;
+    const std::optional<merge::FrameRelation> relation = relationOf(j);
+    if (!relation) {
+      // Not merged: the place descriptor, every place_period_s (the peer asks, handleIndex).
+      auto last = last_place_us_.find(j);
+      if (n_self > 0 &&
+          (last == last_place_us_.end() || seconds(now - last->second) >= o_.place_period_s)) {
+        place = true;
+        last_place_us_[j] = now;
+      }
+      continue;
+    }
+    if (!o_.frames_given) theirs = inOwnFrame(theirs, *relation);
     FeatureEllipsoid own = mine;
     if (o_.include_vehicle_uncertainty) {
       // Where the features are is uncertain by the vehicle position too (trace/3 per axis).
@@ -521,12 +823,16 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
   // Offers are answered for a while (the request comes back a frame or two later).
   for (auto it = offered_.begin(); it != offered_.end();)
     it = seconds(now - it->second) > o_.request_timeout_s ? offered_.erase(it) : std::next(it);
-  if (!send && offer.empty()) return Status::Ok();
+  if (!send && !place && offer.empty()) return Status::Ok();
   FeatureIndexList idx;
   idx.header = nextHeader(kIndexStream, now);
   idx.true_ids = o_.true_ids;
   if (send)
     for (const StateLandmark& l : now_seen) idx.indices.push_back(l.index);
+  // The place descriptor is the local map: one frame's features are too few, and too close
+  // together, to fix 4 dof.
+  if (place)
+    for (const StateLandmark& l : slam.stateLandmarks()) idx.indices.push_back(l.index);
   std::sort(offer.begin(), offer.end());
   offer.erase(std::unique(offer.begin(), offer.end()), offer.end());
   for (int64_t id : offer) {

@@ -66,6 +66,11 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.get("max_queued_messages", max_queued_messages);
   node.get("max_peers", max_peers);
   node.check(max_peers >= 1, "max_peers", "must be ≥ 1");
+  const ConfigNode merge = node.child("merge");
+  merge.get("place_period_s", place_period_s);
+  merge.check(place_period_s > 0.0, "place_period_s", "must be > 0");
+  (void)aligner.load(merge.child("aligner"));  // errors are the file's (node.status())
+  (void)relations.load(merge.child("relations"));
   node.check(coop_sigma > 0.0, "coop_sigma", "must be > 0");
   node.check(min_semi_axis_m > 0.0, "min_semi_axis_m", "must be > 0");
   node.check(summary_period_s > 0.0, "summary_period_s", "must be > 0");

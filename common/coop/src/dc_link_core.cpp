@@ -31,6 +31,11 @@ Status DcLinkCore::openLog(const std::string& run_dir) {
   log_.open(dir + "/coop.csv", std::ios::trunc);
   if (!log_) return Status::Error("cannot write " + dir + "/coop.csv");
   log_ << coopCsvHeader();
+  if (!dc_.options().frames_given) {
+    relations_log_.open(dir + "/relations.csv", std::ios::trunc);
+    if (!relations_log_) return Status::Error("cannot write " + dir + "/relations.csv");
+    relations_log_ << relationsCsvHeader();
+  }
   return Status::Ok();
 }
 
@@ -59,6 +64,13 @@ Status DcLinkCore::afterFrame(const StereoFrameObservations& frame, VisualInerti
     pending_.erase(pending_.begin());
   }
   if (Status s = dc_.afterFrame(frame, slam, out); !s.ok()) return s;
+  const std::vector<RelationRecord> relations = dc_.takeRelationRecords();
+  if (relations_log_.is_open() && !relations.empty()) {
+    for (const RelationRecord& r : relations) writeRelationsCsvRow(relations_log_, r);
+    relations_log_.flush();
+    if (!relations_log_)
+      return Status::Error("agent " + std::to_string(id()) + ": relations.csv: write failed");
+  }
   const std::vector<CoopEvent> events = dc_.takeEvents();
   if (!log_.is_open() || events.empty()) return Status::Ok();
   for (const CoopEvent& e : events) writeCoopCsvRow(log_, e);
@@ -86,6 +98,14 @@ std::string DcLinkCore::report(double duration_s) const {
       ll(s.rejected_duplicate), ll(s.rejected_reordered), ll(s.rejected_unknown_peer),
       ll(s.peer_restarts), ll(s.peer_timeouts), ll(s.request_timeouts));
   std::string line = buf;
+  if (!dc_.options().frames_given) {
+    std::snprintf(buf, sizeof(buf),
+                  "; frames: verifications %lld (failed %lld), relations adopted %lld, refined "
+                  "%lld, rejected %lld, exchanges before a merge %lld",
+                  ll(s.verifications), ll(s.verifications_failed), ll(s.relations_adopted),
+                  ll(s.relations_refined), ll(s.relations_rejected), ll(s.skipped_unmerged));
+    line += buf;
+  }
   if (bytes_sent_.empty() || duration_s <= 0.0) return line;
   int64_t total = 0;
   std::string per_stream;

@@ -127,6 +127,16 @@ Status AgentRunWriter::addInsState(double t, const Vector9d& x_ins) {
   return ins_.add(tumPoseFromState(t, x_ins));
 }
 
+Status AgentRunWriter::addTeamState(double t, int root, const Vector9d& x_team) {
+  if (!open_) return Status::Error("AgentRunWriter: not open");
+  if (!team_.isOpen() || root != team_root_) {
+    team_.close();
+    if (Status s = team_.open(dir_ + "/trajectory_team.tum"); !s.ok()) return s;
+    team_root_ = root;
+  }
+  return team_.add(tumPoseFromState(t, x_team));
+}
+
 Status AgentRunWriter::writeLandmarks(const std::vector<LandmarkRecord>& landmarks) const {
   if (dir_.empty()) return Status::Error("AgentRunWriter: not open");
   return writeLandmarksFile(dir_ + "/landmarks.csv", landmarks);
@@ -261,6 +271,7 @@ Status AgentRunWriter::flush() {
   if (!open_) return Status::Error("AgentRunWriter: not open");
   trajectory_.flush();
   ins_.flush();
+  team_.flush();
   states_.flush();
   truth_.flush();
   if (biases_.is_open()) biases_.flush();
@@ -276,6 +287,7 @@ Status AgentRunWriter::close() {
   open_ = false;
   trajectory_.close();
   ins_.close();
+  team_.close();
   states_.close();
   truth_.close();
   if (biases_.is_open()) biases_.close();

@@ -165,6 +165,13 @@ RelationDecision FrameRelationBook::offer(int peer, const RelationCandidate& can
   return d;
 }
 
+std::vector<int> FrameRelationBook::adoptedPeers() const {
+  std::vector<int> out;
+  for (const auto& [peer, p] : peers_)
+    if (p.adopted) out.push_back(peer);
+  return out;
+}
+
 std::optional<FrameRelation> FrameRelationBook::relation(int peer) const {
   const auto it = peers_.find(peer);
   if (it == peers_.end()) return std::nullopt;

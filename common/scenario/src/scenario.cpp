@@ -27,6 +27,12 @@ Status AgentSpec::load(const ConfigNode& node, const std::string& base_dir) {
   pixel_noise.load(node.child("pixel_noise"));
   has_gps = node.has("gps");
   if (has_gps) gps.load(node.child("gps"));
+  std::string start = "known";
+  node.get("start", start);
+  node.check(start == "known" || start == "unknown", "start", "must be known or unknown");
+  start_known = start != "unknown";
+  // A GPS fix is in the team's frame: it would tell the agent where it is.
+  node.check(start_known || !has_gps, "start", "unknown needs no gps section");
   return node.status();
 }
 

@@ -1,5 +1,6 @@
 #include "cvslam/scenario/scenario_agent.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <string>
 
@@ -77,6 +78,11 @@ Expected<ScenarioAgent> ScenarioAgent::create(const Scenario& scenario, const Ag
       for (int i = 0; i < 6; ++i) init.bias_draw(i) = rng.gaussian();
     }
   }
+  if (!spec.start_known) {
+    const GroundTruth start = a.motionAt(0);
+    a.own_in_world_ << start.p_BinN, start.euler(2);
+    g = a.toOwnFrame(g);
+  }
   return a;
 }
 
@@ -90,6 +96,21 @@ GroundTruth ScenarioAgent::motionAt(int64_t t_us) const {
   g.euler = s.euler;
   g.v_N = s.v_N;
   g.omega_B = s.omega_B;
+  return g;
+}
+
+Eigen::Vector3d ScenarioAgent::toOwnFrame(const Eigen::Vector3d& p_world) const {
+  return Eigen::AngleAxisd(-own_in_world_(3), Eigen::Vector3d::UnitZ()) *
+         (p_world - own_in_world_.head<3>());
+}
+
+GroundTruth ScenarioAgent::toOwnFrame(const GroundTruth& world) const {
+  if (spec_.start_known) return world;  // the world is the own frame (ψ not re-wrapped)
+  GroundTruth g = world;
+  g.p_BinN = toOwnFrame(world.p_BinN);
+  g.v_N = Eigen::AngleAxisd(-own_in_world_(3), Eigen::Vector3d::UnitZ()) * world.v_N;
+  // Z-Y-X Euler angles: a yaw of the frame about the down axis shifts ψ only.
+  g.euler(2) = wrapAngle(world.euler(2) - own_in_world_(3));
   return g;
 }
 

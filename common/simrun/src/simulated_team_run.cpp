@@ -44,18 +44,23 @@ Expected<std::unique_ptr<SimulatedTeamRun>> SimulatedTeamRun::create(
   return run;
 }
 
-void SimulatedTeamRun::lineariseAtTruth() {
+Status SimulatedTeamRun::lineariseAtTruth() {
+  for (std::size_t i = 0; i < agents_.size(); ++i)
+    if (!scenarioAgent(i).spec().start_known)
+      return Status::Error("linearising at the truth needs every start known (agent " +
+                           std::to_string(agents_[i].id) + " starts unknown)");
   for (Agent& a : agents_) {
     a.oracle = std::make_unique<SimulationTruthOracle>(a.sensing.get());
     a.pipeline->slam().setLinearisationOracle(a.oracle.get());
   }
+  return Status::Ok();
 }
 
 Status SimulatedTeamRun::run(const FrameCallback& on_frame, const ImuCallback& on_imu) {
   sim::SimEvent ev;
   while (simulator_.next(ev)) {
-    Agent& a =
-        agents_[static_cast<std::size_t>(slot_of_id_[static_cast<std::size_t>(ev.agent_id)])];
+    const auto slot = static_cast<std::size_t>(slot_of_id_[static_cast<std::size_t>(ev.agent_id)]);
+    Agent& a = agents_[slot];
     AgentPipeline& p = *a.pipeline;
     if (ev.type == SensorEventType::kImu) {
       if (Status s = p.addImu(ev.imu); !s.ok()) return s;
@@ -85,7 +90,8 @@ Status SimulatedTeamRun::run(const FrameCallback& on_frame, const ImuCallback& o
       p.setLastFrameTime(r->front_end_ms + r->association_ms + r->filter_ms);
     }
     const AgentFrame& last = p.lastFrame();
-    SimulatedFrame f{a.id,          ev.t_us,      &ev.truth,       &p.slam(), &last.report,
+    const sim::GroundTruth own_truth = scenarioAgent(slot).toOwnFrame(ev.truth);
+    SimulatedFrame f{a.id,          ev.t_us,      &own_truth,      &p.slam(), &last.report,
                      &p.insState(), last.time_ms, a.sensing.get(), &p.slam(), &p};
     if (on_frame) {
       if (Status s = on_frame(f); !s.ok()) return s;

@@ -31,6 +31,18 @@
 // covariance that bounds the true one: P_own + P_peer for independent estimates, the CI bound
 // (filter/covariance_intersection.h ciBoundedNis) otherwise, and for the peer's landmarks
 // jointly blockdiag(m·P_i) (the message carries marginals only).
+// Frames (docs/merge.md): with frames_given every agent estimates in the team's frame (the
+// thesis). Otherwise each estimates in its own gravity-aligned frame and, per peer, the 4-dof
+// relation of the peer's frame in its own is "not yet found" or adopted (merge/). Until it is
+// adopted the peer's ellipsoid means nothing here: the INDEX of the features observed now is
+// sent every place_period_s as a place descriptor (true ids stand in for appearance at the
+// feature level), and every SharedLandmarks from the peer is a geometric verification
+// (FourDofAligner on the landmarks both hold, with both joint covariances), a candidate for
+// the FrameRelationBook, never fused. Once adopted, a peer's ellipsoid and landmarks are
+// carried into the own frame with the relation's uncertainty added, fused by covariance
+// intersection (the relation was made from the own map, so they are not independent of it),
+// and every exchange also verifies the relation again (a gated refinement). A restarted peer
+// loses its relation.
 // Inbound messages are validated when they arrive and queued; afterFrame applies those older
 // than the frame (epoch semantics, docs/cooperation.md). Stale, duplicated and reordered
 // messages are dropped and counted. Everything is deterministic in the message order.
@@ -38,6 +50,7 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -49,6 +62,8 @@
 #include "cvslam/coop/request_timeout.h"
 #include "cvslam/core/status.h"
 #include "cvslam/filter/covariance_intersection.h"
+#include "cvslam/merge/four_dof_aligner.h"
+#include "cvslam/merge/frame_relation_book.h"
 
 namespace cvslam {
 class ConfigNode;
@@ -124,7 +139,16 @@ struct DcCooperationOptions {
   bool offer_archived = true;
   int max_offered_landmarks = 30;  ///< archived landmarks offered per INDEX, nearest first
   /// Indices are true landmark ids (feature-level simulation); set by the runner, not YAML.
-  bool true_ids = false;  ///< inbound queue bound (oldest dropped beyond)
+  bool true_ids = false;
+  /// Every agent of the team starts in the team's frame (known starts); false: the frames
+  /// between agents are estimated (see above). Set by the runner from the starts, not YAML.
+  bool frames_given = true;
+  /// Section `merge:` — estimated frames only: the place descriptor's period towards a peer
+  /// not yet merged [s] (YAML place_period_s), the geometric verification (`aligner:`) and
+  /// the adoption rule (`relations:`).
+  double place_period_s = 1.0;
+  merge::FourDofAlignerOptions aligner;
+  merge::FrameRelationBookOptions relations;
   Status load(const ConfigNode& node);
 };
 
@@ -156,7 +180,37 @@ struct DcCooperationStatistics {
   int64_t request_timeouts = 0;
   int64_t peer_restarts = 0;
   int64_t peer_timeouts = 0;
+  int64_t verifications = 0;         ///< SharedLandmarks from a peer verified geometrically
+  int64_t verifications_failed = 0;  ///< ... that gave no relation (too few inliers, ...)
+  int64_t relations_adopted = 0;
+  int64_t relations_refined = 0;
+  int64_t relations_rejected = 0;  ///< verified candidates the book refused
+  int64_t skipped_unmerged = 0;    ///< SharedLandmarks not fused: no relation yet
   int peers_known = 0;
+};
+
+/// One geometric verification of a peer's frame and what the book decided
+/// (agent_<id>/relations.csv).
+struct RelationRecord {
+  int64_t t_us = 0;
+  int peer = 0;
+  std::string verdict;  ///< failed | pending | adopted | refined | rejected
+  std::string reason;   ///< one line
+  int correspondences = 0, inliers = 0;
+  double nis = 0.0;                ///< against the adopted relation (refined, rejected)
+  merge::FrameRelation candidate;  ///< the verified relation (peer's frame → own), if any
+};
+
+/// The frame this agent reports its trajectory in for the team: that of the lowest id among
+/// itself and the peers whose relation it adopted (docs/merge.md).
+struct TeamFrame {
+  int root = 0;                      ///< whose frame
+  merge::FrameRelation own_in_root;  ///< own frame → root's (identity when root is self)
+  bool merged = false;               ///< some peer's relation is adopted
+
+  /// A vehicle state [p_BinN, v_B, φ θ ψ] of the own frame in the root's (the body velocity
+  /// and roll, pitch are the same in both gravity-aligned frames).
+  Eigen::Matrix<double, 9, 1> apply(const Eigen::Matrix<double, 9, 1>& x_own) const;
 };
 
 enum class CoopEventKind {
@@ -239,6 +293,11 @@ class DcCooperation {
   /// seq `seq` (one of the last kSentRecords), or -1.
   int64_t sentLandmarkId(int64_t seq, int slot) const;
   const DcCooperationOptions& options() const { return o_; }
+  /// The adopted relation of `peer`'s frame in the own (frames_given: identity, exact), or
+  /// nullopt while it is not yet found.
+  std::optional<merge::FrameRelation> relationOf(int peer) const;
+  TeamFrame teamFrame() const;
+  std::vector<RelationRecord> takeRelationRecords();
 
  private:
   struct PeerState {
@@ -264,6 +323,41 @@ class DcCooperation {
                      CoopOutbox* out);
   void handleShared(const SharedLandmarks& m, VisualInertialSlam& slam,
                     const StereoFrameObservations& frame, CoopOutbox* out);
+  /// A peer's landmark (entry `peer` of its message, index `index`) and the own in-state
+  /// landmark of the same index (and an agreeing descriptor).
+  struct Correspondence {
+    std::size_t peer;
+    const StateLandmark* own;
+    uint32_t index;
+  };
+  std::vector<Correspondence> correspondences(const SharedLandmarks& m,
+                                              const std::vector<StateLandmark>& local) const;
+  /// Estimated frames: the matched landmarks (both joint covariances) verified geometrically,
+  /// the relation a candidate for the book; recorded either way.
+  void verifyRelation(const SharedLandmarks& m, const std::vector<Correspondence>& matched,
+                      const VisualInertialSlam& slam, int64_t now_us);
+  /// The SharedRequest to `peer` (pending until answered).
+  void sendRequest(int peer, SharedRequest r, int64_t now_us, CoopOutbox* out);
+  /// The landmarks a place can be recognised by: the state's, then the archived ones (held
+  /// ones as the state holds them now), by id.
+  static std::vector<StateLandmark> placeLandmarks(const VisualInertialSlam& slam);
+  /// The joint covariance of the own landmarks of `own` when all are in the state (held ones
+  /// included), else nullopt.
+  static std::optional<Eigen::MatrixXd> exactJointCovariance(const std::vector<Correspondence>& own,
+                                                             const VisualInertialSlam& slam);
+  /// That, or a bound on it when some are archived with their marginals only.
+  static Eigen::MatrixXd ownJointCovariance(const std::vector<Correspondence>& own,
+                                            const VisualInertialSlam& slam);
+  /// The peer's message carried into the own frame by `r` (covariances, joint included, with
+  /// the relation's uncertainty added).
+  static SharedLandmarks inOwnFrame(const SharedLandmarks& m, const merge::FrameRelation& r);
+  /// The peer's ellipsoid carried into the own frame by `r`.
+  static FeatureEllipsoid inOwnFrame(const FeatureEllipsoid& e, const merge::FrameRelation& r);
+  /// both_ways: the own estimates of `own` returned to `peer` (with their joint covariance:
+  /// `joint`, or from the state when null).
+  void returnOwnEstimates(int peer, const std::vector<Correspondence>& own,
+                          const Eigen::MatrixXd* joint, const VisualInertialSlam& slam,
+                          int64_t now_us, CoopOutbox* out);
   /// A shared landmark confirmed against a local one (local: index into the local list).
   struct ConfirmedPair {
     std::size_t local;
@@ -321,6 +415,10 @@ class DcCooperation {
   std::map<int64_t, int64_t> offered_;  ///< archived landmark id -> time last offered [µs]
   static constexpr std::size_t kSentRecords = 256;
   std::map<int64_t, std::vector<int64_t>> sent_ids_;  ///< SHARED seq -> own landmark ids
+  merge::FourDofAligner aligner_;
+  merge::FrameRelationBook relations_;
+  std::vector<RelationRecord> relation_records_;
+  std::map<int, int64_t> last_place_us_;  ///< peer -> when the last place INDEX went to it
   /// Records the own landmark ids of an outgoing SharedLandmarks (its header.seq).
   void recordSent(int64_t seq, std::vector<int64_t> ids);
 };

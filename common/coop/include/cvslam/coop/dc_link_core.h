@@ -31,7 +31,8 @@ class DcLinkCore {
  public:
   DcLinkCore(int self_id, const DcCooperationOptions& options, int64_t boot_id);
 
-  /// Opens run_dir/agent_<id>/coop.csv (creating the folder). Without it no log is written.
+  /// Opens run_dir/agent_<id>/coop.csv (creating the folder), and relations.csv when the frames
+  /// are estimated. Without it no log is written.
   Status openLog(const std::string& run_dir);
 
   /// A message received from a peer, in any order (our own broadcasts are ignored).
@@ -63,6 +64,7 @@ class DcLinkCore {
 
   DcCooperation dc_;
   std::ofstream log_;
+  std::ofstream relations_log_;  ///< estimated frames only
   std::map<Key, CoopMessage> pending_;
   uint64_t arrivals_ = 0;
   int64_t refused_ = 0;

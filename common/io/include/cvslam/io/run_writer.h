@@ -55,6 +55,10 @@ class AgentRunWriter {
   Status addTruth(double t, const Vector9d& x_true);
   /// Dead-reckoning (INS-only) state: one pose in ins_trajectory.tum (opened on first use).
   Status addInsState(double t, const Vector9d& x_ins);
+  /// The state in the team's frame, that of agent `root` (docs/merge.md): one pose in
+  /// trajectory_team.tum (opened on first use). When the root changes (the agent's group met a
+  /// group of a lower id) the file starts again, so that it holds one frame.
+  Status addTeamState(double t, int root, const Vector9d& x_team);
   void addFrame(const FrameStats& frame) { stats_.frames.push_back(frame); }
   /// One frame's time in one processing stage [ms] (RunStats::stage_ms).
   void addStageTime(const std::string& stage, double ms) { stats_.stage_ms[stage].push_back(ms); }
@@ -93,7 +97,8 @@ class AgentRunWriter {
   std::string dir_;
   int agent_id_ = 0;
   std::ofstream states_, truth_, biases_;
-  TumWriter trajectory_, ins_;
+  TumWriter trajectory_, ins_, team_;
+  int team_root_ = 0;
   RunStats stats_;
   double t_first_ = 0.0, t_last_ = 0.0;
   bool have_time_ = false;

@@ -72,6 +72,8 @@ class FrameRelationBook {
 
   /// The adopted relation of `peer` (its frame → ours), or nullopt ("not yet found").
   std::optional<FrameRelation> relation(int peer) const;
+  /// The peers whose relation is adopted, ascending.
+  std::vector<int> adoptedPeers() const;
   /// When the relation of `peer` was adopted [s], or nullopt.
   std::optional<double> adoptedAt(int peer) const;
   /// Candidates waiting for agreement (before adoption).

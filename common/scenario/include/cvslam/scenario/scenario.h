@@ -40,6 +40,11 @@ struct AgentSpec {
   /// GPS-denied stretches; the filter uses its fixes when the agent's `gps.enabled` is true.
   bool has_gps = false;
   GpsOptions gps;
+  /// `start: known` (default): the agent starts in the team's frame, the scenario's world
+  /// (thesis §6.3.1). `start: unknown`: nobody tells it where it is; it estimates in its own
+  /// gravity-aligned frame, with the origin and heading of its true start pose (as an agent
+  /// started at rest does), and must find its peers' frames itself (docs/merge.md).
+  bool start_known = true;
 
   Status load(const ConfigNode& node, const std::string& base_dir);
 };

@@ -73,6 +73,16 @@ class ScenarioAgent {
   /// biases are left for the caller (the simulator's IMU knows them as they walk).
   GroundTruth motionAt(int64_t t_us) const;
 
+  /// The agent's own frame in the scenario's world, [t_N t_E t_D ψ] with p_world = R_z(ψ) p_own
+  /// + t (merge/frame_relation.h's convention). With `start: unknown` the frame of its true
+  /// start pose (origin at its position, x along its heading, gravity-aligned); with a known
+  /// start the world itself (zero). The initial estimate and everything an estimator is
+  /// compared with (toOwnFrame) are in this frame.
+  const Eigen::Vector4d& ownFrameInWorld() const { return own_in_world_; }
+  Eigen::Vector3d toOwnFrame(const Eigen::Vector3d& p_world) const;
+  /// The truth in the own frame (position, yaw, NED velocity; the body quantities unchanged).
+  GroundTruth toOwnFrame(const GroundTruth& world) const;
+
   /// The IMU's turn-on biases: the configured ones for a noisy synthesised IMU, else zero.
   Eigen::Vector3d turnOnGyroBias() const;
   Eigen::Vector3d turnOnAccelBias() const;
@@ -85,6 +95,7 @@ class ScenarioAgent {
   InitialEstimate initial_;
   std::shared_ptr<const ImuRecording> recording_;
   double recording_time_at_zero_ = 0.0;
+  Eigen::Vector4d own_in_world_ = Eigen::Vector4d::Zero();
 };
 
 }  // namespace cvslam::sim

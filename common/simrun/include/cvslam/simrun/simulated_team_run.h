@@ -25,7 +25,9 @@ namespace cvslam {
 struct SimulatedFrame {
   int agent_id = 0;
   int64_t t_us = 0;
-  const sim::GroundTruth* truth = nullptr;   ///< true state at the frame
+  /// True state at the frame, in the agent's own frame (sim::ScenarioAgent::toOwnFrame: the
+  /// world unless its start is unknown).
+  const sim::GroundTruth* truth = nullptr;
   const VisualInertialSlam* slam = nullptr;  ///< the agent's filter after the frame
   const FrameReport* report = nullptr;       ///< what the frame did
   const Eigen::VectorXd* x_ins = nullptr;    ///< INS-only state at the frame
@@ -68,9 +70,14 @@ class SimulatedTeamRun {
   FrameSensing& sensing(std::size_t i) { return *agents_[i].sensing; }
   int agentId(std::size_t i) const { return agents_[i].id; }
   const sim::Simulator& simulator() const { return simulator_; }
+  /// Agent i as the scenario describes it (its own frame in the world among others).
+  const sim::ScenarioAgent& scenarioAgent(std::size_t i) const {
+    return simulator_.agent(i).scenarioAgent();
+  }
   /// From now on every agent's filter takes its Jacobians at the truth (the ideal EKF,
   /// slam/linearisation_oracle.h): a consistency diagnostic, `cvslam_run --linearise-at-truth`.
-  void lineariseAtTruth();
+  /// Refused when a start is unknown (the oracle's truth is the world's).
+  Status lineariseAtTruth();
   /// Agent i's truth oracle after lineariseAtTruth() (the ground station's models of that UAV
   /// take it too, cc_team_link.h); null before.
   const LinearisationOracle* truthOracle(std::size_t i) const { return agents_[i].oracle.get(); }
