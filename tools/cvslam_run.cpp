@@ -367,6 +367,50 @@ void auditMatches(cvslam::SimulatedTeamRun& run, const std::map<int, std::size_t
   progress->fused[id] = fused.size();
 }
 
+/// Writes every agent's map (landmarks.csv) and closes its record.
+Status writeMaps(cvslam::SimulatedTeamRun& run,
+                 std::map<int, cvslam::AgentRunRecorder>* recorders_in) {
+  std::map<int, cvslam::AgentRunRecorder>& recorders = *recorders_in;
+  // True landmark positions for the map's error columns: the true id (features) or the
+  // surface the renderer showed where the landmark was initialised (images).
+  for (std::size_t i = 0; i < run.agentCount(); ++i) {
+    cvslam::AgentRunRecorder& recorder = recorders[run.agentId(i)];
+    const cvslam::FrameSensing& agent_sensing = run.sensing(i);
+    const cvslam::sim::ScenarioAgent& scenario_agent = run.scenarioAgent(i);
+    Status s = recorder.writeMap(run.slam(i), [&](int64_t id, Eigen::Vector3d* p) {
+      if (!agent_sensing.landmarkTruth(id, p)) return false;
+      *p = scenario_agent.toOwnFrame(*p);  // the map is in the agent's own frame
+      return true;
+    });
+    if (s.ok()) s = recorder.close();
+    if (!s.ok()) return s;
+  }
+  return Status::Ok();
+}
+
+/// One agent that starts unknown puts the whole team in estimated frames (docs/merge.md); the
+/// ground station needs every start known.
+Status applyStarts(const Args& args, const cvslam::sim::Scenario& scenario,
+                   cvslam::coop::DcCooperationOptions* coop) {
+  for (const cvslam::sim::AgentSpec& a : scenario.agents) {
+    if (!a.start_known && args.mode == "cc")
+      return Status::Error("--mode cc needs every start known (agent " + std::to_string(a.id) +
+                           " starts unknown); teams that start apart run --mode dc or single");
+    coop->frames_given = coop->frames_given && a.start_known;
+  }
+  return Status::Ok();
+}
+
+/// Estimated frames: the agent's state in its team frame once merged (trajectory_team.tum).
+Status recordTeamState(const cvslam::DcTeamLink& dc, const cvslam::SimulatedFrame& f,
+                       cvslam::AgentRunRecorder* recorder) {
+  const cvslam::coop::TeamFrame team = dc.agent(f.agent_id).teamFrame();
+  if (dc.agent(f.agent_id).options().frames_given || !team.merged) return Status::Ok();
+  const Eigen::VectorXd x = f.slam->vehicleState();
+  return recorder->writer().addTeamState(static_cast<double>(f.t_us) * 1e-6, team.root,
+                                         team.apply(x.head<9>()));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -375,19 +419,13 @@ int main(int argc, char** argv) {
   auto scenario = cvslam::sim::Scenario::loadFile(args.scenario);
   if (!scenario.ok()) return fail(scenario.status().message());
   if (Status s = applyScenarioArgs(args, &*scenario); !s.ok()) return fail(s.message());
-  for (const cvslam::sim::AgentSpec& a : scenario->agents)
-    if (!a.start_known && args.mode == "cc")
-      return fail("--mode cc needs every start known (agent " + std::to_string(a.id) +
-                  " starts unknown); teams that start apart run --mode dc or single");
   auto config = cvslam::AgentConfig::load(args.config, CVSLAM_CONFIG_DIR "/agent.yaml",
                                           [](const cvslam::ConfigNode& root) {
                                             root.skip("agent");  // cvslam_agent's section
                                           });
   if (!config.ok()) return fail(config.status().message());
   config->coop.true_ids = args.sensing == "features";
-  // One agent that starts unknown puts the whole team in estimated frames (docs/merge.md).
-  for (const cvslam::sim::AgentSpec& a : scenario->agents)
-    config->coop.frames_given = config->coop.frames_given && a.start_known;
+  if (Status s = applyStarts(args, *scenario, &config->coop); !s.ok()) return fail(s.message());
   auto sensing = makeSensing(args, *scenario, *config);
   if (!sensing.ok()) return fail(sensing.status().message());
   auto team = cvslam::SimulatedTeamRun::create(*scenario, config->slam, *sensing);
@@ -426,14 +464,7 @@ int main(int argc, char** argv) {
               !s.ok())
             return s;
           auditMatches(run, index_of, *dc, f.agent_id, f.t_us, &match_audit, &audited);
-          if (const cvslam::coop::TeamFrame team = dc->agent(f.agent_id).teamFrame();
-              !config->coop.frames_given && team.merged) {
-            const Eigen::VectorXd x = f.slam->vehicleState();
-            if (Status s = recorder.writer().addTeamState(static_cast<double>(f.t_us) * 1e-6,
-                                                          team.root, team.apply(x.head<9>()));
-                !s.ok())
-              return s;
-          }
+          if (Status s = recordTeamState(*dc, f, &recorder); !s.ok()) return s;
         }
         const double t = static_cast<double>(f.t_us) * 1e-6;
         AgentCounters& c = counters[f.agent_id];
@@ -465,20 +496,7 @@ int main(int argc, char** argv) {
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-  // True landmark positions for the map's error columns: the true id (features) or the
-  // surface the renderer showed where the landmark was initialised (images).
-  for (std::size_t i = 0; i < run.agentCount(); ++i) {
-    cvslam::AgentRunRecorder& recorder = recorders[run.agentId(i)];
-    const cvslam::FrameSensing& agent_sensing = run.sensing(i);
-    const cvslam::sim::ScenarioAgent& scenario_agent = run.scenarioAgent(i);
-    Status s = recorder.writeMap(run.slam(i), [&](int64_t id, Eigen::Vector3d* p) {
-      if (!agent_sensing.landmarkTruth(id, p)) return false;
-      *p = scenario_agent.toOwnFrame(*p);  // the map is in the agent's own frame
-      return true;
-    });
-    if (s.ok()) s = recorder.close();
-    if (!s.ok()) return fail(s.message());
-  }
+  if (Status s = writeMaps(run, &recorders); !s.ok()) return fail(s.message());
   if (cc) {
     // The joint map's ids are the true ids with features; with images they are the ground
     // station's own (no truth).

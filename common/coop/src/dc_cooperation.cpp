@@ -716,6 +716,37 @@ bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<Co
   return true;
 }
 
+void DcCooperation::forgetSilentPeers(int64_t now) {
+  // Step 2: forget silent peers; abandon unanswered requests.
+  for (auto it = peers_.begin(); it != peers_.end();) {
+    if (seconds(now - it->second.last_heard_us) > o_.peer_timeout_s) {
+      ++stats_.peer_timeouts;
+      events_.push_back({now, CoopEventKind::kPeerLost, it->first, 0, 0, 0, 0, 1.0});
+      it = peers_.erase(it);
+      continue;
+    }
+    PeerState& p = it->second;
+    if (p.request_pending && seconds(now - p.request_sent_us) > p.timeout.seconds()) {
+      p.request_pending = false;
+      p.timeout.onTimeout();
+      ++stats_.request_timeouts;
+      events_.push_back({now, CoopEventKind::kRequestTimeout, it->first,
+                         static_cast<int>(p.requested.size()), 0, 0, 0, 1.0});
+    }
+    ++it;
+  }
+}
+
+bool DcCooperation::placeDue(int peer, int n_self, int64_t now_us) {
+  // Not merged: the place descriptor, every place_period_s (the peer asks, handleIndex).
+  auto last = last_place_us_.find(peer);
+  if (n_self == 0 ||
+      (last != last_place_us_.end() && seconds(now_us - last->second) < o_.place_period_s))
+    return false;
+  last_place_us_[peer] = now_us;
+  return true;
+}
+
 Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualInertialSlam& slam,
                                  CoopOutbox* out) {
   if (out == nullptr) return Status::Error("DcCooperation::afterFrame: null outbox");
@@ -742,24 +773,7 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
   }
   inbox_.swap(later);
 
-  // 2. Forget silent peers; abandon unanswered requests.
-  for (auto it = peers_.begin(); it != peers_.end();) {
-    if (seconds(now - it->second.last_heard_us) > o_.peer_timeout_s) {
-      ++stats_.peer_timeouts;
-      events_.push_back({now, CoopEventKind::kPeerLost, it->first, 0, 0, 0, 0, 1.0});
-      it = peers_.erase(it);
-      continue;
-    }
-    PeerState& p = it->second;
-    if (p.request_pending && seconds(now - p.request_sent_us) > p.timeout.seconds()) {
-      p.request_pending = false;
-      p.timeout.onTimeout();
-      ++stats_.request_timeouts;
-      events_.push_back({now, CoopEventKind::kRequestTimeout, it->first,
-                         static_cast<int>(p.requested.size()), 0, 0, 0, 1.0});
-    }
-    ++it;
-  }
+  forgetSilentPeers(now);
   stats_.peers_known = static_cast<int>(peers_.size());
 
   // 3. This frame's ellipsoid (§6.6.2) from the in-state landmarks observed now.
@@ -798,13 +812,7 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
     theirs.count = p.summary.num_features;
     const std::optional<merge::FrameRelation> relation = relationOf(j);
     if (!relation) {
-      // Not merged: the place descriptor, every place_period_s (the peer asks, handleIndex).
-      auto last = last_place_us_.find(j);
-      if (n_self > 0 &&
-          (last == last_place_us_.end() || seconds(now - last->second) >= o_.place_period_s)) {
-        place = true;
-        last_place_us_[j] = now;
-      }
+      place = placeDue(j, n_self, now) || place;
       continue;
     }
     if (!o_.frames_given) theirs = inOwnFrame(theirs, *relation);

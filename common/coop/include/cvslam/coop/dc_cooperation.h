@@ -336,6 +336,10 @@ class DcCooperation {
   /// the relation a candidate for the book; recorded either way.
   void verifyRelation(const SharedLandmarks& m, const std::vector<Correspondence>& matched,
                       const VisualInertialSlam& slam, int64_t now_us);
+  /// Forgets the peers silent for peer_timeout_s; abandons requests past their timeout.
+  void forgetSilentPeers(int64_t now);
+  /// Whether a place descriptor is due to the unmerged `peer` now (and notes it sent).
+  bool placeDue(int peer, int n_self, int64_t now_us);
   /// The SharedRequest to `peer` (pending until answered).
   void sendRequest(int peer, SharedRequest r, int64_t now_us, CoopOutbox* out);
   /// The landmarks a place can be recognised by: the state's, then the archived ones (held
