@@ -7,20 +7,15 @@
 
 #include "cvslam/filter/chi_square.h"
 #include "cvslam/filter/covariance_helper.h"
-#include "cvslam/geometry/euler.h"
 #include "cvslam/slam/visual_inertial_slam.h"
+#include "dc_cooperation_detail.h"
 
 namespace cvslam::coop {
 
+using detail::seconds;
+
 namespace {
 enum Stream : int { kSummaryStream = 0, kIndexStream = 1, kRequestStream = 2, kSharedStream = 3 };
-constexpr double kUsPerS = 1e6;
-constexpr int kLandmarkDof = 3;
-
-double seconds(int64_t dt_us) {
-  return static_cast<double>(dt_us) / kUsPerS;
-}
-
 double vehiclePositionTrace(const VisualInertialSlam& slam) {
   return slam.vehicleCovariance().topLeftCorner<3, 3>().trace();
 }
@@ -41,37 +36,6 @@ DcCooperation::DcCooperation(int self_id, const DcCooperationOptions& options, i
       informed_by_{self_id},
       aligner_(options.aligner),
       relations_(options.relations) {}
-
-std::optional<merge::FrameRelation> DcCooperation::relationOf(int peer) const {
-  if (o_.frames_given) return merge::FrameRelation{};
-  return relations_.relation(peer);
-}
-
-Eigen::Matrix<double, 9, 1> TeamFrame::apply(const Eigen::Matrix<double, 9, 1>& x_own) const {
-  Eigen::Matrix<double, 9, 1> x = x_own;
-  x.head<3>() = own_in_root.apply(x_own.head<3>());
-  x(8) = wrapAngle(x_own(8) + own_in_root.yaw());
-  return x;
-}
-
-TeamFrame DcCooperation::teamFrame() const {
-  TeamFrame f;
-  f.root = self_;
-  std::vector<int> related = relations_.adoptedPeers();
-  if (o_.frames_given) related = peers();
-  for (int j : related) {
-    f.merged = true;
-    f.root = std::min(f.root, j);
-  }
-  if (f.root != self_) f.own_in_root = relationOf(f.root)->inverse();
-  return f;
-}
-
-std::vector<RelationRecord> DcCooperation::takeRelationRecords() {
-  std::vector<RelationRecord> out;
-  out.swap(relation_records_);
-  return out;
-}
 
 bool DcCooperation::independentOf(const std::vector<int>& informed_by) const {
   if (informed_by.empty()) return false;  // unknown provenance
@@ -166,10 +130,8 @@ void DcCooperation::handleIndex(const FeatureIndexList& m, const VisualInertialS
   if (!merged) {
     // A place descriptor (the peer's local map): ask for the landmarks of it that this agent
     // mapped, in its state or its archive (the peer may fly where this agent flew before).
-    std::vector<StateLandmark> known = placeLandmarks(slam);
     SharedRequest r;
-    for (const StateLandmark& l : known)
-      if (std::binary_search(sorted.begin(), sorted.end(), l.index)) r.indices.push_back(l.index);
+    for (const StateLandmark& l : placeLandmarks(slam, sorted)) r.indices.push_back(l.index);
     std::sort(r.indices.begin(), r.indices.end());
     r.indices.erase(std::unique(r.indices.begin(), r.indices.end()), r.indices.end());
     if (static_cast<int>(r.indices.size()) < o_.aligner.min_inliers) return;  // cannot verify
@@ -217,30 +179,6 @@ void DcCooperation::sendRequest(int peer, SharedRequest r, int64_t now_us, CoopO
   events_.push_back({now_us, CoopEventKind::kRequestSent, r.to_agent,
                      static_cast<int>(r.indices.size()), 0, 0, 0, 1.0});
   out->requests.push_back(std::move(r));
-}
-
-std::vector<StateLandmark> DcCooperation::placeLandmarks(const VisualInertialSlam& slam) {
-  std::vector<StateLandmark> out = slam.stateLandmarks();
-  std::vector<std::pair<int64_t, const ArchivedLandmark*>> archived;
-  for (const auto& [id, a] : slam.archive().all()) archived.emplace_back(id, &a);
-  std::sort(archived.begin(), archived.end());  // deterministic (the archive is unordered)
-  for (const auto& [id, a] : archived) {
-    StateLandmark l;
-    l.id = id;
-    l.index = a->index;
-    l.p_LinN = a->p_LinN;
-    l.covariance = a->covariance;
-    l.descriptor = a->descriptor;
-    l.last_seen_us = a->last_seen_us;
-    // A held landmark as the state holds it now (a Schmidt variable, with its correlations).
-    if (const StateVariable* v =
-            slam.state().find(VariableKey::heldLandmark(static_cast<uint64_t>(id)))) {
-      l.p_LinN = slam.state().value(*v);
-      l.covariance = slam.state().covarianceOf(*v);
-    }
-    out.push_back(std::move(l));
-  }
-  return out;
 }
 
 void DcCooperation::handleRequest(const SharedRequest& m, const VisualInertialSlam& slam,
@@ -331,7 +269,10 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
   // Estimated frames: carried with the relation adopted before this message (not yet
   // refined by it), then verified again.
   const std::optional<merge::FrameRelation> relation = relations_.relation(j);
-  const std::vector<StateLandmark> place = placeLandmarks(slam);
+  std::vector<uint32_t> indices;
+  for (const SharedLandmark& l : m.landmarks) indices.push_back(l.index);
+  std::sort(indices.begin(), indices.end());
+  const std::vector<StateLandmark> place = placeLandmarks(slam, indices);
   const std::vector<Correspondence> matched = correspondences(m, place);
   verifyRelation(m, matched, slam, now_us);
   if (!relation) {
@@ -345,169 +286,6 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
       !fuseConfirmed(carried, pairs, local, answers_request, false, slam, now_us, out, &e))
     return;
   events_.push_back(e);
-}
-
-std::vector<DcCooperation::Correspondence> DcCooperation::correspondences(
-    const SharedLandmarks& m, const std::vector<StateLandmark>& local) const {
-  std::vector<Correspondence> out;
-  std::vector<bool> used(local.size(), false);
-  for (std::size_t k = 0; k < m.landmarks.size(); ++k) {
-    const SharedLandmark& s = m.landmarks[k];
-    for (std::size_t i = 0; i < local.size(); ++i) {
-      if (used[i] || local[i].index != s.index ||
-          !descriptorsAgree(local[i].descriptor, s.descriptor))
-        continue;
-      used[i] = true;
-      out.push_back({k, &local[i], s.index});
-      break;
-    }
-  }
-  return out;
-}
-
-void DcCooperation::verifyRelation(const SharedLandmarks& m,
-                                   const std::vector<Correspondence>& matched,
-                                   const VisualInertialSlam& slam, int64_t now_us) {
-  const int j = m.header.agent_id;
-  RelationRecord r;
-  r.t_us = now_us;
-  r.peer = j;
-  r.correspondences = static_cast<int>(matched.size());
-  ++stats_.verifications;
-  // The own points with their joint covariance (from the state); the peer's with the sender's
-  // joint covariance, or the bound blockdiag(n·P_i) on it (fuseConfirmed says why).
-  merge::AlignmentPoints points;
-  const auto n = static_cast<Eigen::Index>(matched.size());
-  const bool joint = m.joint_covariance.rows() == 3 * static_cast<Eigen::Index>(m.landmarks.size());
-  points.cov_b = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const Correspondence& c = matched[static_cast<std::size_t>(k)];
-    points.a.push_back(c.own->p_LinN);
-    points.b.push_back(m.landmarks[c.peer].p_LinN);
-    for (Eigen::Index l = 0; l < n; ++l) {
-      if (!joint && l != k) continue;
-      const auto row = static_cast<Eigen::Index>(3 * c.peer);
-      const auto col = static_cast<Eigen::Index>(3 * matched[static_cast<std::size_t>(l)].peer);
-      points.cov_b.block<3, 3>(3 * k, 3 * l) =
-          joint ? Eigen::Matrix3d(m.joint_covariance.block<3, 3>(row, col))
-                : Eigen::Matrix3d(static_cast<double>(n) * m.landmarks[c.peer].covariance);
-    }
-  }
-  Expected<merge::FourDofAlignment> a = Status::Error("no landmark in common");
-  if (n > 0) {
-    points.cov_a = ownJointCovariance(matched, slam);
-    a = aligner_.align(points);
-  }
-  if (!a.ok()) {
-    ++stats_.verifications_failed;
-    r.verdict = "failed";
-    r.reason = a.status().message();
-    relation_records_.push_back(std::move(r));
-    return;
-  }
-  r.inliers = static_cast<int>(a->inliers.size());
-  r.candidate = a->relation;
-  const merge::RelationDecision d =
-      relations_.offer(j, {a->relation, static_cast<double>(now_us) / kUsPerS, r.inliers});
-  r.verdict = merge::relationVerdictName(d.verdict);
-  r.reason = d.reason;
-  r.nis = d.nis;
-  if (d.verdict == merge::RelationVerdict::kAdopted) ++stats_.relations_adopted;
-  if (d.verdict == merge::RelationVerdict::kRefined) ++stats_.relations_refined;
-  if (d.verdict == merge::RelationVerdict::kRejected) ++stats_.relations_rejected;
-  relation_records_.push_back(std::move(r));
-}
-
-std::optional<Eigen::MatrixXd> DcCooperation::exactJointCovariance(
-    const std::vector<Correspondence>& own, const VisualInertialSlam& slam) {
-  std::vector<VariableKey> keys;
-  for (const Correspondence& c : own) {
-    const auto id = static_cast<uint64_t>(c.own->id);
-    if (slam.state().find(VariableKey::landmark(id)) != nullptr)
-      keys.push_back(VariableKey::landmark(id));
-    else if (slam.state().find(VariableKey::heldLandmark(id)) != nullptr)
-      keys.push_back(VariableKey::heldLandmark(id));
-    else
-      return std::nullopt;
-  }
-  Expected<Eigen::MatrixXd> J = CovarianceHelper::marginalCovariance(slam.state(), keys);
-  if (!J.ok()) return std::nullopt;
-  return std::move(J.value());
-}
-
-Eigen::MatrixXd DcCooperation::ownJointCovariance(const std::vector<Correspondence>& own,
-                                                  const VisualInertialSlam& slam) {
-  if (std::optional<Eigen::MatrixXd> J = exactJointCovariance(own, slam)) return std::move(*J);
-  // Archived landmarks keep their marginals only, correlated in unknown ways with each other
-  // and with the state: the landmarks in the state form one group (their joint covariance),
-  // every other landmark its own group, and with g groups blockdiag(g·group) bounds the joint
-  // covariance whatever the correlations (covariance intersection with equal weights).
-  std::vector<std::size_t> in_state;
-  std::vector<VariableKey> keys;
-  for (std::size_t k = 0; k < own.size(); ++k) {
-    const auto id = static_cast<uint64_t>(own[k].own->id);
-    VariableKey key = VariableKey::landmark(id);
-    if (slam.state().find(key) == nullptr) key = VariableKey::heldLandmark(id);
-    if (slam.state().find(key) == nullptr) continue;
-    in_state.push_back(k);
-    keys.push_back(key);
-  }
-  Expected<Eigen::MatrixXd> S = CovarianceHelper::marginalCovariance(slam.state(), keys);
-  if (!S.ok()) in_state.clear();
-  const auto n = static_cast<Eigen::Index>(own.size());
-  const double groups =
-      static_cast<double>(own.size() - in_state.size() + (in_state.empty() ? 0 : 1));
-  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  for (Eigen::Index k = 0; k < n; ++k)
-    C.block<3, 3>(3 * k, 3 * k) = groups * own[static_cast<std::size_t>(k)].own->covariance;
-  for (std::size_t a = 0; a < in_state.size(); ++a)
-    for (std::size_t b = 0; b < in_state.size(); ++b)
-      C.block<3, 3>(3 * static_cast<Eigen::Index>(in_state[a]),
-                    3 * static_cast<Eigen::Index>(in_state[b])) =
-          groups *
-          S->block<3, 3>(3 * static_cast<Eigen::Index>(a), 3 * static_cast<Eigen::Index>(b));
-  return C;
-}
-
-SharedLandmarks DcCooperation::inOwnFrame(const SharedLandmarks& m, const merge::FrameRelation& r) {
-  SharedLandmarks out = m;
-  const auto n = static_cast<Eigen::Index>(m.landmarks.size());
-  const Eigen::Matrix3d R = r.rotation();
-  // Stacked Jacobians: every point moves with the one relation, so its uncertainty correlates
-  // them all (J_x P J_xᵀ over the whole set).
-  Eigen::MatrixXd J_x(3 * n, 4);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    SharedLandmark& l = out.landmarks[static_cast<std::size_t>(k)];
-    merge::FrameRelation::Matrix34d J;
-    l.p_LinN = r.apply(m.landmarks[static_cast<std::size_t>(k)].p_LinN, &J);
-    l.covariance = R * l.covariance * R.transpose() + J * r.P * J.transpose();
-    J_x.middleRows<3>(3 * k) = J;
-  }
-  if (m.joint_covariance.rows() == 3 * n) {
-    Eigen::MatrixXd rotated = m.joint_covariance;
-    for (Eigen::Index k = 0; k < n; ++k) {
-      rotated.middleRows<3>(3 * k) = R * rotated.middleRows<3>(3 * k);
-    }
-    for (Eigen::Index k = 0; k < n; ++k) {
-      rotated.middleCols<3>(3 * k) = rotated.middleCols<3>(3 * k) * R.transpose();
-    }
-    out.joint_covariance = rotated + J_x * r.P * J_x.transpose();
-  }
-  return out;
-}
-
-FeatureEllipsoid DcCooperation::inOwnFrame(const FeatureEllipsoid& e,
-                                           const merge::FrameRelation& r) {
-  FeatureEllipsoid out = e;
-  merge::FrameRelation::Matrix34d J;
-  out.mean = r.apply(e.mean, &J);
-  // The axis-aligned ellipsoid with the rotated one's extent along each axis (the overlap
-  // test is axis-aligned), widened by the relation's uncertainty.
-  const Eigen::Matrix3d R = r.rotation();
-  const Eigen::Matrix3d C =
-      R * e.std.array().square().matrix().asDiagonal() * R.transpose() + J * r.P * J.transpose();
-  out.std = C.diagonal().cwiseSqrt();
-  return out;
 }
 
 void DcCooperation::returnOwnEstimates(int peer, const std::vector<Correspondence>& own,
@@ -538,81 +316,6 @@ void DcCooperation::returnOwnEstimates(int peer, const std::vector<Correspondenc
   events_.push_back({now_us, CoopEventKind::kSharedSent, peer,
                      static_cast<int>(back.landmarks.size()), 0, 0, 0, 1.0});
   out->shared.push_back(std::move(back));
-}
-
-std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
-    const SharedLandmarks& m, VisualInertialSlam& slam, const StereoFrameObservations& frame,
-    bool independent, std::vector<StateLandmark>* local_in, CoopEvent* e) {
-  const std::vector<StateLandmark>& local = *local_in;
-  const double gate = chiSquareQuantile(o_.gate_probability, kLandmarkDof);
-  std::vector<bool> used(local.size(), false);
-  std::vector<ConfirmedPair> pairs;
-  // Shared landmarks matched to an unmapped observation (mapped below), and those observations.
-  StereoFrameObservations to_map;
-  to_map.t_us = frame.t_us;
-  std::vector<const SharedLandmark*> mapped_for;
-  std::vector<bool> taken(frame.observations.size(), false);
-  const bool may_map = o_.map_shared_landmarks && slam.time() == frame.t_us;
-  for (const SharedLandmark& s : m.landmarks) {
-    bool any_index = false, any_descriptor = false;
-    double best = std::numeric_limits<double>::infinity();
-    std::size_t best_i = local.size();
-    for (std::size_t i = 0; i < local.size(); ++i) {
-      if (used[i] || local[i].index != s.index) continue;
-      any_index = true;
-      if (!descriptorsAgree(local[i].descriptor, s.descriptor)) continue;
-      any_descriptor = true;
-      const double d2 =
-          pairNis(s.p_LinN - local[i].p_LinN, local[i].covariance, s.covariance, independent);
-      if (d2 <= gate && d2 < best) best = d2, best_i = i;
-    }
-    if (!any_index && may_map) {
-      if (const int k = matchUnmapped(s, slam, frame, independent, gate, taken); k >= 0) {
-        taken[static_cast<std::size_t>(k)] = true;
-        to_map.observations.push_back(frame.observations[static_cast<std::size_t>(k)]);
-        mapped_for.push_back(&s);
-        continue;
-      }
-    }
-    if (!any_index) {
-      ++stats_.shared_not_in_state;
-      ++e->not_in_state;
-    } else if (!any_descriptor) {
-      ++stats_.rejected_descriptor;
-      ++e->rejected_descriptor;
-    } else if (best_i == local.size()) {
-      ++stats_.rejected_gate;
-      ++e->rejected_gate;
-    } else {
-      used[best_i] = true;
-      pairs.push_back({best_i, &s});
-    }
-  }
-  if (to_map.observations.empty()) return pairs;
-  // Map the matched points (as step 5 of the filter would, with their own stereo observation),
-  // then pair them with the peer's estimates like in-state landmarks.
-  std::vector<int64_t> ids;
-  if (!slam.mapObservations(to_map, &ids).ok()) return pairs;
-  std::vector<int64_t> paired_ids;
-  for (const ConfirmedPair& pr : pairs) paired_ids.push_back(local[pr.local].id);
-  *local_in = slam.stateLandmarks();  // sorted by id
-  const auto position = [&](int64_t id) {
-    auto it =
-        std::lower_bound(local_in->begin(), local_in->end(), id,
-                         [](const StateLandmark& l, int64_t wanted) { return l.id < wanted; });
-    return it != local_in->end() && it->id == id ? static_cast<std::size_t>(it - local_in->begin())
-                                                 : local_in->size();
-  };
-  for (std::size_t k = 0; k < pairs.size(); ++k) pairs[k].local = position(paired_ids[k]);
-  for (std::size_t k = 0; k < to_map.observations.size(); ++k) {
-    const std::size_t i = ids[k] >= 0 ? position(ids[k]) : local_in->size();
-    if (i == local_in->size()) continue;  // not mapped (cannot be triangulated)
-    pairs.push_back({i, mapped_for[k]});
-    mapped_points_.push_back({frame.t_us, ids[k], to_map.observations[k].z});
-    ++e->mapped;
-    ++stats_.landmarks_mapped;
-  }
-  return pairs;
 }
 
 bool DcCooperation::fuseConfirmed(const SharedLandmarks& m, const std::vector<ConfirmedPair>& pairs,
@@ -735,16 +438,6 @@ void DcCooperation::forgetSilentPeers(int64_t now) {
     }
     ++it;
   }
-}
-
-bool DcCooperation::placeDue(int peer, int n_self, int64_t now_us) {
-  // Not merged: the place descriptor, every place_period_s (the peer asks, handleIndex).
-  auto last = last_place_us_.find(peer);
-  if (n_self == 0 ||
-      (last != last_place_us_.end() && seconds(now_us - last->second) < o_.place_period_s))
-    return false;
-  last_place_us_[peer] = now_us;
-  return true;
 }
 
 Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualInertialSlam& slam,

@@ -1,4 +1,5 @@
-// DcCooperation's landmark matching (dc_cooperation.h): the descriptor check and the χ² gate of
+// DcCooperation's landmark matching (dc_cooperation.h): step 5's confirmation of a peer's
+// landmarks, the descriptor check and the χ² gate of
 // two estimates of one landmark, the unmapped observed point a peer's landmark matches
 // (map_shared_landmarks), and the archived landmarks where a peer looks (offer_archived).
 
@@ -7,10 +8,87 @@
 #include <limits>
 
 #include "cvslam/coop/dc_cooperation.h"
+#include "cvslam/filter/chi_square.h"
 #include "cvslam/slam/visual_inertial_slam.h"
 #include "cvslam/vision/descriptor_distance.h"
+#include "dc_cooperation_detail.h"
 
 namespace cvslam::coop {
+
+std::vector<DcCooperation::ConfirmedPair> DcCooperation::confirm(
+    const SharedLandmarks& m, VisualInertialSlam& slam, const StereoFrameObservations& frame,
+    bool independent, std::vector<StateLandmark>* local_in, CoopEvent* e) {
+  const std::vector<StateLandmark>& local = *local_in;
+  const double gate = chiSquareQuantile(o_.gate_probability, detail::kLandmarkDof);
+  std::vector<bool> used(local.size(), false);
+  std::vector<ConfirmedPair> pairs;
+  // Shared landmarks matched to an unmapped observation (mapped below), and those observations.
+  StereoFrameObservations to_map;
+  to_map.t_us = frame.t_us;
+  std::vector<const SharedLandmark*> mapped_for;
+  std::vector<bool> taken(frame.observations.size(), false);
+  const bool may_map = o_.map_shared_landmarks && slam.time() == frame.t_us;
+  for (const SharedLandmark& s : m.landmarks) {
+    bool any_index = false, any_descriptor = false;
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t best_i = local.size();
+    for (std::size_t i = 0; i < local.size(); ++i) {
+      if (used[i] || local[i].index != s.index) continue;
+      any_index = true;
+      if (!descriptorsAgree(local[i].descriptor, s.descriptor)) continue;
+      any_descriptor = true;
+      const double d2 =
+          pairNis(s.p_LinN - local[i].p_LinN, local[i].covariance, s.covariance, independent);
+      if (d2 <= gate && d2 < best) best = d2, best_i = i;
+    }
+    if (!any_index && may_map) {
+      if (const int k = matchUnmapped(s, slam, frame, independent, gate, taken); k >= 0) {
+        taken[static_cast<std::size_t>(k)] = true;
+        to_map.observations.push_back(frame.observations[static_cast<std::size_t>(k)]);
+        mapped_for.push_back(&s);
+        continue;
+      }
+    }
+    if (!any_index) {
+      ++stats_.shared_not_in_state;
+      ++e->not_in_state;
+    } else if (!any_descriptor) {
+      ++stats_.rejected_descriptor;
+      ++e->rejected_descriptor;
+    } else if (best_i == local.size()) {
+      ++stats_.rejected_gate;
+      ++e->rejected_gate;
+    } else {
+      used[best_i] = true;
+      pairs.push_back({best_i, &s});
+    }
+  }
+  if (to_map.observations.empty()) return pairs;
+  // Map the matched points (as step 5 of the filter would, with their own stereo observation),
+  // then pair them with the peer's estimates like in-state landmarks.
+  std::vector<int64_t> ids;
+  if (!slam.mapObservations(to_map, &ids).ok()) return pairs;
+  std::vector<int64_t> paired_ids;
+  for (const ConfirmedPair& pr : pairs) paired_ids.push_back(local[pr.local].id);
+  *local_in = slam.stateLandmarks();  // sorted by id
+  const auto position = [&](int64_t id) {
+    auto it =
+        std::lower_bound(local_in->begin(), local_in->end(), id,
+                         [](const StateLandmark& l, int64_t wanted) { return l.id < wanted; });
+    return it != local_in->end() && it->id == id ? static_cast<std::size_t>(it - local_in->begin())
+                                                 : local_in->size();
+  };
+  for (std::size_t k = 0; k < pairs.size(); ++k) pairs[k].local = position(paired_ids[k]);
+  for (std::size_t k = 0; k < to_map.observations.size(); ++k) {
+    const std::size_t i = ids[k] >= 0 ? position(ids[k]) : local_in->size();
+    if (i == local_in->size()) continue;  // not mapped (cannot be triangulated)
+    pairs.push_back({i, mapped_for[k]});
+    mapped_points_.push_back({frame.t_us, ids[k], to_map.observations[k].z});
+    ++e->mapped;
+    ++stats_.landmarks_mapped;
+  }
+  return pairs;
+}
 
 bool DcCooperation::descriptorsAgree(const std::vector<uint8_t>& a,
                                      const std::vector<uint8_t>& b) const {

@@ -342,9 +342,10 @@ class DcCooperation {
   bool placeDue(int peer, int n_self, int64_t now_us);
   /// The SharedRequest to `peer` (pending until answered).
   void sendRequest(int peer, SharedRequest r, int64_t now_us, CoopOutbox* out);
-  /// The landmarks a place can be recognised by: the state's, then the archived ones (held
-  /// ones as the state holds them now), by id.
-  static std::vector<StateLandmark> placeLandmarks(const VisualInertialSlam& slam);
+  /// The own landmarks with one of `indices` (ascending) that a place can be recognised by:
+  /// the state's, then the archived ones (held ones as the state holds them now), by id.
+  static std::vector<StateLandmark> placeLandmarks(const VisualInertialSlam& slam,
+                                                   const std::vector<uint32_t>& indices);
   /// The joint covariance of the own landmarks of `own` when all are in the state (held ones
   /// included), else nullopt.
   static std::optional<Eigen::MatrixXd> exactJointCovariance(const std::vector<Correspondence>& own,
