@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cvslam/eval/run_evaluation.h"
+#include "cvslam/eval/team_evaluation.h"
 #include "cvslam/io/cli.h"
 #include "cvslam/io/json_file.h"
 #include "cvslam/io/run_reader.h"
@@ -32,6 +33,12 @@ median frame time and bytes sent per second. Prints a table; writes the summary 
   --time-tolerance S     max time difference for estimate/truth pairs [s] (default 0.01)
   --rpe-segment M        RPE segment length [m] (default 10)
   --co-window N          steps in the true-uncertainty RMS of co/Rco (default 1)
+  --team                 also evaluate the team (docs/merge.md "Evaluating a team"): per
+                         agent its own-frame ATE, its merge, its trajectory_team.tum
+                         against the truth in its root's frame, the team's ATE after ONE
+                         SE(3) alignment of every merged agent, and in simulation each
+                         verified frame relation against the truth (NEES, wrong merges)
+  --team-json F          write that evaluation to F (implies --team)
   --quiet                no table
   -h, --help             this text
 )";
@@ -44,9 +51,9 @@ int fail(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string run_dir, gt_dir, summary_path, align = "none";
+  std::string run_dir, gt_dir, summary_path, team_path, align = "none";
   cvslam::RunEvaluationOptions options;
-  bool quiet = false;
+  bool quiet = false, team = false;
   CLI::App app("evaluates a run folder", "cvslam_eval");
   app.add_option("--run", run_dir)->required();
   app.add_option("--gt", gt_dir);
@@ -58,6 +65,8 @@ int main(int argc, char** argv) {
       ->check(cvslam::cli::numberValidator("WINDOW", "a whole number ≥ 1", [](double x) {
         return x >= 1.0 && x == std::floor(x) && x <= std::numeric_limits<int>::max();
       }));
+  app.add_flag("--team", team);
+  app.add_option("--team-json", team_path);
   app.add_flag("--quiet", quiet);
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return *exit_code;
   options.alignment = align == "se3"   ? cvslam::Alignment::kSE3
@@ -83,6 +92,21 @@ int main(int argc, char** argv) {
     const cvslam::Status written =
         cvslam::writeJsonFile(summary_path, cvslam::summaryJson(*info, *agents, options));
     if (!written.ok()) return fail(written.message());
+  }
+  if (team || !team_path.empty()) {
+    cvslam::TeamEvaluationOptions team_options;
+    team_options.time_tolerance_s = options.time_tolerance_s;
+    auto evaluation = cvslam::evaluateTeam(run_dir, gt_dir, team_options);
+    if (!evaluation.ok()) return fail(evaluation.status().message());
+    if (!quiet) {
+      std::cout << cvslam::teamSummaryTable(*evaluation);
+      for (const auto& n : evaluation->notes) std::cout << "  team: " << n << '\n';
+    }
+    if (!team_path.empty()) {
+      const cvslam::Status written =
+          cvslam::writeJsonFile(team_path, cvslam::teamSummaryJson(*evaluation));
+      if (!written.ok()) return fail(written.message());
+    }
   }
   return 0;
 }

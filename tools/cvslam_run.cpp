@@ -90,6 +90,8 @@ options:
   --seed N                overrides the scenario's seed
   --duration S            simulate only the first S seconds
   --agents ID[,ID...]     run only these UAVs of the scenario (their seeds unchanged)
+  --starts known|unknown  overrides every UAV's `start:` (unknown: each estimates in its
+                          own frame and DC finds the relations, docs/merge.md)
   --linearise-at-truth    a consistency diagnostic (features): every UAV's filter, and
                           in cc mode the ground station's models of it, take the
                           Jacobians of propagation, stereo update and landmark
@@ -104,6 +106,7 @@ options:
 struct Args {
   cvslam::AgentConfigArgs config;  // --config and the shared overrides
   std::string scenario, out, mode = "single", sensing = "features", pixel_noise, world, agents;
+  std::string starts;  ///< --starts: "" (as the scenario says) | known | unknown
   std::string gs_config;
   long long seed = -1;
   double duration = -1.0;
@@ -133,6 +136,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   app.add_option("--seed", a->seed)->check(cvslam::cli::kCount);
   app.add_option("--duration", a->duration)->check(cvslam::cli::kPositive);
   app.add_option("--agents", a->agents);
+  app.add_option("--starts", a->starts)->check(CLI::IsMember({"known", "unknown"}));
   auto* loss = app.add_option("--coop-loss", a->coop_loss.percent)->check(CLI::Range(0.0, 100.0));
   auto* loss_seed = app.add_option("--coop-loss-seed", a->coop_loss.seed);
   app.add_flag("--quiet", a->quiet);
@@ -157,8 +161,17 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   return std::nullopt;
 }
 
-/// Applies --seed, --duration, --agents, --pixel-noise and --world to the scenario.
+/// Applies --seed, --duration, --agents, --starts, --pixel-noise and --world to the scenario.
 Status applyScenarioArgs(const Args& args, cvslam::sim::Scenario* scenario) {
+  if (!args.starts.empty()) {
+    for (cvslam::sim::AgentSpec& agent : scenario->agents) {
+      agent.start_known = args.starts == "known";
+      // As the scenario file refuses it: a fix would give the team's frame away.
+      if (!agent.start_known && agent.has_gps)
+        return Status::Error("--starts unknown: agent " + std::to_string(agent.id) +
+                             " has a gps section (a fix is in the team's frame)");
+    }
+  }
   if (args.seed >= 0) scenario->seed = static_cast<uint64_t>(args.seed);
   if (args.duration > 0) scenario->duration = std::min(scenario->duration, args.duration);
   if (!args.agents.empty()) {
@@ -511,7 +524,10 @@ int main(int argc, char** argv) {
         !s.ok())
       return fail(s.message());
   }
-  const cvslam::RunInfo info = runInfo(args, *scenario, *config);
+  cvslam::RunInfo info = runInfo(args, *scenario, *config);
+  for (std::size_t i = 0; i < run.agentCount(); ++i)
+    if (!run.scenarioAgent(i).spec().start_known)
+      info.frames_in_world[run.agentId(i)] = run.scenarioAgent(i).ownFrameInWorld();
   if (Status s = cvslam::writeRunInfo(args.out, info); !s.ok()) return fail(s.message());
 
   std::printf("cvslam_run: %s, %s, map %s, %.0f s simulated in %.1f s wall (%.1fx real time)\n",

@@ -30,6 +30,9 @@ void writeRelationsCsvRow(std::ostream& out, const RelationRecord& r) {
   std::string reason = r.reason;
   for (char& ch : reason)
     if (ch == ',' || ch == '\n') ch = ';';  // one CSV field
+  // Ten significant digits, as the run records' other CSV numbers (docs/run_format.md): a
+  // relation's NEES against the truth must not be the rounding's.
+  const std::streamsize precision = out.precision(10);
   out << formatSeconds(static_cast<double>(r.t_us) * 1e-6) << ',' << r.peer << ',' << r.verdict
       << ',' << r.correspondences << ',' << r.inliers << ',' << r.nis << ',' << c.x(0) << ','
       << c.x(1) << ',' << c.x(2) << ',' << c.x(3) << ','
@@ -37,6 +40,7 @@ void writeRelationsCsvRow(std::ostream& out, const RelationRecord& r) {
   for (int i = 0; i < 4; ++i)
     for (int j = i; j < 4; ++j) out << c.P(i, j) << ',';
   out << reason << '\n';
+  out.precision(precision);
 }
 
 }  // namespace cvslam::coop

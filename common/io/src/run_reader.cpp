@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/csv_table.h"
@@ -60,7 +61,37 @@ Expected<RunInfo> readRunInfo(const std::string& run_dir) {
     for (const auto& id : *j)
       if (id.is_number_integer()) info.agents.push_back(id.get<int>());
   }
+  if (const auto j = json->find("frames_in_world"); j != json->end()) {
+    const Status malformed =
+        Status::Error(path + ": frames_in_world: expected {\"<id>\": [t_N, t_E, t_D, yaw], ...}");
+    if (!j->is_object()) return malformed;
+    for (const auto& [key, f] : j->items()) {
+      if (key.empty() || !std::all_of(key.begin(), key.end(), ::isdigit) || key.size() > 9 ||
+          !f.is_array() || f.size() != 4)
+        return malformed;
+      Eigen::Vector4d x;
+      for (int i = 0; i < 4; ++i) {
+        if (!f[i].is_number() || !std::isfinite(f[i].get<double>())) return malformed;
+        x(i) = f[i].get<double>();
+      }
+      info.frames_in_world[std::stoi(key)] = x;
+    }
+  }
   return info;
+}
+
+Expected<std::optional<TeamTrajectory>> readTeamTrajectory(const std::string& path) {
+  if (!fs::exists(path)) return std::optional<TeamTrajectory>();
+  std::ifstream in(path);
+  std::string first;
+  std::getline(in, first);
+  const std::string prefix = std::string("# ") + kTeamFramePrefix;
+  const std::string digits = first.rfind(prefix, 0) == 0 ? first.substr(prefix.size()) : "";
+  if (digits.empty() || digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), ::isdigit))
+    return Status::Error(path + ":1: expected '" + prefix + "<id>' (the team frame)");
+  auto poses = readTumTrajectory(path);
+  if (!poses.ok()) return poses.status();
+  return std::optional<TeamTrajectory>(TeamTrajectory{std::stoi(digits), std::move(*poses)});
 }
 
 Expected<std::vector<StateRecord>> readStateTable(const std::string& path, bool* full_covariance) {
@@ -195,6 +226,9 @@ Expected<AgentRun> readAgentRun(const std::string& run_dir, int agent_id) {
     if (!ins.ok()) return ins.status();
     run.ins_trajectory = std::move(*ins);
   }
+  auto team = readTeamTrajectory(run.dir + "/trajectory_team.tum");
+  if (!team.ok()) return team.status();
+  run.team = std::move(*team);
   if (fs::exists(run.dir + "/states.csv")) {
     auto states = readStateTable(run.dir + "/states.csv", &run.states_full_covariance);
     if (!states.ok()) return states.status();

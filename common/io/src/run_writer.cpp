@@ -64,6 +64,10 @@ std::string agentDir(const std::string& run_dir, int agent_id) {
   return run_dir + "/agent_" + std::to_string(agent_id);
 }
 
+std::string teamFrameComment(int root) {
+  return kTeamFramePrefix + std::to_string(root);
+}
+
 AgentRunWriter::~AgentRunWriter() {
   if (open_) close();
 }
@@ -131,7 +135,8 @@ Status AgentRunWriter::addTeamState(double t, int root, const Vector9d& x_team) 
   if (!open_) return Status::Error("AgentRunWriter: not open");
   if (!team_.isOpen() || root != team_root_) {
     team_.close();
-    if (Status s = team_.open(dir_ + "/trajectory_team.tum"); !s.ok()) return s;
+    if (Status s = team_.open(dir_ + "/trajectory_team.tum", teamFrameComment(root)); !s.ok())
+      return s;
     team_root_ = root;
   }
   return team_.add(tumPoseFromState(t, x_team));
@@ -316,6 +321,8 @@ Status writeRunInfo(const std::string& run_dir, const RunInfo& info) {
   text("world", info.world);
   text("pixel_noise", info.pixel_noise);
   if (!info.agents.empty()) root["agents"] = info.agents;
+  for (const auto& [id, f] : info.frames_in_world)
+    root["frames_in_world"][std::to_string(id)] = {f(0), f(1), f(2), f(3)};
   if (info.linearised_at_truth) root["linearised_at_truth"] = true;
   text("config", info.config);
   text("program", info.program);

@@ -59,10 +59,11 @@ Expected<std::vector<TumPose>> readTumTrajectory(const std::string& path) {
   return poses;
 }
 
-Status TumWriter::open(const std::string& path) {
+Status TumWriter::open(const std::string& path, const std::string& comment) {
   path_ = path;
   out_.open(path, std::ios::trunc);
   if (!out_) return Status::Error(path + ": cannot write trajectory");
+  if (!comment.empty()) out_ << "# " << comment << '\n';
   out_ << "# t x y z qx qy qz qw\n";
   return Status::Ok();
 }

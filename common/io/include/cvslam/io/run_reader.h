@@ -19,6 +19,10 @@ Expected<RunInfo> readRunInfo(const std::string& run_dir);
 /// ins_trajectory.tum, states.csv and truth.csv are optional.
 Expected<AgentRun> readAgentRun(const std::string& run_dir, int agent_id);
 
+/// agent_<id>/trajectory_team.tum (its first line names the frame): nothing when the file
+/// is absent (the agent never merged); fails on a missing frame line or a malformed pose.
+Expected<std::optional<TeamTrajectory>> readTeamTrajectory(const std::string& path);
+
 /// Reads a states.csv / truth.csv style table (t, x..yaw and optionally var_*, cov_i_j).
 /// `full_covariance` tells whether off-diagonal terms were present.
 Expected<std::vector<StateRecord>> readStateTable(const std::string& path,

@@ -86,6 +86,10 @@ struct RunInfo {
   std::string world;                 ///< --world (render world kind), when given
   std::string pixel_noise;           ///< --pixel-noise, when given
   std::vector<int> agents;           ///< the UAVs that ran (ids)
+  /// Simulation truth, as truth.csv is: the own frame of each agent that started unknown, in
+  /// the scenario's world, [t_N t_E t_D ψ] with p_world = R_z(ψ) p_own + t (docs/merge.md).
+  /// An agent not listed estimates in the world frame.
+  std::map<int, Eigen::Vector4d> frames_in_world;
   /// cvslam_run --linearise-at-truth: the filters took their Jacobians at the simulator's
   /// truth (the ideal EKF, a consistency diagnostic), not an estimator a UAV could run.
   bool linearised_at_truth = false;
@@ -97,13 +101,23 @@ struct RunInfo {
   std::string commit;
 };
 
+/// An agent's estimate in its team's frame, agent_<id>/trajectory_team.tum, whose first line
+/// names the frame: "# frame: agent_<root>".
+struct TeamTrajectory {
+  int root = 0;  ///< whose frame
+  std::vector<TumPose> poses;
+};
+inline constexpr const char* kTeamFramePrefix = "frame: agent_";
+std::string teamFrameComment(int root);  ///< kTeamFramePrefix + root
+
 /// Everything read back for one agent.
 struct AgentRun {
   int id = 0;
   std::string dir;
   std::vector<TumPose> trajectory;
   std::optional<std::vector<TumPose>> ins_trajectory;
-  std::vector<StateRecord> states;  ///< empty when states.csv is absent
+  std::optional<TeamTrajectory> team;  ///< trajectory_team.tum, when the agent merged
+  std::vector<StateRecord> states;     ///< empty when states.csv is absent
   bool states_full_covariance = false;
   std::vector<StateRecord> truth;  ///< empty when no truth was found
   std::vector<LandmarkRecord> landmarks;

@@ -32,8 +32,9 @@ Status writeTumTrajectory(const std::string& path, const std::vector<TumPose>& p
 /// Appends poses to a TUM file as they are produced (an estimator run). Times must increase.
 class TumWriter {
  public:
-  /// Creates or truncates `path`.
-  Status open(const std::string& path);
+  /// Creates or truncates `path`; a non-empty `comment` becomes a first line "# comment"
+  /// (TUM readers skip it).
+  Status open(const std::string& path, const std::string& comment = "");
   Status add(const TumPose& pose);
   bool isOpen() const { return out_.is_open(); }
   void close() { out_.close(); }
