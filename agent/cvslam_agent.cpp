@@ -55,6 +55,11 @@ options:
                           own gravity-aligned frame (evaluate with cvslam_eval --align yaw):
                           rest — from the IMU's first rest period; dynamic — in motion, from
                           the first frames and the IMU; auto — rest if at rest, else dynamic
+  --starts known|unknown  scenario: overrides every UAV's `start:` (as cvslam_run --starts;
+                          unknown: the scenario's initial estimate in the agent's own frame)
+                          In DC, an agent whose start is not known (--starts unknown, or
+                          --start rest|dynamic|auto) estimates the frames to its peers from
+                          place exchanges before it fuses anything (docs/merge.md).
   --config FILE           agent configuration (default: config/agent.yaml of the source tree)
   --profile NAME          the filter profile beneath the configuration, in place of the one
                           it names: invariant_ekf (shipped) | thesis_ekf (chapter 5);
@@ -97,6 +102,7 @@ struct Args {
   int id = 0;
   cvslam::AgentConfigArgs config;  // --config and the overrides shared with cvslam_run
   std::string scenario, calibration, mode = "single", url, out, start, auth_key, coop_url;
+  std::string starts;  ///< --starts: "" (as the scenario says) | known | unknown
   long long seed = -1;
   std::string gs_wait;  // --gs-wait, as given
   double duration = -1.0, idle_exit = 0.0;
@@ -127,13 +133,14 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
   app.add_option("--duration", a->duration)->check(cvslam::cli::kPositive);
   app.add_option("--idle-exit", a->idle_exit)->check(cvslam::cli::kPositive);
   app.add_option("--start", a->start)->check(CLI::IsMember({"known", "rest", "dynamic", "auto"}));
+  app.add_option("--starts", a->starts)->check(CLI::IsMember({"known", "unknown"}));
   app.add_flag("--verbose", a->verbose);
   a->config.addTo(app);
   if (auto exit_code = cvslam::cli::parse(app, argc, argv, kUsage)) return exit_code;
   if (a->scenario.empty() == a->calibration.empty())
     return fail("give exactly one of --scenario and --calibration (try --help)");
-  if (!a->calibration.empty() && (a->seed >= 0 || a->duration > 0))
-    return fail("--seed and --duration need --scenario");
+  if (!a->calibration.empty() && (a->seed >= 0 || a->duration > 0 || !a->starts.empty()))
+    return fail("--seed, --duration and --starts need --scenario");
   if (a->mode != "dc" && a->config.anyCoop())
     return fail("--ci, --both-ways and --one-way need --mode dc");
   if (a->mode != "cc" && !a->gs_wait.empty()) return fail("--gs-wait needs --mode cc");
@@ -141,9 +148,12 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
 }
 
 /// The filter's calibration: agent N of a scenario (as cvslam_run builds it) or an EuRoC
-/// folder; `info` gets the scenario facts for run.json.
+/// folder; `info` gets the scenario facts for run.json, `start_known` whether the scenario
+/// gives the agent its start in the team's frame (an EuRoC folder's ground truth does).
 cvslam::Expected<cvslam::AgentCalibration> loadCalibration(
-    const Args& args, const cvslam::VisualInertialSlamOptions& options, cvslam::RunInfo* info) {
+    const Args& args, const cvslam::VisualInertialSlamOptions& options, cvslam::RunInfo* info,
+    bool* start_known) {
+  *start_known = true;
   if (args.scenario.empty()) {
     info->scenario = args.calibration;
     return cvslam::calibrationFromEuroc(args.calibration, options);
@@ -152,6 +162,11 @@ cvslam::Expected<cvslam::AgentCalibration> loadCalibration(
   if (!scenario.ok()) return scenario.status();
   if (args.seed >= 0) scenario->seed = static_cast<uint64_t>(args.seed);
   if (args.duration > 0) scenario->duration = std::min(scenario->duration, args.duration);
+  if (!args.starts.empty())
+    if (Status s = scenario->overrideStarts(args.starts == "known"); !s.ok())
+      return Status::Error("--starts: " + s.message());
+  for (const cvslam::sim::AgentSpec& a : scenario->agents)
+    if (a.id == args.id) *start_known = a.start_known;
   info->scenario = args.scenario;
   info->seed = scenario->seed;
   info->duration_s = scenario->duration;
@@ -198,8 +213,14 @@ int main(int argc, char** argv) {
       return fail(s.message());
 
   cvslam::RunInfo info;
-  auto calibration = loadCalibration(args, config->slam, &info);
+  bool start_known = true;
+  auto calibration = loadCalibration(args, config->slam, &info, &start_known);
   if (!calibration.ok()) return fail(calibration.status().message());
+  // An agent not started in the team's frame does not fuse a peer's landmarks before it found
+  // the frame between them (docs/merge.md). Every agent of a team is expected to say the same:
+  // the messages do not carry whose frame an agent estimates in.
+  config->coop.frames_given =
+      start_known && node.start == cvslam::transport::AgentNodeOptions::Start::kKnown;
 
   // The image path (used when UAV<N>/STEREO arrives), with the feature-index vocabulary.
   auto vocabulary = cvslam::loadFeatureIndexVocabulary(config->frontend, config->effective.dir());

@@ -118,7 +118,7 @@ def main():
             for failure in pool.map(lambda j: run_once(args, *j), jobs):
                 if failure:
                     print(failure, file=sys.stderr)
-    per_uav, nees, over, adopted, wrong, seeds_done = {}, [], 0, 0, 0, []
+    per_uav, nees, over, adopted, wrong, seeds_done, team_aligned = {}, [], 0, 0, 0, [], []
     for seed in args.seed_list:
         got = evaluate(args, seed)
         if got is None:
@@ -126,13 +126,15 @@ def main():
             continue
         summary, team, traffic = got
         seeds_done.append(seed)
+        team_aligned.append(team['team_ate_aligned_m'])
         for agent, a in team['agents'].items():
             u = per_uav.setdefault(agent, {k: [] for k in (
-                'known', 'own', 'team', 'cover', 'merged', 'ratio', 'traffic')})
+                'known', 'own', 'team', 'aligned', 'cover', 'merged', 'ratio', 'traffic')})
             known = summary['agents'][agent]['ate_rmse_m']
             u['known'].append(known)
             u['own'].append(a['own_ate_m'])
             u['team'].append(a['team_ate_m'])
+            u['aligned'].append(a['team_ate_aligned_m'])
             u['cover'].append(a['coverage'] if a['coverage'] is not None else 0.0)
             u['merged'].append(a['merged_at_s'])
             u['ratio'].append(a['team_ate_m'] / known if a['team_ate_m'] is not None and known
@@ -148,20 +150,24 @@ def main():
     n = len(seeds_done)
     print(f'{args.scenario}, DC, seeds {seeds_done[0]}–{seeds_done[-1]} ({n} runs each way)\n')
     print('| UAV | known-start DC ATE [m] | own-frame ATE, apart [m] | team-frame ATE, apart [m] |'
-          ' merged share of the flight | merged at [s] | team / known | traffic [KB/s] |')
-    print('|---|---|---|---|---|---|---|---|')
+          ' the same, one SE(3) alignment for the team [m] | merged share of the flight |'
+          ' merged at [s] | team / known | traffic [KB/s] |')
+    print('|---|---|---|---|---|---|---|---|---|')
     for agent in sorted(per_uav, key=int):
         u = per_uav[agent]
         kb = [x / 1000 if x is not None else None for x in u['traffic']]
         print(f"| {agent} | {cell(u['known'])} | {cell(u['own'])} | {cell(u['team'])} | "
+              f"{cell(u['aligned'])} | "
               f"{cell(u['cover'], '{:.2f}')} | {cell(u['merged'], '{:.1f}')} | "
               f"{cell(u['ratio'], '{:.2f}')} | {cell(kb, '{:.1f}')} |")
+    print(f'\nteam ATE after one SE(3) alignment of every merged agent: {cell(team_aligned)} m')
     nm = statistics.mean(nees) if nees else None
     print(f'\nrelation NEES over {len(nees)} verified candidates: mean '
           f"{'–' if nm is None else f'{nm:.2f}'} (χ²₄ mean 4), max "
           f"{max(nees) if nees else float('nan'):.1f}, {over} over χ²₄(0.999); "
           f'{adopted} adoptions, {wrong} wrong (NEES over χ²₄(0.999))')
     out = {'scenario': args.scenario, 'seeds': seeds_done, 'per_uav': per_uav,
+           'team_ate_aligned_m': team_aligned,
            'relation_nees': {'count': len(nees), 'mean': nm, 'max': max(nees) if nees else None,
                              'over_999': over},
            'adoptions': adopted, 'wrong_adoptions': wrong}

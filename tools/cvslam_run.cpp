@@ -163,15 +163,9 @@ std::optional<int> parseArgs(int argc, char** argv, Args* a) {
 
 /// Applies --seed, --duration, --agents, --starts, --pixel-noise and --world to the scenario.
 Status applyScenarioArgs(const Args& args, cvslam::sim::Scenario* scenario) {
-  if (!args.starts.empty()) {
-    for (cvslam::sim::AgentSpec& agent : scenario->agents) {
-      agent.start_known = args.starts == "known";
-      // As the scenario file refuses it: a fix would give the team's frame away.
-      if (!agent.start_known && agent.has_gps)
-        return Status::Error("--starts unknown: agent " + std::to_string(agent.id) +
-                             " has a gps section (a fix is in the team's frame)");
-    }
-  }
+  if (!args.starts.empty())
+    if (Status s = scenario->overrideStarts(args.starts == "known"); !s.ok())
+      return Status::Error("--starts: " + s.message());
   if (args.seed >= 0) scenario->seed = static_cast<uint64_t>(args.seed);
   if (args.duration > 0) scenario->duration = std::min(scenario->duration, args.duration);
   if (!args.agents.empty()) {
@@ -417,11 +411,11 @@ Status applyStarts(const Args& args, const cvslam::sim::Scenario& scenario,
 /// Estimated frames: the agent's state in its team frame once merged (trajectory_team.tum).
 Status recordTeamState(const cvslam::DcTeamLink& dc, const cvslam::SimulatedFrame& f,
                        cvslam::AgentRunRecorder* recorder) {
-  const cvslam::coop::TeamFrame team = dc.agent(f.agent_id).teamFrame();
-  if (dc.agent(f.agent_id).options().frames_given || !team.merged) return Status::Ok();
-  const Eigen::VectorXd x = f.slam->vehicleState();
-  return recorder->writer().addTeamState(static_cast<double>(f.t_us) * 1e-6, team.root,
-                                         team.apply(x.head<9>()));
+  int root = 0;
+  cvslam::Vector9d x_team;
+  if (!dc.agent(f.agent_id).teamState(f.slam->vehicleState().head<9>(), &root, &x_team))
+    return Status::Ok();
+  return recorder->writer().addTeamState(static_cast<double>(f.t_us) * 1e-6, root, x_team);
 }
 
 }  // namespace

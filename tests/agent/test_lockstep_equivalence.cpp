@@ -3,7 +3,8 @@
 // same run records byte for byte, for every mode, sensing and filter (docs/architecture.md:
 // "lockstep reproduces cvslam_run"). Images go through the renderer of each program
 // (cvslam_run renders in process, cvslam_replay for the agents), so the two must draw the same
-// world with the same noise. Ports 27860–27869.
+// world with the same noise. A team whose starts are unknown merges by place exchanges over
+// the network as it does in process. Ports 27860–27869.
 #include <gtest/gtest.h>
 
 #include <sstream>
@@ -28,6 +29,7 @@ struct LockstepCase {
   std::string seed;      ///< "" = the scenario's
   std::string duration;  ///< [s]
   int port;
+  std::string starts = "";  ///< --starts of both programs ("": as the scenario says)
 };
 
 /// landmarks.csv without its true_x, true_y, true_z columns: with images only cvslam_run knows
@@ -56,6 +58,8 @@ TEST_P(LockstepEquivalence, ProcessesWriteTheRecordsOfCvslamRun) {
   const std::string scenario = test::sourceDir() + "/config/scenarios/" + c.scenario;
   std::vector<std::string> common = {"--scenario", scenario, "--duration", c.duration};
   if (!c.seed.empty()) common.insert(common.end(), {"--seed", c.seed});
+  std::vector<std::string> starts;
+  if (!c.starts.empty()) starts = {"--starts", c.starts};
   const std::vector<std::string> filter = {"--filter", c.filter};
   // cc: every frame waits for the ground station's estimate, however loaded the machine (a
   // process option, recorded in config_used.yaml by both programs).
@@ -65,6 +69,7 @@ TEST_P(LockstepEquivalence, ProcessesWriteTheRecordsOfCvslamRun) {
                                   c.sensing,      "--out",  tmp / "inproc", "--quiet"};
   run.insert(run.end(), common.begin(), common.end());
   run.insert(run.end(), filter.begin(), filter.end());
+  run.insert(run.end(), starts.begin(), starts.end());
   if (c.mode == "cc") run.insert(run.end(), agent_options.begin(), agent_options.end());
   std::string err;
   ASSERT_EQ(test::run(run, tmp / "run", nullptr, &err), 0) << err;
@@ -83,6 +88,7 @@ TEST_P(LockstepEquivalence, ProcessesWriteTheRecordsOfCvslamRun) {
   for (int id : {1, 2}) {
     std::vector<std::string> agent = test::agentArgs(id, scenario, url, tmp / "lcm", c.mode);
     agent.insert(agent.end(), filter.begin(), filter.end());
+    agent.insert(agent.end(), starts.begin(), starts.end());
     agent.insert(agent.end(), {"--duration", c.duration});
     if (!c.seed.empty()) agent.insert(agent.end(), {"--seed", c.seed});
     if (c.mode == "cc") agent.insert(agent.end(), agent_options.begin(), agent_options.end());
@@ -107,6 +113,9 @@ TEST_P(LockstepEquivalence, ProcessesWriteTheRecordsOfCvslamRun) {
   std::vector<std::string> files = {"trajectory.tum", "ins_trajectory.tum", "states.csv",
                                     "events.csv",     "landmarks.csv",      "config_used.yaml"};
   if (c.mode == "dc") files.push_back("coop.csv");
+  // Estimated frames: every verification, and the estimate in the team frame once merged.
+  if (c.starts == "unknown")
+    files.insert(files.end(), {"relations.csv", "trajectory_team.tum", "truth.csv"});
   for (int id : {1, 2}) {
     const std::string agent = "/agent_" + std::to_string(id) + "/";
     for (const std::string& file : files) {
@@ -131,22 +140,23 @@ TEST_P(LockstepEquivalence, ProcessesWriteTheRecordsOfCvslamRun) {
 
 // Short windows of the configurations in use: every case costs a run in process plus the same
 // run as processes. The DC images case is the team of thesis_loop (two UAVs, NH∞, seed 1).
-INSTANTIATE_TEST_SUITE_P(AllModes, LockstepEquivalence,
-                         ::testing::Values(LockstepCase{"ImagesSingleEkf", "thesis_loop.yaml",
-                                                        "single", "images", "ekf", "", "5", 27860},
-                                           LockstepCase{"ImagesDcNhinfSeed1", "thesis_loop.yaml",
-                                                        "dc", "images", "nhinf", "1", "8", 27861},
-                                           LockstepCase{"ImagesDcEkfCoopPair", "coop_pair.yaml",
-                                                        "dc", "images", "ekf", "", "12", 27862},
-                                           LockstepCase{"ImagesCcEkfCoopPair", "coop_pair.yaml",
-                                                        "cc", "images", "ekf", "", "6", 27863},
-                                           LockstepCase{"FeaturesDcNhinf", "coop_pair.yaml", "dc",
-                                                        "features", "nhinf", "", "12", 27864},
-                                           LockstepCase{"FeaturesCcNhinf", "coop_pair.yaml", "cc",
-                                                        "features", "nhinf", "", "12", 27865}),
-                         [](const ::testing::TestParamInfo<LockstepCase>& info) {
-                           return info.param.name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    AllModes, LockstepEquivalence,
+    ::testing::Values(LockstepCase{"ImagesSingleEkf", "thesis_loop.yaml", "single", "images", "ekf",
+                                   "", "5", 27860},
+                      LockstepCase{"ImagesDcNhinfSeed1", "thesis_loop.yaml", "dc", "images",
+                                   "nhinf", "1", "8", 27861},
+                      LockstepCase{"ImagesDcEkfCoopPair", "coop_pair.yaml", "dc", "images", "ekf",
+                                   "", "12", 27862},
+                      LockstepCase{"ImagesCcEkfCoopPair", "coop_pair.yaml", "cc", "images", "ekf",
+                                   "", "6", 27863},
+                      LockstepCase{"FeaturesDcNhinf", "coop_pair.yaml", "dc", "features", "nhinf",
+                                   "", "12", 27864},
+                      LockstepCase{"FeaturesCcNhinf", "coop_pair.yaml", "cc", "features", "nhinf",
+                                   "", "12", 27865},
+                      LockstepCase{"FeaturesDcStartsUnknown", "coop_pair.yaml", "dc", "features",
+                                   "ekf", "", "12", 27866, "unknown"}),
+    [](const ::testing::TestParamInfo<LockstepCase>& info) { return info.param.name; });
 
 }  // namespace
 }  // namespace cvslam

@@ -14,8 +14,6 @@
 namespace cvslam {
 namespace {
 
-using Vector9d = StereoCamera::Vector9d;
-
 StereoCameraOptions skewedRig() {
   // A rig that is not axis aligned and off the body origin, so that every Jacobian block
   // is exercised (the default rig has p_CinB = 0).
@@ -36,7 +34,7 @@ StereoCameraOptions skewedRig() {
 }
 
 struct Case {
-  Vector9d x_v;
+  StereoCamera::Vector9d x_v;
   Eigen::Vector3d p_LinN;
 };
 
@@ -97,7 +95,7 @@ TEST(StereoCamera, JacobiansOfTheObservationModel) {
     EXPECT_TRUE((dz_dxv.block<4, 3>(0, 3).isZero())) << "velocity does not enter eq. 5.20";
     EXPECT_TRUE(test::jacobianMatches(
         [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-          return cam.project(Vector9d(x), c.p_LinN);
+          return cam.project(StereoCamera::Vector9d(x), c.p_LinN);
         },
         c.x_v, dz_dxv, 1e-5, 1e-5));
     EXPECT_TRUE(test::jacobianMatches(
@@ -116,14 +114,16 @@ TEST(StereoCamera, JacobiansOfTheInverseModel) {
     StereoCamera::Matrix3x9d dpL_dxv;
     StereoCamera::Matrix3x4d dpL_dz;
     ASSERT_TRUE(cam.triangulate(z, c.x_v, &p, &dpL_dxv, &dpL_dz).ok());
-    const auto tri = [&](const Eigen::Vector4d& zz, const Vector9d& xx) {
+    const auto tri = [&](const Eigen::Vector4d& zz, const StereoCamera::Vector9d& xx) {
       Eigen::Vector3d out;
       EXPECT_TRUE(cam.triangulate(zz, xx, &out).ok());
       return out;
     };
     EXPECT_TRUE(test::jacobianMatches(
-        [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return tri(z, Vector9d(x)); }, c.x_v,
-        dpL_dxv, 1e-5, 1e-5));
+        [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+          return tri(z, StereoCamera::Vector9d(x));
+        },
+        c.x_v, dpL_dxv, 1e-5, 1e-5));
     EXPECT_TRUE(test::jacobianMatches(
         [&](const Eigen::VectorXd& zz) -> Eigen::VectorXd {
           return tri(Eigen::Vector4d(zz), c.x_v);
@@ -156,7 +156,7 @@ TEST(StereoCamera, TriangulateInvertsProject) {
 
 TEST(StereoCamera, TriangulateRejectsBadDisparity) {
   const StereoCamera cam(skewedRig());
-  const Vector9d x_v = Vector9d::Zero();
+  const StereoCamera::Vector9d x_v = StereoCamera::Vector9d::Zero();
   Eigen::Vector3d p(7, 7, 7);
   const Status zero = cam.triangulate({100, 50, 100, 50}, x_v, &p);
   EXPECT_FALSE(zero.ok());
@@ -172,7 +172,7 @@ TEST(StereoCamera, TriangulateRejectsBadDisparity) {
 // what the filter uses to initialise P_LL, so a wrong Jacobian gives an inconsistent map.
 TEST(StereoCamera, TriangulationCovarianceMatchesMonteCarlo) {
   const StereoCamera cam(skewedRig());
-  Vector9d x_v;
+  StereoCamera::Vector9d x_v;
   x_v << 5, 2, -30, 0, 0, 0, 0.1, -0.05, 0.7;
   const Eigen::Vector3d p_LinC(0.5, -0.3, 5.0);  // disparity ≈ 10 px
   const Eigen::Vector4d z = cam.project(p_LinC);
@@ -210,14 +210,14 @@ TEST(StereoCamera, TriangulationCovarianceMatchesMonteCarlo) {
 //   P_LL = J_x P_vv J_xᵀ + J_z R J_zᵀ,  P_Lx = J_x P_vv.
 TEST(StereoCamera, AugmentationCovarianceMatchesMonteCarlo) {
   const StereoCamera cam(skewedRig());
-  Vector9d x_v;
+  StereoCamera::Vector9d x_v;
   x_v << 5, 2, -30, 1, 0, 0, 0.1, -0.05, 0.7;
   const Eigen::Vector4d z = cam.project(Eigen::Vector3d(0.5, -0.3, 5.0));
   Eigen::Vector3d p0;
   StereoCamera::Matrix3x9d J_x;
   StereoCamera::Matrix3x4d J_z;
   ASSERT_TRUE(cam.triangulate(z, x_v, &p0, &J_x, &J_z).ok());
-  Vector9d sigma_v;
+  StereoCamera::Vector9d sigma_v;
   sigma_v << 0.05, 0.05, 0.05, 0.1, 0.1, 0.1, 0.005, 0.005, 0.005;
   const Eigen::Matrix<double, 9, 9> P_vv = sigma_v.cwiseAbs2().asDiagonal();
   const double sigma_px = 0.05;
@@ -231,7 +231,7 @@ TEST(StereoCamera, AugmentationCovarianceMatchesMonteCarlo) {
   Eigen::Matrix3d S_LL = Eigen::Matrix3d::Zero();
   StereoCamera::Matrix3x9d S_Lx = StereoCamera::Matrix3x9d::Zero();
   for (int i = 0; i < kSamples; ++i) {
-    Vector9d dx;
+    StereoCamera::Vector9d dx;
     for (int k = 0; k < 9; ++k) dx(k) = sigma_v(k) * n01(rng);
     Eigen::Vector4d dz;
     for (int k = 0; k < 4; ++k) dz(k) = sigma_px * n01(rng);

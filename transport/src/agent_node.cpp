@@ -11,6 +11,7 @@
 #include <thread>
 #include <type_traits>
 
+#include "cvslam/coop/dc_cooperation.h"
 #include "cvslam/geometry/euler.h"
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_writer.h"
@@ -216,6 +217,15 @@ Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
       return addImu(e.imu);
     case SensorEventType::kGroundTruth:
       truth_ = std::make_pair(e.t_us, truthState(e.truth));
+      if (calibration_.own_frame_in_world) {
+        // UAV<N>/GT is the world's truth, and this agent (start unknown) estimates in its own
+        // frame: recorded there, as cvslam_run records it. TeamFrame::apply carries a vehicle
+        // state between two gravity-aligned frames, here world → own.
+        coop::TeamFrame own;
+        own.own_in_root.x = *calibration_.own_frame_in_world;
+        own.own_in_root = own.own_in_root.inverse();
+        truth_->second = own.apply(truth_->second);
+      }
       if (!agent_) {
         // Thesis §6.3.1: the initial pose is known in the team's frame.
         if (Status s =
@@ -296,6 +306,13 @@ Status AgentNode::afterFrame(double arrival_s) {
     if (truth_ && std::llabs(truth_->first - frame.t_us) <= kTruthToleranceUs)
       truth = &truth_->second;
     if (Status s = recorder_.addFrame(*agent_, truth, latency_ms, adopted); !s.ok()) return s;
+    int root = 0;
+    Vector9d x_team;
+    if (coop_ && coop_->teamState(slam.vehicleState().head<9>(), &root, &x_team))
+      if (Status s =
+              recorder_.writer().addTeamState(static_cast<double>(frame.t_us) * 1e-6, root, x_team);
+          !s.ok())
+        return s;
   }
   return Status::Ok();
 }

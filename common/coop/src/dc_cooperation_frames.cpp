@@ -53,6 +53,16 @@ TeamFrame DcCooperation::teamFrame() const {
   return f;
 }
 
+bool DcCooperation::teamState(const Eigen::Matrix<double, 9, 1>& x_own, int* root,
+                              Eigen::Matrix<double, 9, 1>* x_team) const {
+  if (o_.frames_given) return false;
+  const TeamFrame team = teamFrame();
+  if (!team.merged) return false;
+  *root = team.root;
+  *x_team = team.apply(x_own);
+  return true;
+}
+
 std::vector<RelationRecord> DcCooperation::takeRelationRecords() {
   std::vector<RelationRecord> out;
   out.swap(relation_records_);

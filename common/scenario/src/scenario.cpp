@@ -36,6 +36,17 @@ Status AgentSpec::load(const ConfigNode& node, const std::string& base_dir) {
   return node.status();
 }
 
+Status Scenario::overrideStarts(bool known) {
+  for (AgentSpec& agent : agents) {
+    // A GPS fix is in the team's frame: it would tell the agent where it is.
+    if (!known && agent.has_gps)
+      return Status::Error("agent " + std::to_string(agent.id) +
+                           ": an unknown start needs no gps section");
+    agent.start_known = known;
+  }
+  return Status::Ok();
+}
+
 void extendByFlight(const Trajectory& trajectory, double time_offset, double duration,
                     Eigen::AlignedBox2d* area) {
   const int steps = static_cast<int>(std::ceil(duration / 0.5));

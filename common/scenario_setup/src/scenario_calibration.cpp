@@ -73,12 +73,15 @@ Expected<AgentCalibration> calibrationFromScenario(const sim::Scenario& scenario
   c.camera = agent->camera();
   c.setup = simulatedAgentSetup(*agent, options);
   c.options = c.setup->options;
-  // Feature-level frames name their landmarks by true id: the scenario's world knows them.
+  if (!spec->start_known) c.own_frame_in_world = agent->ownFrameInWorld();
+  // Feature-level frames name their landmarks by true id: the scenario's world knows them,
+  // and the agent's own frame (the world's unless its start is unknown) is where it maps them.
   auto shared = std::make_shared<const sim::World>(std::move(*world));
-  c.landmark_truth = [shared](int64_t id, Eigen::Vector3d* p) {
+  auto own = std::make_shared<const sim::ScenarioAgent>(std::move(*agent));
+  c.landmark_truth = [shared, own](int64_t id, Eigen::Vector3d* p) {
     const auto& landmarks = shared->landmarks();
     if (id < 0 || id >= static_cast<int64_t>(landmarks.size())) return false;
-    *p = landmarks[static_cast<std::size_t>(id)].p_LinN;
+    *p = own->toOwnFrame(landmarks[static_cast<std::size_t>(id)].p_LinN);
     return true;
   };
   return c;

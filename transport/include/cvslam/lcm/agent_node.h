@@ -100,6 +100,12 @@ class CooperationLink {
   virtual std::string statusText() const { return {}; }
   /// The link's peer reports a problem with this agent's messages (STATUS health DEGRADED).
   virtual bool degraded() const { return false; }
+  /// After afterFrame(): the own state `x_own` in the team's frame and that frame's root, when
+  /// the link estimated the frames between the agents and this agent merged
+  /// (trajectory_team.tum); false otherwise.
+  virtual bool teamState(const Vector9d& /*x_own*/, int* /*root*/, Vector9d* /*x_team*/) const {
+    return false;
+  }
   /// True when the link publishes TEAM/SUMMARY itself; else the node does, periodically.
   virtual bool sendsSummary() const { return true; }
   /// Subscribes the cooperation channels (before the bus starts).

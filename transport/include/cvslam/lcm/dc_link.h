@@ -30,6 +30,9 @@ class DcLink final : public CooperationLink {
   Status afterFrame(AgentPipeline& agent, LcmBus& bus,
                     const std::function<void(cvslam::agent_summary_t&)>& fill_counters) override;
   std::string report() const override;
+  bool teamState(const Vector9d& x_own, int* root, Vector9d* x_team) const override {
+    return core_.cooperation().teamState(x_own, root, x_team);
+  }
   /// For STATUS: the peers known now, the peer events so far and each peer's link ("peers 2,3;
   /// timeouts 0; restarts 0; links 2: 118/120 age 0.10 s, 3: …", received of expected by seq,
   /// age of its newest news in data time), so tests and tools can wait on events instead of

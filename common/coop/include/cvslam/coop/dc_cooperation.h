@@ -297,6 +297,11 @@ class DcCooperation {
   /// nullopt while it is not yet found.
   std::optional<merge::FrameRelation> relationOf(int peer) const;
   TeamFrame teamFrame() const;
+  /// The own state `x_own` in the team frame and that frame's root, when the agent estimates
+  /// in a frame of its own and has merged (trajectory_team.tum); false otherwise (frames
+  /// given: the own frame is the team's; not merged: no team frame yet).
+  bool teamState(const Eigen::Matrix<double, 9, 1>& x_own, int* root,
+                 Eigen::Matrix<double, 9, 1>* x_team) const;
   std::vector<RelationRecord> takeRelationRecords();
 
  private:

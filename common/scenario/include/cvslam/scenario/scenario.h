@@ -78,6 +78,10 @@ struct Scenario {
   /// needs its true landmarks.
   Expected<World> generateWorld() const;
 
+  /// Every agent's `start:` set to known or unknown (cvslam_run and cvslam_agent --starts);
+  /// refused, as the file refuses it, for an unknown start with a gps section.
+  Status overrideStarts(bool known);
+
   /// Loads and validates a scenario file (also checks that open trajectories last long enough).
   static Expected<Scenario> loadFile(const std::string& path);
   /// Same from YAML text; `base_dir` resolves relative file names.

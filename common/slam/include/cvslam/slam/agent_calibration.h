@@ -31,6 +31,11 @@ struct AgentCalibration {
   /// True landmark positions by id when the world is known (simulated scenario); empty
   /// otherwise. Used only to score the map (landmarks.csv).
   AgentRunRecorder::LandmarkTruth landmark_truth;
+  /// Simulation with the agent's start unknown: its own frame in the scenario's world,
+  /// [t_N t_E t_D ψ] with p_world = R_z(ψ) p_own + t. The simulator's truth (UAV<N>/GT) is in
+  /// the world; the agent records it in its own frame, as cvslam_run does. Empty: the world
+  /// is the own frame.
+  std::optional<Eigen::Vector4d> own_frame_in_world;
 };
 
 /// An EuRoC `mav0` folder (or its parent).
