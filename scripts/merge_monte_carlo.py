@@ -13,7 +13,7 @@ whose folder exists with run.json is not run again (an interrupted sweep resumes
 Per UAV, mean ± std over the seeds: the known-start DC ATE (the figure merging is measured
 against), the own-frame ATE with unknown starts, the team-frame ATE (trajectory_team.tum against
 the truth in its root's frame, no alignment) over the merged span, the merged share of the
-flight, the time of the merge, and the ratio of the team-frame ATE to the known-start ATE.
+flight, the time of the merge, the vehicle NEES (own frame, 9 dof) both ways, and the ratio of the team-frame ATE to the known-start ATE.
 Team-wide: the frame relation's NEES over every verified candidate of every seed (4 dof,
 χ²₄ mean 4; candidates of one run share errors, so no band is claimed), the candidates over
 χ²₄(0.999), adoptions and wrong adoptions, and the cooperation traffic per UAV.
@@ -79,6 +79,7 @@ def evaluate(args, seed):
     apart = os.path.join(args.out, 'apart', f'seed_{seed}')
     ev = os.path.join(args.build_dir, 'tools', 'cvslam_eval')
     for run, flag, name in ((known, '--summary-json', 'summary.json'),
+                            (apart, '--summary-json', 'summary.json'),
                             (apart, '--team-json', 'team_summary.json')):
         if not os.path.exists(os.path.join(run, 'run.json')):
             return None
@@ -87,12 +88,13 @@ def evaluate(args, seed):
             subprocess.run([ev, '--quiet', '--run', run, flag, target], check=True)
     summary = json.load(open(os.path.join(known, 'summary.json')))
     team = json.load(open(os.path.join(apart, 'team_summary.json')))
+    own = json.load(open(os.path.join(apart, 'summary.json')))
     traffic = {}
     for agent in team['agents']:
         stats = json.load(open(os.path.join(apart, f'agent_{agent}', 'stats.json')))
         duration = stats.get('duration_s') or 0.0
         traffic[agent] = stats.get('bytes_sent', 0) / duration if duration > 0 else None
-    return summary, team, traffic
+    return summary, own, team, traffic
 
 
 def mean_std(values):
@@ -124,12 +126,13 @@ def main():
         if got is None:
             print(f'seed {seed}: a run is missing, left out', file=sys.stderr)
             continue
-        summary, team, traffic = got
+        summary, own, team, traffic = got
         seeds_done.append(seed)
         team_aligned.append(team['team_ate_aligned_m'])
         for agent, a in team['agents'].items():
             u = per_uav.setdefault(agent, {k: [] for k in (
-                'known', 'own', 'team', 'aligned', 'cover', 'merged', 'ratio', 'traffic')})
+                'known', 'own', 'team', 'aligned', 'cover', 'merged', 'ratio', 'traffic',
+                'nees_known', 'nees_apart')})
             known = summary['agents'][agent]['ate_rmse_m']
             u['known'].append(known)
             u['own'].append(a['own_ate_m'])
@@ -140,6 +143,8 @@ def main():
             u['ratio'].append(a['team_ate_m'] / known if a['team_ate_m'] is not None and known
                               else None)
             u['traffic'].append(traffic[agent])
+            u['nees_known'].append(summary['agents'][agent]['nees_mean'])
+            u['nees_apart'].append(own['agents'][agent]['nees_mean'])
             rel = a['relations'] or {}
             nees += rel.get('nees', [])
             over += rel.get('over_bound', 0)
@@ -151,15 +156,16 @@ def main():
     print(f'{args.scenario}, DC, seeds {seeds_done[0]}–{seeds_done[-1]} ({n} runs each way)\n')
     print('| UAV | known-start DC ATE [m] | own-frame ATE, apart [m] | team-frame ATE, apart [m] |'
           ' the same, one SE(3) alignment for the team [m] | merged share of the flight |'
-          ' merged at [s] | team / known | traffic [KB/s] |')
-    print('|---|---|---|---|---|---|---|---|---|')
+          ' merged at [s] | team / known | vehicle NEES known / apart (9 dof) | traffic [KB/s] |')
+    print('|---|---|---|---|---|---|---|---|---|---|')
     for agent in sorted(per_uav, key=int):
         u = per_uav[agent]
         kb = [x / 1000 if x is not None else None for x in u['traffic']]
         print(f"| {agent} | {cell(u['known'])} | {cell(u['own'])} | {cell(u['team'])} | "
               f"{cell(u['aligned'])} | "
               f"{cell(u['cover'], '{:.2f}')} | {cell(u['merged'], '{:.1f}')} | "
-              f"{cell(u['ratio'], '{:.2f}')} | {cell(kb, '{:.1f}')} |")
+              f"{cell(u['ratio'], '{:.2f}')} | {cell(u['nees_known'], '{:.1f}')} / "
+              f"{cell(u['nees_apart'], '{:.1f}')} | {cell(kb, '{:.1f}')} |")
     print(f'\nteam ATE after one SE(3) alignment of every merged agent: {cell(team_aligned)} m')
     nm = statistics.mean(nees) if nees else None
     print(f'\nrelation NEES over {len(nees)} verified candidates: mean '
