@@ -7,6 +7,7 @@
 
 #include "cvslam/io/config_node.h"
 #include "cvslam/io/run_reader.h"
+#include "table_cell.h"
 
 namespace cvslam {
 
@@ -231,12 +232,7 @@ Json summaryJson(const RunInfo& info, const std::vector<AgentEvaluation>& agents
 }
 
 std::string summaryTable(const std::vector<AgentEvaluation>& agents) {
-  const auto cell = [](const std::optional<double>& x, const char* fmt) {
-    if (!x) return std::string("-");
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), fmt, *x);
-    return std::string(buf);
-  };
+  const auto cell = eval_detail::tableCell;
   std::string out;
   char line[512];
   std::snprintf(line, sizeof(line), "%-6s %10s %10s %10s %8s %9s %6s %14s %10s %12s %8s %8s\n",

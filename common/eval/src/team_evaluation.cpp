@@ -13,6 +13,7 @@
 #include "cvslam/eval/metrics.h"
 #include "cvslam/io/run_reader.h"
 #include "cvslam/merge/frame_relation.h"
+#include "table_cell.h"
 
 namespace cvslam {
 namespace {
@@ -291,12 +292,7 @@ Json teamSummaryJson(const TeamEvaluation& team) {
 }
 
 std::string teamSummaryTable(const TeamEvaluation& team) {
-  const auto cell = [](const std::optional<double>& x, const char* fmt) {
-    if (!x) return std::string("-");
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), fmt, *x);
-    return std::string(buf);
-  };
+  const auto cell = eval_detail::tableCell;
   std::string out;
   char line[512];
   std::snprintf(line, sizeof(line), "%-6s %9s %10s %5s %10s %8s %11s %13s %9s %11s %6s\n", "agent",
