@@ -292,16 +292,19 @@ Status openOutputs(const Args& args, const cvslam::SimulatedTeamRun& run,
                    const cvslam::AgentConfig& config,
                    std::map<int, cvslam::AgentRunRecorder>* recorders,
                    std::unique_ptr<cvslam::DcTeamLink>* dc) {
-  std::vector<int> ids;
+  std::map<int, cvslam::coop::DcCooperationOptions> coop;
   for (std::size_t i = 0; i < run.agentCount(); ++i) {
     const int id = run.agentId(i);
-    ids.push_back(id);
+    // Each agent as its process: in the team's frame when its start is known, else in a frame
+    // of its own, merged with its peers by place exchanges (docs/merge.md).
+    coop[id] = config.coop;
+    coop[id].frames_given = run.scenarioAgent(i).spec().start_known;
     if (Status s = (*recorders)[id].open(args.out, id, args.sensing == "images"); !s.ok()) return s;
     const std::string used = cvslam::agentDir(args.out, id) + "/config_used.yaml";
     if (Status s = config.effective.write(used); !s.ok()) return s;
   }
   if (args.mode != "dc") return Status::Ok();
-  *dc = std::make_unique<cvslam::DcTeamLink>(config.coop, ids, args.coop_loss);
+  *dc = std::make_unique<cvslam::DcTeamLink>(coop, args.coop_loss);
   return (*dc)->open(args.out);
 }
 
@@ -397,14 +400,11 @@ Status writeMaps(cvslam::SimulatedTeamRun& run,
 
 /// One agent that starts unknown puts the whole team in estimated frames (docs/merge.md); the
 /// ground station needs every start known.
-Status applyStarts(const Args& args, const cvslam::sim::Scenario& scenario,
-                   cvslam::coop::DcCooperationOptions* coop) {
-  for (const cvslam::sim::AgentSpec& a : scenario.agents) {
+Status checkStarts(const Args& args, const cvslam::sim::Scenario& scenario) {
+  for (const cvslam::sim::AgentSpec& a : scenario.agents)
     if (!a.start_known && args.mode == "cc")
       return Status::Error("--mode cc needs every start known (agent " + std::to_string(a.id) +
                            " starts unknown); teams that start apart run --mode dc or single");
-    coop->frames_given = coop->frames_given && a.start_known;
-  }
   return Status::Ok();
 }
 
@@ -432,7 +432,7 @@ int main(int argc, char** argv) {
                                           });
   if (!config.ok()) return fail(config.status().message());
   config->coop.true_ids = args.sensing == "features";
-  if (Status s = applyStarts(args, *scenario, &config->coop); !s.ok()) return fail(s.message());
+  if (Status s = checkStarts(args, *scenario); !s.ok()) return fail(s.message());
   auto sensing = makeSensing(args, *scenario, *config);
   if (!sensing.ok()) return fail(sensing.status().message());
   auto team = cvslam::SimulatedTeamRun::create(*scenario, config->slam, *sensing);

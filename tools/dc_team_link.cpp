@@ -11,10 +11,10 @@ namespace {
 constexpr int64_t kBootIdBase = 1000;  // deterministic boot ids for in-process runs
 }  // namespace
 
-DcTeamLink::DcTeamLink(const coop::DcCooperationOptions& options, const std::vector<int>& agent_ids,
+DcTeamLink::DcTeamLink(const std::map<int, coop::DcCooperationOptions>& options_by_agent,
                        const DcLinkLoss& loss)
     : loss_(loss), loss_rng_(loss.seed) {
-  for (int id : agent_ids)
+  for (const auto& [id, options] : options_by_agent)
     agents_[id] = std::make_unique<coop::DcLinkCore>(id, options, kBootIdBase + id);
 }
 

@@ -30,9 +30,11 @@ struct DcLinkLoss {
 
 class DcTeamLink {
  public:
-  /// boot ids are fixed (1000 + id) so that runs repeat exactly.
-  DcTeamLink(const coop::DcCooperationOptions& options, const std::vector<int>& agent_ids,
-             const DcLinkLoss& loss = {});
+  /// One agent per entry of `options_by_agent` (id → its options: frames_given is each
+  /// agent's own, as its process would have it). Boot ids are fixed (1000 + id) so that runs
+  /// repeat exactly.
+  explicit DcTeamLink(const std::map<int, coop::DcCooperationOptions>& options_by_agent,
+                      const DcLinkLoss& loss = {});
 
   /// Opens DIR/agent_<id>/coop.csv for every agent.
   Status open(const std::string& run_dir);

@@ -48,6 +48,7 @@ Expected<cvslam::agent_summary_t> toMessage(const coop::CoopSummary& s) {
   }
   m.num_features = s.num_features;
   m.vehicle_cov_trace = s.vehicle_cov_trace;
+  m.own_frame = s.own_frame;
   return finalized(std::move(m));
 }
 
@@ -60,6 +61,7 @@ coop::CoopSummary fromMessage(const cvslam::agent_summary_t& m) {
   s.std = Eigen::Vector3d(m.ellipsoid_std[0], m.ellipsoid_std[1], m.ellipsoid_std[2]);
   s.num_features = m.num_features;
   s.vehicle_cov_trace = m.vehicle_cov_trace;
+  s.own_frame = m.own_frame;
   return s;
 }
 

@@ -113,8 +113,8 @@ Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agen
 Status checkWireFormat(const uint8_t* body, std::size_t size, const cvslam::agent_summary_t*) {
   WireReader r(body, size);
   int32_t n = 0;
-  r.header().string().skip(kI64 + 6 * kF64 + kI32 + kF64);  // boot_id .. vehicle_cov_trace
-  r.count(n).strings(n).array(n, 3 * kI64);                 // received, dropped, invalid
+  r.header().string().skip(kI64 + 6 * kF64 + kI32 + kF64 + kI8);  // boot_id .. own_frame
+  r.count(n).strings(n).array(n, 3 * kI64);                       // received, dropped, invalid
   return r.finish();
 }
 

@@ -257,7 +257,7 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
   e.kind = CoopEventKind::kFused;
   e.peer = j;
   e.count = static_cast<int>(m.landmarks.size());
-  if (o_.frames_given) {
+  if (framesShared(j)) {
     const bool independent = o_.use_provenance && independentOf(m.informed_by);
     const std::vector<ConfirmedPair> pairs = confirm(m, slam, frame, independent, &local, &e);
     if (!pairs.empty() &&
@@ -485,6 +485,7 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
     s.std = mine.std;
     s.num_features = n_self;
     s.vehicle_cov_trace = own_vehicle_trace;
+    s.own_frame = !o_.frames_given;
     out->summary = s;
     last_summary_us_ = now;
     ++stats_.summaries_sent;
@@ -508,7 +509,7 @@ Status DcCooperation::afterFrame(const StereoFrameObservations& frame, VisualIne
       place = placeDue(j, n_self, now) || place;
       continue;
     }
-    if (!o_.frames_given) theirs = inOwnFrame(theirs, *relation);
+    if (!framesShared(j)) theirs = inOwnFrame(theirs, *relation);
     FeatureEllipsoid own = mine;
     if (o_.include_vehicle_uncertainty) {
       // Where the features are is uncertain by the vehicle position too (trace/3 per axis).

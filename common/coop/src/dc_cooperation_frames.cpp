@@ -28,8 +28,14 @@ std::optional<VariableKey> stateKeyOf(const VisualInertialSlam& slam, int64_t id
 }
 }  // namespace
 
+bool DcCooperation::framesShared(int peer) const {
+  if (!o_.frames_given) return false;
+  const auto it = peers_.find(peer);
+  return it == peers_.end() || !it->second.summary.own_frame;
+}
+
 std::optional<merge::FrameRelation> DcCooperation::relationOf(int peer) const {
-  if (o_.frames_given) return merge::FrameRelation{};
+  if (framesShared(peer)) return merge::FrameRelation{};
   return relations_.relation(peer);
 }
 
@@ -44,7 +50,8 @@ TeamFrame DcCooperation::teamFrame() const {
   TeamFrame f;
   f.root = self_;
   std::vector<int> related = relations_.adoptedPeers();
-  if (o_.frames_given) related = peers();
+  for (int j : peers())
+    if (framesShared(j)) related.push_back(j);
   for (int j : related) {
     f.merged = true;
     f.root = std::min(f.root, j);

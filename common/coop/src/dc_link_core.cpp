@@ -31,11 +31,14 @@ Status DcLinkCore::openLog(const std::string& run_dir) {
   log_.open(dir + "/coop.csv", std::ios::trunc);
   if (!log_) return Status::Error("cannot write " + dir + "/coop.csv");
   log_ << coopCsvHeader();
-  if (!dc_.options().frames_given) {
-    relations_log_.open(dir + "/relations.csv", std::ios::trunc);
-    if (!relations_log_) return Status::Error("cannot write " + dir + "/relations.csv");
-    relations_log_ << relationsCsvHeader();
-  }
+  log_dir_ = dir;
+  return dc_.options().frames_given ? Status::Ok() : openRelationsLog();
+}
+
+Status DcLinkCore::openRelationsLog() {
+  relations_log_.open(log_dir_ + "/relations.csv", std::ios::trunc);
+  if (!relations_log_) return Status::Error("cannot write " + log_dir_ + "/relations.csv");
+  relations_log_ << relationsCsvHeader();
   return Status::Ok();
 }
 
@@ -65,6 +68,8 @@ Status DcLinkCore::afterFrame(const StereoFrameObservations& frame, VisualInerti
   }
   if (Status s = dc_.afterFrame(frame, slam, out); !s.ok()) return s;
   const std::vector<RelationRecord> relations = dc_.takeRelationRecords();
+  if (!relations.empty() && !relations_log_.is_open() && !log_dir_.empty())
+    if (Status s = openRelationsLog(); !s.ok()) return s;
   if (relations_log_.is_open() && !relations.empty()) {
     for (const RelationRecord& r : relations) writeRelationsCsvRow(relations_log_, r);
     relations_log_.flush();
@@ -98,7 +103,7 @@ std::string DcLinkCore::report(double duration_s) const {
       ll(s.rejected_duplicate), ll(s.rejected_reordered), ll(s.rejected_unknown_peer),
       ll(s.peer_restarts), ll(s.peer_timeouts), ll(s.request_timeouts));
   std::string line = buf;
-  if (!dc_.options().frames_given) {
+  if (!dc_.options().frames_given || s.verifications > 0) {
     std::snprintf(buf, sizeof(buf),
                   "; frames: verifications %lld (failed %lld), relations adopted %lld, refined "
                   "%lld, rejected %lld, exchanges before a merge %lld",

@@ -29,6 +29,9 @@ struct CoopSummary {
   Eigen::Vector3d std = Eigen::Vector3d::Zero();   ///< std per NED axis [m] (not scaled)
   int num_features = 0;                            ///< features observed now
   double vehicle_cov_trace = 0.0;                  ///< trace of P_vv's position block [m²]
+  /// The sender estimates in a frame of its own (start unknown), not in the team's given
+  /// frame: its positions mean nothing here until the frame between the two is found.
+  bool own_frame = false;
 };
 
 /// The feature indices the sender observes now (§6.6.5), broadcast on UAV<sender>/INDEX.

@@ -31,9 +31,10 @@
 // covariance that bounds the true one: P_own + P_peer for independent estimates, the CI bound
 // (filter/covariance_intersection.h ciBoundedNis) otherwise, and for the peer's landmarks
 // jointly blockdiag(m·P_i) (the message carries marginals only).
-// Frames (docs/merge.md): with frames_given every agent estimates in the team's frame (the
-// thesis). Otherwise each estimates in its own gravity-aligned frame and, per peer, the 4-dof
-// relation of the peer's frame in its own is "not yet found" or adopted (merge/). Until it is
+// Frames (docs/merge.md): with frames_given the agent estimates in the team's frame (the
+// thesis), and so does every peer whose summaries do not say own_frame. Otherwise — this
+// agent or the peer in a frame of its own — the 4-dof relation of the peer's frame in the
+// own is "not yet found" or adopted (merge/). Until it is
 // adopted the peer's ellipsoid means nothing here: the INDEX of the features observed now is
 // sent every place_period_s as a place descriptor (true ids stand in for appearance at the
 // feature level), and every SharedLandmarks from the peer is a geometric verification
@@ -140,8 +141,8 @@ struct DcCooperationOptions {
   int max_offered_landmarks = 30;  ///< archived landmarks offered per INDEX, nearest first
   /// Indices are true landmark ids (feature-level simulation); set by the runner, not YAML.
   bool true_ids = false;
-  /// Every agent of the team starts in the team's frame (known starts); false: the frames
-  /// between agents are estimated (see above). Set by the runner from the starts, not YAML.
+  /// This agent starts in the team's frame (a known start); false: in a frame of its own, the
+  /// frames to its peers estimated (see above). Set by the runner from the start, not YAML.
   bool frames_given = true;
   /// Section `merge:` — estimated frames only: the place descriptor's period towards a peer
   /// not yet merged [s] (YAML place_period_s), the geometric verification (`aligner:`) and
@@ -296,6 +297,10 @@ class DcCooperation {
   /// The adopted relation of `peer`'s frame in the own (frames_given: identity, exact), or
   /// nullopt while it is not yet found.
   std::optional<merge::FrameRelation> relationOf(int peer) const;
+  /// Whether this agent and `peer` estimate in the team's given frame (frames_given, and the
+  /// peer's summaries do not say own_frame): then nothing needs finding between them. A peer
+  /// in a frame of its own is merged by place exchanges, whatever this agent's start.
+  bool framesShared(int peer) const;
   TeamFrame teamFrame() const;
   /// The own state `x_own` in the team frame and that frame's root, when the agent estimates
   /// in a frame of its own and has merged (trajectory_team.tum); false otherwise (frames

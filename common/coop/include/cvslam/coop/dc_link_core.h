@@ -59,12 +59,16 @@ class DcLinkCore {
   int64_t refused() const { return refused_; }
 
  private:
+  Status openRelationsLog();
   /// (t_us, sender, stream rank = variant index, seq, arrival order)
   using Key = std::tuple<int64_t, int, std::size_t, int64_t, uint64_t>;
 
   DcCooperation dc_;
   std::ofstream log_;
-  std::ofstream relations_log_;  ///< estimated frames only
+  /// Estimated frames: opened with coop.csv; with the frames given, at the first verification
+  /// (a peer that estimates in a frame of its own).
+  std::ofstream relations_log_;
+  std::string log_dir_;  ///< agent_<id>/ once openLog() ran
   std::map<Key, CoopMessage> pending_;
   uint64_t arrivals_ = 0;
   int64_t refused_ = 0;
