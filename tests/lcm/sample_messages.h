@@ -97,6 +97,7 @@ inline void fill(cvslam::agent_summary_t& m) {
   }
   m.num_features = 42;
   m.vehicle_cov_trace = 0.3;
+  m.own_frame = true;
   m.channel = {"UAV2/IMU", "UAV2/STEREO"};
   m.received = {2000, 100};
   m.dropped = {0, 1};
@@ -215,7 +216,7 @@ inline CountField firstCount(const cvslam::agent_state_t*) {
   return {36, 9};
 }
 inline CountField firstCount(const cvslam::agent_summary_t*) {
-  return {103, 2};
+  return {104, 2};
 }
 inline CountField firstCount(const cvslam::feature_index_t*) {
   return {29, 6};

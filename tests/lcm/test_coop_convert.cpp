@@ -24,6 +24,7 @@ TEST(CoopConvert, SummaryRoundTrip) {
   s.std = {3.0, 4.0, 0.5};
   s.num_features = 14;
   s.vehicle_cov_trace = 0.0625;
+  s.own_frame = true;
   Expected<cvslam::agent_summary_t> m = toMessage(s);
   ASSERT_TRUE(m.ok()) << m.status().message();
   EXPECT_EQ(m->num_channels, 0);
@@ -37,6 +38,9 @@ TEST(CoopConvert, SummaryRoundTrip) {
   EXPECT_EQ(b.std, s.std);
   EXPECT_EQ(b.num_features, 14);
   EXPECT_EQ(b.vehicle_cov_trace, 0.0625);
+  EXPECT_TRUE(b.own_frame);
+  s.own_frame = false;
+  EXPECT_FALSE(fromMessage(throughWire(*toMessage(s))).own_frame);
 }
 
 TEST(CoopConvert, IndexAndRequestRoundTripWithLargeIndices) {
