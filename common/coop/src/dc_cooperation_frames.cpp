@@ -52,10 +52,18 @@ TeamFrame DcCooperation::teamFrame() const {
   std::vector<int> related = relations_.adoptedPeers();
   for (int j : peers())
     if (framesShared(j)) related.push_back(j);
+  // The team's given frame, when this agent or a related peer estimates in it, is the team
+  // frame (its lowest id names it); else the lowest id's own frame (docs/merge.md).
+  std::optional<int> given;
+  if (o_.frames_given) given = self_;
   for (int j : related) {
     f.merged = true;
     f.root = std::min(f.root, j);
+    const auto peer = peers_.find(j);
+    if (peer != peers_.end() && !peer->second.summary.own_frame)
+      given = std::min(given.value_or(j), j);
   }
+  if (given) f.root = *given;
   if (f.root != self_) f.own_in_root = relationOf(f.root)->inverse();
   return f;
 }

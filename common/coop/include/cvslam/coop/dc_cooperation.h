@@ -202,8 +202,9 @@ struct RelationRecord {
   merge::FrameRelation candidate;  ///< the verified relation (peer's frame → own), if any
 };
 
-/// The frame this agent reports its trajectory in for the team: that of the lowest id among
-/// itself and the peers whose relation it adopted (docs/merge.md).
+/// The frame this agent reports its trajectory in for the team (docs/merge.md): the team's
+/// given frame when itself or a peer it merged with estimates in it (named by the lowest such
+/// id), else the own frame of the lowest id among itself and the peers it adopted.
 struct TeamFrame {
   int root = 0;                      ///< whose frame
   merge::FrameRelation own_in_root;  ///< own frame → root's (identity when root is self)
