@@ -337,6 +337,22 @@ TEST(DcCooperation, PeerRestartAndTimeout) {
   EXPECT_EQ(d.stats[0].peers_known, 0);
 }
 
+// Estimated frames: a restarted peer (new boot id) estimates in a new frame, so its relation
+// is forgotten and found again from new verifications (docs/merge.md).
+TEST(DcCooperation, ARestartedPeerLosesItsFrameAndIsFoundAgain) {
+  TeamOptions restart;
+  restart.coop.frames_given = false;
+  restart.restart_at_us = 12'000'000;
+  const TeamResult r = runTeam(24.0, kSeed, restart);
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(r.stats[0].peer_restarts, 1);
+  // Adopted before the restart, forgotten with it, adopted again after it: an adopted relation
+  // is only refined, so a second adoption needs the forget in between.
+  EXPECT_EQ(r.stats[0].relations_adopted, 2);
+  EXPECT_EQ(r.stats[1].relations_adopted, 1);  // the restarted agent's own count
+  EXPECT_EQ(r.stats[0].relations_rejected, 0);
+}
+
 TEST(DcCooperation, MalformedMessagesAreRejectedAndCounted) {
   coop::DcCooperation c(1, coop::DcCooperationOptions{}, 7);
   coop::SharedLandmarks s;
