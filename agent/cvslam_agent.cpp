@@ -217,8 +217,7 @@ int main(int argc, char** argv) {
   auto calibration = loadCalibration(args, config->slam, &info, &start_known);
   if (!calibration.ok()) return fail(calibration.status().message());
   // An agent not started in the team's frame does not fuse a peer's landmarks before it found
-  // the frame between them (docs/merge.md). Every agent of a team is expected to say the same:
-  // the messages do not carry whose frame an agent estimates in.
+  // the frame between them, and its summaries say so to its peers (docs/merge.md).
   config->coop.frames_given =
       start_known && node.start == cvslam::transport::AgentNodeOptions::Start::kKnown;
 

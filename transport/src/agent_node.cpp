@@ -39,7 +39,13 @@ const std::vector<Stream> kCoopStreams = {Stream::kTeamSummary, Stream::kIndex, 
 AgentNode::AgentNode(const AgentNodeOptions& options, AgentCalibration calibration)
     : o_(options),
       calibration_(std::move(calibration)),
-      orderer_(SensorEventOrdererOptions{options.max_wait_s}) {}
+      orderer_(SensorEventOrdererOptions{options.max_wait_s}) {
+  if (calibration_.own_frame_in_world) {
+    merge::FrameRelation own_in_world;
+    own_in_world.x = *calibration_.own_frame_in_world;
+    world_in_own_ = own_in_world.inverse();
+  }
+}
 
 AgentNode::~AgentNode() {
   if (bus_) bus_->stop();
@@ -217,13 +223,12 @@ Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
       return addImu(e.imu);
     case SensorEventType::kGroundTruth:
       truth_ = std::make_pair(e.t_us, truthState(e.truth));
-      if (calibration_.own_frame_in_world) {
+      if (world_in_own_) {
         // UAV<N>/GT is the world's truth, and this agent (start unknown) estimates in its own
         // frame: recorded there, as cvslam_run records it. TeamFrame::apply carries a vehicle
         // state between two gravity-aligned frames, here world → own.
         coop::TeamFrame own;
-        own.own_in_root.x = *calibration_.own_frame_in_world;
-        own.own_in_root = own.own_in_root.inverse();
+        own.own_in_root = *world_in_own_;
         truth_->second = own.apply(truth_->second);
       }
       if (!agent_) {

@@ -68,13 +68,15 @@ Status DcLinkCore::afterFrame(const StereoFrameObservations& frame, VisualInerti
   }
   if (Status s = dc_.afterFrame(frame, slam, out); !s.ok()) return s;
   const std::vector<RelationRecord> relations = dc_.takeRelationRecords();
-  if (!relations.empty() && !relations_log_.is_open() && !log_dir_.empty())
-    if (Status s = openRelationsLog(); !s.ok()) return s;
-  if (relations_log_.is_open() && !relations.empty()) {
-    for (const RelationRecord& r : relations) writeRelationsCsvRow(relations_log_, r);
-    relations_log_.flush();
-    if (!relations_log_)
-      return Status::Error("agent " + std::to_string(id()) + ": relations.csv: write failed");
+  if (!relations.empty()) {
+    if (!relations_log_.is_open() && !log_dir_.empty())
+      if (Status s = openRelationsLog(); !s.ok()) return s;
+    if (relations_log_.is_open()) {
+      for (const RelationRecord& r : relations) writeRelationsCsvRow(relations_log_, r);
+      relations_log_.flush();
+      if (!relations_log_)
+        return Status::Error("agent " + std::to_string(id()) + ": relations.csv: write failed");
+    }
   }
   const std::vector<CoopEvent> events = dc_.takeEvents();
   if (!log_.is_open() || events.empty()) return Status::Ok();

@@ -103,6 +103,10 @@ void alignYaw(const Eigen::Matrix3Xd& est, const Eigen::Matrix3Xd& tru, AteResul
 
 }  // namespace
 
+Eigen::Isometry3d alignRigid(const Eigen::Matrix3Xd& est, const Eigen::Matrix3Xd& tru) {
+  return Eigen::Isometry3d(Eigen::Matrix4d(Eigen::umeyama(est, tru, false)));
+}
+
 Expected<AteResult> absoluteTrajectoryError(const std::vector<TumPose>& estimate,
                                             const std::vector<TumPose>& truth,
                                             const AteOptions& options) {
@@ -120,9 +124,9 @@ Expected<AteResult> absoluteTrajectoryError(const std::vector<TumPose>& estimate
   }
   AteResult r;
   if (options.alignment == Alignment::kSE3) {
-    const Eigen::Matrix4d T = Eigen::umeyama(est, tru, false);
-    r.R_align = T.topLeftCorner<3, 3>();
-    r.t_align = T.topRightCorner<3, 1>();
+    const Eigen::Isometry3d T = alignRigid(est, tru);
+    r.R_align = T.linear();
+    r.t_align = T.translation();
   } else if (options.alignment == Alignment::kYaw) {
     alignYaw(est, tru, &r);
   }

@@ -138,7 +138,7 @@ void pairPositions(const std::vector<TumPose>& estimate, const std::vector<State
 }
 
 double rmse(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
-            const Eigen::Isometry3d& align = Eigen::Isometry3d::Identity()) {
+            const Eigen::Isometry3d& align) {
   double sum = 0.0;
   for (std::size_t k = 0; k < a.size(); ++k) sum += (align * a[k] - b[k]).squaredNorm();
   return std::sqrt(sum / static_cast<double>(std::max<std::size_t>(a.size(), 1)));
@@ -170,7 +170,7 @@ void alignLargestGroup(const std::map<int, std::vector<TeamPairs>>& groups, Team
   }
   Eigen::Matrix3Xd E(3, est.size()), W(3, world.size());
   for (std::size_t k = 0; k < est.size(); ++k) E.col(k) = est[k], W.col(k) = world[k];
-  const Eigen::Isometry3d T(Eigen::Matrix4d(Eigen::umeyama(E, W, false)));
+  const Eigen::Isometry3d T = alignRigid(E, W);
   team->team_ate_aligned_m = rmse(est, world, T);
   for (const TeamPairs& m : *largest)
     if (!m.est.empty()) team->agents[m.agent].team_ate_aligned_m = rmse(m.est, m.world, T);
@@ -219,12 +219,15 @@ Expected<TeamEvaluation> evaluateTeam(const std::string& run_dir, const std::str
       TeamPairs pairs;
       pairs.agent = team.agents.size();
       pairPositions(poses, truth, own_in_world, options.time_tolerance_s, &pairs.est, &pairs.world);
-      if (frames_known && !pairs.est.empty()) {
-        // The truth in the root's frame: world → root.
-        const FrameRelation world_in_root = inWorld(frameOf(*info, *ev.root)).inverse();
-        std::vector<Eigen::Vector3d> in_root;
-        for (const Eigen::Vector3d& p : pairs.world) in_root.push_back(world_in_root.apply(p));
-        ev.team_ate_m = rmse(pairs.est, in_root);
+      if (frames_known) {
+        // The truth in the root's frame: own → world → root.
+        const FrameRelation own_in_root =
+            inWorld(frameOf(*info, *ev.root)).inverse().compose(own_in_world);
+        std::vector<TumPose> truth_in_root = own_truth;
+        for (TumPose& p : truth_in_root) p.p_BinN = own_in_root.apply(p.p_BinN);
+        const AteOptions unaligned{options.time_tolerance_s, Alignment::kNone};
+        if (auto ate = absoluteTrajectoryError(poses, truth_in_root, unaligned); ate.ok())
+          ev.team_ate_m = ate->rmse_m;
       }
       groups[*ev.root].push_back(std::move(pairs));
     }

@@ -22,6 +22,7 @@
 #include "cvslam/core/status.h"
 #include "cvslam/lcm/lcm_bus.h"
 #include "cvslam/lcm/message_types.h"
+#include "cvslam/merge/frame_relation.h"
 #include "cvslam/sensors/sensor_event_orderer.h"
 #include "cvslam/slam/agent_calibration.h"
 #include "cvslam/slam/agent_pipeline.h"
@@ -170,6 +171,8 @@ class AgentNode {
 
   AgentNodeOptions o_;
   AgentCalibration calibration_;
+  /// calibration_.own_frame_in_world as the relation world → own (UAV<N>/GT recorded there).
+  std::optional<merge::FrameRelation> world_in_own_;
   std::optional<VisualSlamPipeline> images_;
   std::unique_ptr<CooperationLink> coop_;
   std::unique_ptr<LcmBus> bus_;

@@ -61,6 +61,10 @@ struct AteResult {
 /// (columns paired): the 4-DoF part of Umeyama's method, closed form. Needs ≥ 2 points.
 Eigen::Isometry3d alignYawTranslation(const Eigen::Matrix3Xd& est, const Eigen::Matrix3Xd& tru);
 
+/// Least-squares rigid transform carrying `est` onto `tru` (Umeyama, no scale; columns
+/// paired). Needs ≥ 3 points.
+Eigen::Isometry3d alignRigid(const Eigen::Matrix3Xd& est, const Eigen::Matrix3Xd& tru);
+
 /// Absolute trajectory error of the positions. Fails with fewer than 1 pair (3 for SE(3),
 /// 2 for yaw).
 Expected<AteResult> absoluteTrajectoryError(const std::vector<TumPose>& estimate,
