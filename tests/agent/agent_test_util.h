@@ -33,6 +33,12 @@ inline std::string coopPair() {
   return std::string(CVSLAM_SOURCE_DIR) + "/config/scenarios/coop_pair.yaml";
 }
 
+/// The number after the first `label` in `text` (a process's report), -1 if absent.
+inline long countAfter(const std::string& text, const std::string& label) {
+  const auto pos = text.find(label);
+  return pos == std::string::npos ? -1 : std::stol(text.substr(pos + label.size()));
+}
+
 /// Poses in a TUM trajectory file (0 when it cannot be read).
 inline std::size_t poseCount(const std::string& tum_path) {
   std::ifstream tum(tum_path);

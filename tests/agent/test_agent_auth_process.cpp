@@ -140,20 +140,15 @@ AttackResult attack(const test::TempFolder& tmp, int port, bool with_key) {
   return result;
 }
 
-long countAfter(const std::string& text, const std::string& label) {
-  const auto pos = text.find(label);
-  return pos == std::string::npos ? -1 : std::stol(text.substr(pos + label.size()));
-}
-
 TEST(AgentAuthProcess, WithTheTeamKeyNoAttackerMessageIsAcceptedAndEachIsCounted) {
   test::TempFolder tmp;
   const AttackResult r = attack(tmp, 27840, true);
   ASSERT_GT(r.replayed_sent, 5);
   ASSERT_GT(r.forged_sent, 10);
   // UAV 1 refused every one: by kind, exactly as many as were sent.
-  EXPECT_EQ(countAfter(r.uav1_out, "refused: unsigned "), r.unsigned_sent) << r.uav1_out;
-  EXPECT_EQ(countAfter(r.uav1_out, "forged "), r.forged_sent) << r.uav1_out;
-  EXPECT_EQ(countAfter(r.uav1_out, "replayed "), r.replayed_sent) << r.uav1_out;
+  EXPECT_EQ(test::countAfter(r.uav1_out, "refused: unsigned "), r.unsigned_sent) << r.uav1_out;
+  EXPECT_EQ(test::countAfter(r.uav1_out, "forged "), r.forged_sent) << r.uav1_out;
+  EXPECT_EQ(test::countAfter(r.uav1_out, "replayed "), r.replayed_sent) << r.uav1_out;
   // The attacker never became a peer; the genuine peer did, and they cooperated.
   EXPECT_EQ(r.uav1_coop.find(",peer_joined,9,"), std::string::npos) << r.uav1_coop;
   EXPECT_NE(r.uav1_coop.find(",peer_joined,2,"), std::string::npos) << r.uav1_coop;

@@ -232,10 +232,13 @@ Status AgentNode::processEvent(SensorEvent& e, double arrival_s) {
         truth_->second = own.apply(truth_->second);
       }
       if (!agent_) {
-        // Thesis §6.3.1: the initial pose is known in the team's frame.
-        if (Status s =
-                startPipeline(knownPoseSetup(e.t_us, e.truth.p_BinN, e.truth.v_N, e.truth.euler,
-                                             o_.initial_sigma, calibration_.options));
+        // Thesis §6.3.1: the initial pose is known in the team's frame — or, start unknown
+        // (an agent restarted in flight), in its own frame, where its truth is recorded.
+        const Vector9d& x = truth_->second;
+        const Eigen::Vector3d euler = x.tail<3>();
+        const Eigen::Vector3d v_N = rotationBodyToNav<double>(euler) * x.segment<3>(3);
+        if (Status s = startPipeline(knownPoseSetup(e.t_us, x.head<3>(), v_N, euler,
+                                                    o_.initial_sigma, calibration_.options));
             !s.ok()) {
           return s;
         }
