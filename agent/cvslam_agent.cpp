@@ -220,6 +220,11 @@ int main(int argc, char** argv) {
   // the frame between them, and its summaries say so to its peers (docs/merge.md).
   config->coop.frames_given =
       start_known && node.start == cvslam::transport::AgentNodeOptions::Start::kKnown;
+  if (args.mode == "cc" && !config->coop.frames_given)
+    return fail(
+        "--mode cc needs the start known (the ground station holds every UAV in the team's "
+        "frame); an agent that starts unknown or with --start rest|dynamic|auto runs --mode dc "
+        "or single");
 
   // The image path (used when UAV<N>/STEREO arrives), with the feature-index vocabulary.
   auto vocabulary = cvslam::loadFeatureIndexVocabulary(config->frontend, config->effective.dir());

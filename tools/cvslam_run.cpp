@@ -398,8 +398,8 @@ Status writeMaps(cvslam::SimulatedTeamRun& run,
   return Status::Ok();
 }
 
-/// One agent that starts unknown puts the whole team in estimated frames (docs/merge.md); the
-/// ground station needs every start known.
+/// The ground station's joint filter holds every UAV in the team's frame: it needs every start
+/// known (an agent that starts unknown estimates in a frame of its own, docs/merge.md).
 Status checkStarts(const Args& args, const cvslam::sim::Scenario& scenario) {
   for (const cvslam::sim::AgentSpec& a : scenario.agents)
     if (!a.start_known && args.mode == "cc")

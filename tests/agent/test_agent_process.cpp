@@ -180,6 +180,8 @@ TEST(AgentProcess, BadCommandLinesFailInOneLine) {
       {"--id", "1", "--scenario", scenario, "--calibration", tmp.path()},
       {"--id", "1", "--scenario", scenario, "--mode", "central"},
       {"--id", "1", "--scenario", scenario, "--gs-wait", "0.5"},
+      {"--id", "1", "--scenario", scenario, "--mode", "cc", "--starts", "unknown"},
+      {"--id", "1", "--scenario", scenario, "--mode", "cc", "--start", "rest"},
       {"--id", "1", "--scenario", scenario, "--filter", "kalman"},
       {"--id", "7", "--scenario", scenario},
       {"--id", "1", "--scenario", tmp / "missing.yaml"},
