@@ -416,6 +416,42 @@ TEST(DcCooperation, ForgedPeerFloodIsBounded) {
   EXPECT_GT(c.statistics().rejected_too_many_peers, 1000);
 }
 
+// reask_period_s: no landmark is asked of the same peer twice within the period, the answers
+// shrink, and the worse agent still gains from its peer.
+TEST(DcCooperation, ALandmarkIsAskedAgainOnlyAfterTheReaskPeriod) {
+  TeamOptions o;
+  o.coop.reask_period_s = 1.0;
+  std::map<std::pair<int, uint32_t>, int64_t> last_asked;  // (requester, index) -> t
+  int64_t too_soon = 0, asked = 0, shared_landmarks = 0;
+  o.transport = [&](int64_t t_us, Envelope e) {
+    if (e.request)
+      for (uint32_t index : e.request->indices) {
+        ++asked;
+        const auto key = std::make_pair(e.from, index);
+        const auto it = last_asked.find(key);
+        if (it != last_asked.end() && t_us - it->second < 1'000'000) ++too_soon;
+        last_asked[key] = t_us;
+      }
+    if (e.shared) shared_landmarks += static_cast<int64_t>(e.shared->landmarks.size());
+    return std::vector<Envelope>{e};
+  };
+  const TeamResult r = runTeam(kDuration, kSeed, o);
+  ASSERT_TRUE(r.ok);
+  EXPECT_GT(asked, 20);
+  EXPECT_EQ(too_soon, 0);
+  int64_t every_time = 0;
+  TeamOptions count;
+  count.coop.reask_period_s = 0.0;  // the thesis: asked at every exchange
+  count.transport = [&](int64_t, Envelope e) {
+    if (e.shared) every_time += static_cast<int64_t>(e.shared->landmarks.size());
+    return std::vector<Envelope>{e};
+  };
+  ASSERT_TRUE(runTeam(kDuration, kSeed, count).ok);
+  EXPECT_LT(shared_landmarks, every_time / 2) << shared_landmarks << " vs " << every_time;
+  EXPECT_GT(r.stats[1].landmarks_fused, 0);
+  EXPECT_LT(r.final_vehicle_error[1], 0.7 * baseline().final_vehicle_error[1]);
+}
+
 TEST(DcCooperation, OptionsLoadAndValidate) {
   auto node = ConfigNode::fromString(
       "ci_method: optimal_trace\nboth_ways: false\ncoop_sigma: 3\nmap_shared_landmarks: false\n",
@@ -428,6 +464,8 @@ TEST(DcCooperation, OptionsLoadAndValidate) {
   EXPECT_EQ(o.ci_method, coop::CiMethod::kOptimalTrace);
   EXPECT_FALSE(o.both_ways);
   EXPECT_EQ(o.coop_sigma, 3.0);
+  auto reask = ConfigNode::fromString("reask_period_s: -1\n", "coop.yaml");
+  EXPECT_FALSE(coop::DcCooperationOptions{}.load(*reask).ok());
   auto bad = ConfigNode::fromString("ci_method: best\n", "coop.yaml");
   ASSERT_TRUE(bad.ok());
   EXPECT_FALSE(coop::DcCooperationOptions{}.load(*bad).ok());

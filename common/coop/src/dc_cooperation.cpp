@@ -158,13 +158,21 @@ void DcCooperation::handleIndex(const FeatureIndexList& m, const VisualInertialS
     }
   }
   if (cand.empty()) return;
+  // Not again within reask_period_s what this peer was asked for lately.
+  const auto reask_us = static_cast<int64_t>(std::llround(o_.reask_period_s * 1e6));
+  for (auto it = p.asked_us.begin(); it != p.asked_us.end();)
+    it = now_us - it->second >= reask_us ? p.asked_us.erase(it) : std::next(it);
   SharedRequest r;
   for (const StateLandmark& l : cand) {
     if (static_cast<int>(r.indices.size()) >= o_.max_landmarks_per_message) break;
+    if (p.asked_us.count(l.index) != 0) continue;
     r.indices.push_back(l.index);
   }
+  if (r.indices.empty()) return;
   std::sort(r.indices.begin(), r.indices.end());
   r.indices.erase(std::unique(r.indices.begin(), r.indices.end()), r.indices.end());
+  if (reask_us > 0)
+    for (uint32_t index : r.indices) p.asked_us[index] = now_us;
   sendRequest(m.header.agent_id, std::move(r), now_us, out);
 }
 

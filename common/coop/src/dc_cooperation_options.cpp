@@ -34,6 +34,7 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.get("min_semi_axis_m", min_semi_axis_m);
   node.get("summary_period_s", summary_period_s);
   node.get("exchange_period_s", exchange_period_s);
+  node.get("reask_period_s", reask_period_s);
   node.get("peer_timeout_s", peer_timeout_s);
   node.get("min_request_timeout_s", min_request_timeout_s);
   node.get("request_timeout_s", request_timeout_s);
@@ -75,6 +76,7 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   node.check(min_semi_axis_m > 0.0, "min_semi_axis_m", "must be > 0");
   node.check(summary_period_s > 0.0, "summary_period_s", "must be > 0");
   node.check(exchange_period_s >= 0.0, "exchange_period_s", "must be ≥ 0 (0: every frame)");
+  node.check(reask_period_s >= 0.0, "reask_period_s", "must be ≥ 0 (0: ask every time)");
   node.check(peer_timeout_s > 0.0 && request_timeout_s > 0.0 && max_message_age_s > 0.0,
              "peer_timeout_s", "peer_timeout_s, request_timeout_s, max_message_age_s must be > 0");
   node.check(min_request_timeout_s > 0.0 && min_request_timeout_s <= request_timeout_s,

@@ -91,7 +91,12 @@ struct DcCooperationOptions {
   bool include_vehicle_uncertainty = true;
   double summary_period_s = 0.5;   ///< summary/heartbeat period [s]
   double exchange_period_s = 0.0;  ///< at most one index broadcast per period [s]; 0: every frame
-  double peer_timeout_s = 5.0;     ///< a silent peer is forgotten after this [s]
+  /// A landmark is asked of the same peer at most once per this period [s]; 0: whenever it is
+  /// in the peer's index (the thesis, §6.6.5). Most answers to a repeated request fuse nothing
+  /// (the estimates on both sides barely moved since), and they were most of the traffic
+  /// (docs/cooperation.md "Traffic").
+  double reask_period_s = 1.0;
+  double peer_timeout_s = 5.0;  ///< a silent peer is forgotten after this [s]
   /// An unanswered request is abandoned (and the next index asks again) after a timeout that
   /// follows the measured round trip (request_timeout.h), between these bounds [s]: the
   /// first request waits min_request_timeout_s; back-off stops at request_timeout_s.
@@ -318,9 +323,10 @@ class DcCooperation {
     std::map<int, int64_t> last_seq;  ///< stream -> highest accepted seq
     bool request_pending = false;
     int64_t request_sent_us = 0;
-    std::vector<uint32_t> requested;  ///< indices of the pending request (ascending)
-    RequestTimeout timeout;           ///< how long to wait for its answer
-    PeerConsistency consistency;      ///< its innovation test over time
+    std::vector<uint32_t> requested;       ///< indices of the pending request (ascending)
+    std::map<uint32_t, int64_t> asked_us;  ///< index -> when it was last asked (reask_period_s)
+    RequestTimeout timeout;                ///< how long to wait for its answer
+    PeerConsistency consistency;           ///< its innovation test over time
   };
   using Inbound = std::variant<CoopSummary, FeatureIndexList, SharedRequest, SharedLandmarks>;
 
