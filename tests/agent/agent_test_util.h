@@ -134,6 +134,11 @@ class SummaryListener {
                                                std::lock_guard<std::mutex> lock(mutex_);
                                                boot_ids_[m.header.agent_id].insert(m.boot_id);
                                                last_[m.header.agent_id] = m;
+                                               ++heard_[m.header.agent_id];
+                                               if (!m.channel.empty()) {
+                                                 last_counted_[m.header.agent_id] = m;
+                                                 ++counted_[m.header.agent_id];
+                                               }
                                              });
     bus_->start();
   }
@@ -147,12 +152,24 @@ class SummaryListener {
     std::lock_guard<std::mutex> lock(mutex_);
     return last_[id];
   }
+  /// The latest summary of agent `id` that carried its receive counters.
+  cvslam::agent_summary_t lastCounted(int id) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return last_counted_[id];
+  }
+  /// Summaries heard from agent `id`: all, and those that carried its receive counters.
+  std::pair<int, int> summaryCounts(int id) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return {heard_[id], counted_[id]};
+  }
 
  private:
   std::unique_ptr<transport::LcmBus> bus_;
   std::mutex mutex_;
   std::map<int, std::set<int64_t>> boot_ids_;
   std::map<int, cvslam::agent_summary_t> last_;
+  std::map<int, cvslam::agent_summary_t> last_counted_;
+  std::map<int, int> heard_, counted_;
 };
 
 /// The latest STATUS message of every process (UAV0 is the ground station), and a wait for a

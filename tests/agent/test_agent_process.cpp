@@ -121,8 +121,10 @@ TEST(AgentProcess, FloodOfJunkIsCountedNotFatal) {
   const std::string scenario = test::writeSmallScenario(tmp / "s.yaml", 10.0, true);
   const std::string url = test::agentUrl(27802);
   test::SummaryListener listener(url);
-  // DC mode: the agent listens on the cooperation channels too.
-  test::Child a1(test::agentArgs(1, scenario, url, tmp / "lcm", "dc"), tmp / "a1");
+  // DC mode: the agent listens on the cooperation channels too; its counters on every summary.
+  std::vector<std::string> args = test::agentArgs(1, scenario, url, tmp / "lcm", "dc");
+  args.insert(args.end(), {"--set", "agent.counters_period_s=0"});
+  test::Child a1(args, tmp / "a1");
   std::this_thread::sleep_for(500ms);
   test::Child replay({CVSLAM_REPLAY_EXE, "--scenario", scenario, "--sensing", "features", "--rate",
                       "4", "--lcm-url", url, "--quiet"},
@@ -159,7 +161,7 @@ TEST(AgentProcess, FloodOfJunkIsCountedNotFatal) {
   EXPECT_EQ(a1.wait(30s), 0) << a1.err();
   EXPECT_TRUE(validRecord(tmp / "lcm", 1, 80));
   // The agent's heartbeat reports what it threw away per channel.
-  const cvslam::agent_summary_t s = listener.last(1);
+  const cvslam::agent_summary_t s = listener.lastCounted(1);
   int64_t invalid = 0;
   for (std::size_t i = 0; i < s.channel.size(); ++i) invalid += s.invalid[i];
   EXPECT_GE(invalid, junk * 9 / 10) << a1.out();

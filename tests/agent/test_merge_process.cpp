@@ -151,6 +151,8 @@ TEST(MergeProcess, APeerThatNeverOverlapsStaysUnmergedQuietly) {
   test::TempFolder tmp;
   const std::string scenario = pairFlight(tmp, 20.0, 200.0);
   const std::string url = test::agentUrl(27881);
+  test::SummaryListener listener(url);
+  ASSERT_TRUE(listener.ok());
   std::vector<std::unique_ptr<test::Child>> agents;
   for (int id : {1, 2})
     agents.push_back(std::make_unique<test::Child>(agentApart(id, scenario, url, tmp / "run"),
@@ -182,6 +184,11 @@ TEST(MergeProcess, APeerThatNeverOverlapsStaysUnmergedQuietly) {
     const double index_rate = stats->at("bytes_sent_per_s").at("INDEX").get<double>();
     EXPECT_GT(index_rate, 0.0);
     EXPECT_LT(index_rate, 1000.0);
+    // A summary every 0.5 s, the receive counters on one every 5 s (agent.counters_period_s).
+    const auto [heard, counted] = listener.summaryCounts(id);
+    EXPECT_GE(heard, 30) << "UAV" << id;
+    EXPECT_GE(counted, 2) << "UAV" << id;
+    EXPECT_LE(counted, heard / 8) << "UAV" << id;
   }
 }
 

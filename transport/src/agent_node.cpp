@@ -326,6 +326,10 @@ Status AgentNode::afterFrame(double arrival_s) {
 }
 
 void AgentNode::fillCounters(cvslam::agent_summary_t& msg) {
+  if (last_counters_us_ >= 0 &&
+      msg.header.utime - last_counters_us_ < std::llround(o_.counters_period_s * 1e6))
+    return;
+  last_counters_us_ = msg.header.utime;
   std::map<std::string, ChannelCounters> by_channel;
   for (const ChannelCounters& c : allCounters()) {
     ChannelCounters& sum = by_channel[c.channel];

@@ -10,6 +10,7 @@ namespace cvslam::transport {
 Status AgentNodeOptions::load(const ConfigNode& node) {
   node.get("status_period_s", status_period_s);
   node.get("summary_period_s", summary_period_s);
+  node.get("counters_period_s", counters_period_s);
   node.get("flush_period_s", flush_period_s);
   node.get("map_period_s", map_period_s);
   node.get("max_wait_s", max_wait_s);
@@ -18,6 +19,7 @@ Status AgentNodeOptions::load(const ConfigNode& node) {
   node.get("frame_queue", frames);
   node.check(status_period_s > 0.0, "status_period_s", "must be > 0");
   node.check(summary_period_s > 0.0, "summary_period_s", "must be > 0");
+  node.check(counters_period_s >= 0.0, "counters_period_s", "must be >= 0 (0: every summary)");
   node.check(flush_period_s > 0.0, "flush_period_s", "must be > 0");
   node.check(map_period_s >= 0.0, "map_period_s", "must be >= 0 (0: never)");
   node.check(max_wait_s > 0.0, "max_wait_s", "must be > 0");

@@ -45,7 +45,10 @@ struct AgentNodeOptions {
   std::string filter_name = "ekf";  ///< agent_state_t.filter
   double status_period_s = 0.2;     ///< STATUS heartbeat period (wall) [s]
   double summary_period_s = 1.0;    ///< single mode: SUMMARY period (dataset time) [s]
-  double flush_period_s = 5.0;      ///< run record written every … (wall) [s]
+  /// The receive counters per channel ride on a SUMMARY at most every … (dataset time) [s];
+  /// 0: on every one. They are for watching the links (lcm-spy) and most of a summary's bytes.
+  double counters_period_s = 5.0;
+  double flush_period_s = 5.0;    ///< run record written every … (wall) [s]
   double map_period_s = 1.0;      ///< UAV<id>/MAP (for displays) every … (dataset) [s]; 0: never
   double idle_exit_s = 0.0;       ///< exit after this long without sensor data (0: never) [s]
   double max_wait_s = 0.3;        ///< orderer: release a frame without IMU past it after [s]
@@ -74,7 +77,8 @@ struct AgentNodeOptions {
   Cc cc;
   bool verbose = false;
 
-  /// agent.yaml section `agent:` (status_period_s, summary_period_s, flush_period_s, map_period_s,
+  /// agent.yaml section `agent:` (status_period_s, summary_period_s, counters_period_s,
+  /// flush_period_s, map_period_s,
   /// max_wait_s, imu_queue, frame_queue, initial: {position_sigma, velocity_sigma,
   /// attitude_sigma_deg}, start: known | rest | dynamic | auto, static_init: {window_s,
   /// segments, max_accel_mean_change, max_gyro_mean_change, max_gravity_error},
@@ -202,6 +206,7 @@ class AgentNode {
   // on its way (cvslam_replay publishes an instant's frame last), see publishStatus().
   bool frame_may_follow_ = false;
   int64_t last_summary_us_ = -1;
+  int64_t last_counters_us_ = -1;  ///< when a SUMMARY last carried the counters
   int64_t last_map_us_ = -1;
   double last_arrival_s_ = 0.0;  // wall time of the latest sensor message (inbox_mutex_)
   double start_s_ = 0.0;
