@@ -8,6 +8,7 @@
 
 #include <deque>
 #include <map>
+#include <memory>
 #include <random>
 
 #include "coop_team_fixture.h"
@@ -353,6 +354,50 @@ TEST(DcCooperation, ARestartedPeerLosesItsFrameAndIsFoundAgain) {
   EXPECT_EQ(r.stats[0].relations_rejected, 0);
 }
 
+// A peer whose places never verify (its answers' geometry scrambled on the way) is asked for
+// them less and less often: the wait doubles after each failure up to max_place_backoff_s,
+// where without the back-off it would be asked every place period. Nothing is adopted.
+TEST(DcCooperation, APeerWhosePlacesNeverVerifyIsAskedLessAndLess) {
+  using Requests = std::map<int, std::vector<int64_t>>;  // requester -> when it asked
+  auto fly = [](double max_backoff_s, Requests* requests) {
+    TeamOptions o;
+    o.coop.frames_given = false;
+    o.coop.max_place_backoff_s = max_backoff_s;
+    auto rng = std::make_shared<std::mt19937>(11);
+    o.transport = [rng, requests](int64_t t_us, Envelope e) {
+      if (e.request) (*requests)[e.from].push_back(t_us);
+      if (e.shared) {
+        std::uniform_real_distribution<double> off(-5.0, 5.0);
+        for (coop::SharedLandmark& l : e.shared->landmarks)
+          l.p_LinN += Eigen::Vector3d(off(*rng), off(*rng), off(*rng));
+      }
+      return std::vector<Envelope>{e};
+    };
+    return runTeam(24.0, kSeed, o);
+  };
+  Requests backed_off, every_period;
+  const TeamResult r = fly(8.0, &backed_off);
+  const TeamResult flat = fly(1.0, &every_period);
+  ASSERT_TRUE(r.ok && flat.ok);
+  for (const TeamResult* t : {&r, &flat})
+    EXPECT_EQ(t->stats[0].relations_adopted + t->stats[1].relations_adopted, 0);
+  EXPECT_GE(flat.stats[0].verifications_failed + flat.stats[1].verifications_failed, 10);
+  // The agent that asks most: half as often or less with the back-off, its waits growing to
+  // the cap (a request follows the first place descriptor after the wait: ≤ 8 s + 1 s).
+  int asker = 1;
+  for (const auto& [id, times] : every_period)
+    if (times.size() > every_period[asker].size()) asker = id;
+  const std::vector<int64_t>& t = backed_off[asker];
+  ASSERT_GE(t.size(), 4u);
+  EXPECT_GE(every_period[asker].size(), 2 * t.size())
+      << t.size() << " vs " << every_period[asker].size();
+  EXPECT_GE(t.back() - t[t.size() - 2], 4'000'000);
+  for (std::size_t k = 1; k < t.size(); ++k) {
+    EXPECT_GE(t[k] - t[k - 1], t[1] - t[0]) << "the waits do not shrink";
+    EXPECT_LE(t[k] - t[k - 1], 9'300'000);
+  }
+}
+
 TEST(DcCooperation, MalformedMessagesAreRejectedAndCounted) {
   coop::DcCooperation c(1, coop::DcCooperationOptions{}, 7);
   coop::SharedLandmarks s;
@@ -464,6 +509,8 @@ TEST(DcCooperation, OptionsLoadAndValidate) {
   EXPECT_EQ(o.ci_method, coop::CiMethod::kOptimalTrace);
   EXPECT_FALSE(o.both_ways);
   EXPECT_EQ(o.coop_sigma, 3.0);
+  auto backoff = ConfigNode::fromString("merge: {max_place_backoff_s: 0.5}\n", "coop.yaml");
+  EXPECT_FALSE(coop::DcCooperationOptions{}.load(*backoff).ok());
   auto reask = ConfigNode::fromString("reask_period_s: -1\n", "coop.yaml");
   EXPECT_FALSE(coop::DcCooperationOptions{}.load(*reask).ok());
   auto bad = ConfigNode::fromString("ci_method: best\n", "coop.yaml");

@@ -121,15 +121,17 @@ void DcCooperation::handleIndex(const FeatureIndexList& m, const VisualInertialS
   ++stats_.indices_received;
   PeerState& p = peers_[m.header.agent_id];
   if (p.request_pending) return;  // one exchange at a time per peer
-  // A peer not yet merged: its INDEX is a place descriptor. The higher id of the two asks (one
-  // exchange per pair; with both_ways each side verifies), and only for landmarks it has
-  // mapped, the ones a verification can use.
+  // A peer not yet merged: its INDEX is a place descriptor. Either side asks (one exchange at
+  // a time per peer; with both_ways the other side verifies the return), and only for
+  // landmarks it has mapped, the ones a verification can use.
   const bool merged = relationOf(m.header.agent_id).has_value();
   std::vector<uint32_t> sorted = m.indices;
   std::sort(sorted.begin(), sorted.end());
   if (!merged) {
     // A place descriptor (the peer's local map): ask for the landmarks of it that this agent
-    // mapped, in its state or its archive (the peer may fly where this agent flew before).
+    // mapped, in its state or its archive (the peer may fly where this agent flew before) —
+    // unless its places failed to verify lately (max_place_backoff_s).
+    if (now_us < p.next_place_request_us) return;
     SharedRequest r;
     for (const StateLandmark& l : placeLandmarks(slam, sorted)) r.indices.push_back(l.index);
     std::sort(r.indices.begin(), r.indices.end());
@@ -285,7 +287,10 @@ void DcCooperation::handleShared(const SharedLandmarks& m, VisualInertialSlam& s
   verifyRelation(m, matched, slam, now_us);
   if (!relation) {
     ++stats_.skipped_unmerged;
-    if (o_.both_ways && answers_request) returnOwnEstimates(j, matched, nullptr, slam, now_us, out);
+    // The peer's verification would use the same correspondences: too few, nothing to send.
+    if (o_.both_ways && answers_request &&
+        static_cast<int>(matched.size()) >= o_.aligner.min_inliers)
+      returnOwnEstimates(j, matched, nullptr, slam, now_us, out);
     return;
   }
   const SharedLandmarks carried = inOwnFrame(m, *relation);

@@ -167,6 +167,18 @@ void DcCooperation::verifyRelation(const SharedLandmarks& m,
     points.cov_a = ownJointCovariance(matched, slam);
     a = aligner_.align(points);
   }
+  const bool merged = relations_.relation(j).has_value();
+  PeerState& peer = peers_[j];
+  if (!merged) {
+    // Not merged: consecutive failures put the next place request off, doubling the wait.
+    peer.place_failures = a.ok() ? 0 : peer.place_failures + 1;
+    const double wait_s =
+        a.ok()
+            ? 0.0
+            : std::min(o_.max_place_backoff_s,
+                       o_.place_period_s * std::ldexp(1.0, std::min(peer.place_failures, 30) - 1));
+    peer.next_place_request_us = now_us + static_cast<int64_t>(std::llround(wait_s * kUsPerS));
+  }
   if (!a.ok()) {
     ++stats_.verifications_failed;
     r.verdict = "failed";

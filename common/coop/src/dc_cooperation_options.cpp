@@ -70,6 +70,9 @@ Status DcCooperationOptions::load(const ConfigNode& node) {
   const ConfigNode merge = node.child("merge");
   merge.get("place_period_s", place_period_s);
   merge.check(place_period_s > 0.0, "place_period_s", "must be > 0");
+  merge.get("max_place_backoff_s", max_place_backoff_s);
+  merge.check(max_place_backoff_s >= place_period_s, "max_place_backoff_s",
+              "must be >= place_period_s");
   (void)aligner.load(merge.child("aligner"));  // errors are the file's (node.status())
   (void)relations.load(merge.child("relations"));
   node.check(coop_sigma > 0.0, "coop_sigma", "must be > 0");

@@ -153,6 +153,11 @@ struct DcCooperationOptions {
   /// not yet merged [s] (YAML place_period_s), the geometric verification (`aligner:`) and
   /// the adoption rule (`relations:`).
   double place_period_s = 1.0;
+  /// After consecutive failed verifications of a peer not yet merged, its places are asked
+  /// for less often: the wait doubles from place_period_s up to this [s] (YAML
+  /// max_place_backoff_s), and a verified candidate resets it. A peer that never overlaps —
+  /// or whose places this agent cannot match — then costs little.
+  double max_place_backoff_s = 8.0;
   merge::FourDofAlignerOptions aligner;
   merge::FrameRelationBookOptions relations;
   Status load(const ConfigNode& node);
@@ -325,6 +330,8 @@ class DcCooperation {
     int64_t request_sent_us = 0;
     std::vector<uint32_t> requested;       ///< indices of the pending request (ascending)
     std::map<uint32_t, int64_t> asked_us;  ///< index -> when it was last asked (reask_period_s)
+    int place_failures = 0;                ///< consecutive failed verifications, not merged
+    int64_t next_place_request_us = 0;     ///< no place request before (max_place_backoff_s)
     RequestTimeout timeout;                ///< how long to wait for its answer
     PeerConsistency consistency;           ///< its innovation test over time
   };
