@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "cvslam/io/json_file.h"
 #include "cvslam/lcm/channels.h"
@@ -37,6 +38,21 @@ inline std::string coopPair() {
 inline long countAfter(const std::string& text, const std::string& label) {
   const auto pos = text.find(label);
   return pos == std::string::npos ? -1 : std::stol(text.substr(pos + label.size()));
+}
+
+/// Rows of a CSV whose columns may be text: the fields of each line after the header.
+inline std::vector<std::vector<std::string>> csvRows(const std::string& path) {
+  std::istringstream in(slurp(path));
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::vector<std::string> fields;
+    std::stringstream fs(line);
+    for (std::string f; std::getline(fs, f, ',');) fields.push_back(f);
+    rows.push_back(fields);
+  }
+  return rows;
 }
 
 /// Poses in a TUM trajectory file (0 when it cannot be read).

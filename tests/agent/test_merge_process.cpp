@@ -50,21 +50,6 @@ std::vector<std::string> agentApart(int id, const std::string& scenario, const s
   return a;
 }
 
-/// Rows of relations.csv (t, peer, verdict, …) as fields.
-std::vector<std::vector<std::string>> placeRelationRows(const std::string& path) {
-  std::istringstream in(slurp(path));
-  std::vector<std::vector<std::string>> rows;
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> fields;
-    std::stringstream fs(line);
-    for (std::string f; std::getline(fs, f, ',');) fields.push_back(f);
-    if (fields.size() > 2) rows.push_back(fields);
-  }
-  return rows;
-}
-
 /// Lines of a text (a stderr flood shows here).
 std::size_t textLines(const std::string& text) {
   return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
@@ -128,15 +113,15 @@ TEST(MergeProcess, ARestartedPeerLosesItsFrameAndIsFoundAgain) {
   // Adopted before the restart, forgotten with it, adopted again after: an adopted relation is
   // only refined, so two adoptions need the forget in between.
   std::vector<double> adopted;
-  for (const auto& r : placeRelationRows(tmp / "run/agent_1/relations.csv"))
-    if (r[1] == "2" && r[2] == "adopted") adopted.push_back(std::stod(r[0]));
+  for (const auto& r : test::csvRows(tmp / "run/agent_1/relations.csv"))
+    if (r.size() > 2 && r[1] == "2" && r[2] == "adopted") adopted.push_back(std::stod(r[0]));
   ASSERT_EQ(adopted.size(), 2u) << slurp(tmp / "run/agent_1/relations.csv");
   EXPECT_LT(adopted[0], kStopUs * 1e-6);
   EXPECT_GT(adopted[1], kRestartUs * 1e-6);
   // The new UAV2 found UAV1's frame too, and reports its estimate in it.
   bool found = false;
-  for (const auto& r : placeRelationRows(tmp / "run/agent_2/relations.csv"))
-    found = found || (r[1] == "1" && r[2] == "adopted");
+  for (const auto& r : test::csvRows(tmp / "run/agent_2/relations.csv"))
+    found = found || (r.size() > 2 && r[1] == "1" && r[2] == "adopted");
   EXPECT_TRUE(found) << restarted.out();
   const std::string team = slurp(tmp / "run/agent_2/trajectory_team.tum");
   EXPECT_EQ(team.rfind("# frame: agent_1", 0), 0u) << team.substr(0, 80);
@@ -177,7 +162,7 @@ TEST(MergeProcess, APeerThatNeverOverlapsStaysUnmergedQuietly) {
   for (int id : {1, 2}) {
     const std::string dir = tmp / ("run/agent_" + std::to_string(id));
     EXPECT_FALSE(std::ifstream(dir + "/trajectory_team.tum").good());
-    EXPECT_TRUE(placeRelationRows(dir + "/relations.csv").empty());
+    EXPECT_TRUE(test::csvRows(dir + "/relations.csv").empty());
     // Place descriptors go out at a bounded rate: one INDEX per place period (1 s).
     auto stats = readJsonFile(dir + "/stats.json");
     ASSERT_TRUE(stats.ok());
@@ -290,9 +275,10 @@ TEST(MergeProcess, MalformedAndAbsurdPlaceExchangesAreDroppedAndCounted) {
   EXPECT_GE(test::countAfter(out, "verifications "), random_places / 2) << out;
   EXPECT_EQ(test::countAfter(out, "relations adopted "), 0) << out;
   EXPECT_NE(out.find("landmarks fused 0"), std::string::npos) << out;
-  const auto rows = placeRelationRows(tmp / "run/agent_1/relations.csv");
+  const auto rows = test::csvRows(tmp / "run/agent_1/relations.csv");
   ASSERT_FALSE(rows.empty());
   for (const auto& r : rows) {
+    ASSERT_GT(r.size(), 2u);
     EXPECT_EQ(r[1], "9");
     EXPECT_EQ(r[2], "failed");
     EXPECT_FALSE(r.back().empty()) << "a failed verification says why";

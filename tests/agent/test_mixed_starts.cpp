@@ -19,26 +19,11 @@ namespace {
 
 using test::slurp;
 
-/// Rows of a CSV whose columns may be text: the fields of each line after the header.
-std::vector<std::vector<std::string>> csvRows(const std::string& path) {
-  std::istringstream in(slurp(path));
-  std::vector<std::vector<std::string>> rows;
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> fields;
-    std::stringstream fs(line);
-    for (std::string f; std::getline(fs, f, ',');) fields.push_back(f);
-    rows.push_back(fields);
-  }
-  return rows;
-}
-
 /// When agent `self` first adopted a relation to `peer` (relations.csv); +inf if never.
 double firstAdoption(const std::string& run, int self, int peer) {
   const std::string path = agentDir(run, self) + "/relations.csv";
   if (!std::ifstream(path).good()) return std::numeric_limits<double>::infinity();
-  for (const auto& r : csvRows(path))  // t, peer, verdict, ...
+  for (const auto& r : test::csvRows(path))  // t, peer, verdict, ...
     if (r.size() > 2 && std::stoi(r[1]) == peer && r[2] == "adopted") return std::stod(r[0]);
   return std::numeric_limits<double>::infinity();
 }
@@ -97,7 +82,7 @@ TEST_P(MixedStarts, KnownAgentsShareTheFrameAndMergeTheUnknownOneByPlace) {
     const double apart_adopted = firstAdoption(run, self, unknown);
     int fused_known = 0;
     for (const auto& r :
-         csvRows(agentDir(run, self) + "/coop.csv")) {  // t, event, peer, count, fused
+         test::csvRows(agentDir(run, self) + "/coop.csv")) {  // t, event, peer, count, fused
       ASSERT_GE(r.size(), 5u);
       if (std::stoi(r[4]) == 0) continue;
       const double t = std::stod(r[0]);

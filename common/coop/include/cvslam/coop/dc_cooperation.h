@@ -10,8 +10,8 @@
 //      offer_archived the INDEX also carries the indices of i's archived landmarks inside j's
 //      ellipsoid (where j looks now): j may fly where i flew before (not in the thesis);
 //   3. the receiver looks the indices up among its in-state landmarks and (map_shared_landmarks)
-//      the points it observes now but has not mapped, and asks for the candidates
-//      (SharedRequest on UAV<j>/SHARED_REQ);
+//      the points it observes now but has not mapped, and asks for the candidates it has not
+//      asked j for within reask_period_s (SharedRequest on UAV<j>/SHARED_REQ);
 //   4. the sender answers with positions, covariances, descriptors and its vehicle-covariance
 //      trace (SharedLandmarks on UAV<i>/SHARED), from its state and the archived landmarks it
 //      offered (the joint covariance only when all are in its state);
@@ -37,7 +37,8 @@
 // own is "not yet found" or adopted (merge/). Until it is
 // adopted the peer's ellipsoid means nothing here: the INDEX of the features observed now is
 // sent every place_period_s as a place descriptor (true ids stand in for appearance at the
-// feature level), and every SharedLandmarks from the peer is a geometric verification
+// feature level; after failed verifications the peer asks less often, max_place_backoff_s),
+// and every SharedLandmarks from the peer is a geometric verification
 // (FourDofAligner on the landmarks both hold, with both joint covariances), a candidate for
 // the FrameRelationBook, never fused. Once adopted, a peer's ellipsoid and landmarks are
 // carried into the own frame with the relation's uncertainty added, fused by covariance
