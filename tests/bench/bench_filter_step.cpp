@@ -158,6 +158,39 @@ void BM_FilterStep(benchmark::State& st) {
 }
 BENCHMARK(BM_FilterStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
+/// The whole step (prediction, propagation, update with 20 stereo observations, invariant
+/// chart) over a map of range(0) landmarks kept whole: how the cost grows with the map
+/// (docs/filter.md "Cost against the map's size"). The propagation is O(n), the update and the
+/// invariant chart's reset O(n²).
+void BM_FilterStepMapSize(benchmark::State& st) {
+  StepData d;
+  std::mt19937 rng(7);
+  d.prior = test::randomSlamState(static_cast<int>(st.range(0)), rng);
+  d.prior.setErrorChart(ErrorChart::kRightInvariant);
+  d.batch = MeasurementBatch();
+  test::randomStereoBatch(d.prior, kObservations, rng, &d.batch);
+  const UpdatePolicy policy = policyFor(false, 1e-3);
+  SlamState s = d.prior;
+  InsTransition tr;
+  for (auto _ : st) {
+    st.PauseTiming();
+    s = d.prior;  // the copy of an n² covariance is not part of a step
+    st.ResumeTiming();
+    d.ins.propagate(s.mean().head(9), d.imu, &tr);
+    CovarianceHelper::propagate(s, VariableKey::vehicle(0), tr.x, tr.Phi, tr.Qd, policy);
+    CovarianceHelper::update(s, d.batch, policy, nullptr);
+    benchmark::DoNotOptimize(s.covariance().data());
+  }
+  st.counters["state"] = static_cast<double>(d.prior.size());
+}
+BENCHMARK(BM_FilterStepMapSize)
+    ->Arg(100)
+    ->Arg(200)
+    ->Arg(500)
+    ->Arg(1000)
+    ->Arg(2000)
+    ->Unit(benchmark::kMillisecond);
+
 /// The second-order terms of one stereo observation (ΔR and the mean; per observation with
 /// features): the Hessians in (attitude, l − p) from 12 Jacobian evaluations. Arg 0: the mean
 /// over the additive errors, 1: over the invariant error (the agents' chart).

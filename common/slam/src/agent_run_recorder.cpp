@@ -59,6 +59,10 @@ Status AgentRunRecorder::addFrame(const AgentPipeline& agent, const Vector9d* tr
     writer_->addStageTime("filter", r.filter_ms);
   }
   writer_->addStageTime("frame", f.time_ms);
+  writer_->addStageTime("filter.predict", report.predict_ms);
+  writer_->addStageTime("filter.map", report.map_ms);
+  writer_->addStageTime("filter.update", report.update_ms);
+  writer_->addStageTime("filter.initialise", report.initialise_ms);
   const Eigen::VectorXd x = adopted != nullptr ? adopted->x_v : slam.vehicleState();
   const Eigen::MatrixXd P = adopted != nullptr ? adopted->P_v : slam.vehicleCovariance();
   if (Status s = writer_->addState(t, x.head<9>(), P.topLeftCorner<9, 9>()); !s.ok()) return s;

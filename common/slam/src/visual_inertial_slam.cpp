@@ -1,6 +1,7 @@
 #include "cvslam/slam/visual_inertial_slam.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "cvslam/filter/vehicle_model.h"
@@ -262,10 +263,20 @@ Status VisualInertialSlam::processFrame(const StereoFrameObservations& frame, Fr
   for (const StereoObservation& obs : frame.observations) {
     if (!obs.z.allFinite()) return Status::Error("observation with non-finite pixels");
   }
+  auto t0 = std::chrono::steady_clock::now();
+  // Milliseconds since t0, and t0 moved to now.
+  auto lap = [&t0] {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - t0).count();
+    t0 = now;
+    return ms;
+  };
   // 1. Propagate the vehicle to the frame time.
   if (Status s = propagateTo(frame.t_us); !s.ok()) return s;
+  r.predict_ms = lap();
   // 2., 3. The virtual point m* and the k nearest landmarks: archive, re-activate.
   if (Status s = manageMap(frame, &r); !s.ok()) return s;
+  r.map_ms = lap();
   // 4. Close a loop when enough loop landmarks agree, then the gated updates of the others.
   LoopReport loop;
   if (Status s =
@@ -278,12 +289,14 @@ Status VisualInertialSlam::processFrame(const StereoFrameObservations& frame, Fr
   r.loop_refused = loop.loop_refused;
   r.theta_reduced = loop.theta_reduced;
   if (Status s = updateObserved(frame, &r); !s.ok()) return s;
+  r.update_ms = lap();
   // 5. Initialise the never-seen landmarks.
   if (Status s = initialiser_.initialise(state_, book_, archive_, frame, t_us_, &next_fresh_id_,
                                          &r.initialised);
       !s.ok()) {
     return s;
   }
+  r.initialise_ms = lap();
   r.state_size = state_.size();
   r.landmarks_in_state = state_.landmarkCount();
   return Status::Ok();

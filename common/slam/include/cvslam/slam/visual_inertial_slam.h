@@ -82,6 +82,10 @@ struct FrameReport {
   bool theta_reduced = false;  ///< NH∞: eq. 3.40 forced a smaller θ in this frame
   int state_size = 0;          ///< after the frame
   int landmarks_in_state = 0;  ///< after the frame
+  /// Wall time of the filter's parts [ms] (stats.json stage_ms filter.*): the INS prediction
+  /// to the frame time, map management (k nearest, archive, re-activation), the updates (loop
+  /// closing and the observed landmarks), the initialisation of new landmarks.
+  double predict_ms = 0.0, map_ms = 0.0, update_ms = 0.0, initialise_ms = 0.0;
 };
 
 /// A landmark of the agent's map (in the state or archived).
