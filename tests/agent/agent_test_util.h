@@ -13,6 +13,7 @@
 
 #include "cvslam/io/json_file.h"
 #include "cvslam/lcm/channels.h"
+#include "cvslam/lcm/coop_convert.h"
 #include "cvslam/lcm/lcm_bus.h"
 #include "cvslam/lcm/message_types.h"
 #include "euroc_test_folder.h"
@@ -134,6 +135,20 @@ inline std::map<int, double> ateOf(const std::string& run_dir, const std::string
       ate[id] = a->at("ate_rmse_m").get<double>();
   }
   return ate;
+}
+
+/// Publishes a rogue peer's TEAM/SUMMARY (boot id 99, a vehicle covariance trace of 1 m²) at
+/// dataset time `t_us`; false if it could not be encoded or sent.
+inline bool publishRogueSummary(transport::LcmBus& bus, int id, int64_t seq, int64_t t_us,
+                                int num_features, bool own_frame = false) {
+  coop::CoopSummary s;
+  s.header = {id, seq, t_us};
+  s.boot_id = 99;
+  s.num_features = num_features;
+  s.vehicle_cov_trace = 1.0;
+  s.own_frame = own_frame;
+  auto m = transport::toMessage(s);
+  return m.ok() && bus.publish(transport::channels::teamSummary(), *m).ok();
 }
 
 /// Records the boot ids and modes heard on TEAM/SUMMARY per agent.

@@ -97,14 +97,7 @@ TEST(AgentDcProcess, NonFiniteAndAbsurdPeerLandmarksAreRejected) {
   while (!replay.exited()) {
     const int64_t t = agent_time.load();
     if (t > 0) {
-      coop::CoopSummary s;
-      s.header = {9, absurd, t};
-      s.boot_id = 99;
-      s.num_features = 10;
-      s.vehicle_cov_trace = 1.0;
-      auto sm = transport::toMessage(s);
-      ASSERT_TRUE(sm.ok());
-      ASSERT_TRUE((*bus)->publish("TEAM/SUMMARY", *sm).ok());
+      ASSERT_TRUE(test::publishRogueSummary(**bus, 9, absurd, t, 10));
       coop::SharedLandmarks l;
       l.header = {9, absurd, t};
       l.to_agent = 1;

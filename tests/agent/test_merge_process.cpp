@@ -208,15 +208,7 @@ TEST(MergeProcess, MalformedAndAbsurdPlaceExchangesAreDroppedAndCounted) {
   while (!replay.exited()) {
     const int64_t t = clock.us();
     if (t > 0) {
-      coop::CoopSummary s;
-      s.header = {9, seq, t};
-      s.boot_id = 99;
-      s.num_features = 40;
-      s.vehicle_cov_trace = 1.0;
-      s.own_frame = true;
-      auto sm = transport::toMessage(s);
-      ASSERT_TRUE(sm.ok());
-      ASSERT_TRUE(bus->publish("TEAM/SUMMARY", *sm).ok());
+      ASSERT_TRUE(test::publishRogueSummary(*bus, 9, seq, t, 40, true));
       coop::FeatureIndexList big;
       big.header = {9, seq, t};
       big.indices.resize(5000);
